@@ -1,0 +1,119 @@
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+
+#include "engine/parallel.h"
+#include "engine/pipeline.h"
+
+namespace ishibashi {
+namespace {
+
+bool both_immobile(const Model& m, int a, int b) {
+  return m.motion[a] != Motion::free && m.motion[b] != Motion::free;
+}
+
+std::uint32_t cell_hash(std::int64_t i, std::int64_t j, std::int64_t k, std::uint32_t mask) {
+  const std::uint64_t h = static_cast<std::uint64_t>(i) * 73856093u ^ static_cast<std::uint64_t>(j) * 19349663u ^
+                          static_cast<std::uint64_t>(k) * 83492791u;
+  return static_cast<std::uint32_t>(h) & mask;
+}
+
+}  // namespace
+
+// Boxes are the bounding spheres' cubes inflated by half the margin each. Being
+// rotation-invariant, they stay valid until a block has translated by half the margin.
+bool boxes_overlap(const Model& m, const State& s, int a, int b) {
+  const double reach = m.radius_m[a] + m.radius_m[b] + m.margin_m;
+  const Vec3 d = (s.position[a] - s.position[b]).cwiseAbs();
+  return d.x() < reach && d.y() < reach && d.z() < reach;
+}
+
+std::vector<Pair> brute_force_pairs(const Model& m, const State& s) {
+  std::vector<Pair> out;
+  for (int a = 0; a < m.block_count; ++a)
+    for (int b = a + 1; b < m.block_count; ++b)
+      if (!both_immobile(m, a, b) && boxes_overlap(m, s, a, b)) out.push_back(Pair{a, b});
+  return out;
+}
+
+bool update_pairs(const Model& m, State& s) {
+  const int nb = m.block_count;
+  if (s.pairs_valid) {
+    const double limit2 = 0.25 * m.margin_m * m.margin_m;
+    bool moved = false;
+    for (int b = 0; b < nb && !moved; ++b) moved = (s.position[b] - s.position_at_rebuild[b]).squaredNorm() > limit2;
+    if (!moved) return false;
+  }
+
+  // Hashed uniform grid: one bucket per occupied cell (collisions only add candidates),
+  // cell edge = the largest inflated box, so overlapping boxes lie in adjacent cells.
+  double max_radius = 0.0;
+  for (double r : m.radius_m) max_radius = std::max(max_radius, r);
+  const double cell = 2.0 * max_radius + m.margin_m;
+  std::uint32_t buckets = 1;
+  while (buckets < 2u * static_cast<std::uint32_t>(nb)) buckets <<= 1;
+  const std::uint32_t mask = buckets - 1;
+  auto cell_of = [&](const Vec3& x) {
+    return Eigen::Matrix<std::int64_t, 3, 1>(static_cast<std::int64_t>(std::floor(x.x() / cell)),
+                                            static_cast<std::int64_t>(std::floor(x.y() / cell)),
+                                            static_cast<std::int64_t>(std::floor(x.z() / cell)));
+  };
+  s.cell_start.assign(buckets + 1, 0);
+  s.cell_block.resize(nb);
+  for (int b = 0; b < nb; ++b) {
+    const auto c = cell_of(s.position[b]);
+    ++s.cell_start[cell_hash(c.x(), c.y(), c.z(), mask) + 1];
+  }
+  for (std::uint32_t c = 0; c < buckets; ++c) s.cell_start[c + 1] += s.cell_start[c];
+  s.cell_cursor.assign(s.cell_start.begin(), s.cell_start.end() - 1);
+  for (int b = 0; b < nb; ++b) {
+    const auto c = cell_of(s.position[b]);
+    s.cell_block[s.cell_cursor[cell_hash(c.x(), c.y(), c.z(), mask)]++] = b;
+  }
+
+  // Candidates per block a (partners b > a), sorted; chunks in index order keep the
+  // concatenated list sorted by (a, b) whatever the thread count.
+  const int chunks = thread_count();
+  s.chunk_pairs.resize(chunks);
+  s.chunk_candidates.resize(chunks);
+  parallel_chunks(nb, chunks, [&](std::ptrdiff_t begin, std::ptrdiff_t end, int k) {
+    std::vector<Pair>& out = s.chunk_pairs[k];
+    std::vector<int>& cand = s.chunk_candidates[k];
+    out.clear();
+    for (std::ptrdiff_t ai = begin; ai < end; ++ai) {
+      const int a = static_cast<int>(ai);
+      const auto c = cell_of(s.position[a]);
+      cand.clear();
+      for (int di = -1; di <= 1; ++di)
+        for (int dj = -1; dj <= 1; ++dj)
+          for (int dk = -1; dk <= 1; ++dk) {
+            const std::uint32_t h = cell_hash(c.x() + di, c.y() + dj, c.z() + dk, mask);
+            for (int q = s.cell_start[h]; q < s.cell_start[h + 1]; ++q) {
+              const int b = s.cell_block[q];
+              if (b > a && !both_immobile(m, a, b) && boxes_overlap(m, s, a, b)) cand.push_back(b);
+            }
+          }
+      std::sort(cand.begin(), cand.end());
+      cand.erase(std::unique(cand.begin(), cand.end()), cand.end());
+      for (int b : cand) out.push_back(Pair{a, b});
+    }
+  });
+
+  // Merge with the old list: a pair that survives keeps its axis and contact range.
+  s.pair_scratch.clear();
+  std::size_t old = 0;
+  for (const auto& chunk : s.chunk_pairs)
+    for (Pair p : chunk) {
+      while (old < s.pairs.size() &&
+             (s.pairs[old].a < p.a || (s.pairs[old].a == p.a && s.pairs[old].b < p.b)))
+        ++old;
+      if (old < s.pairs.size() && s.pairs[old].a == p.a && s.pairs[old].b == p.b) p = s.pairs[old];
+      s.pair_scratch.push_back(p);
+    }
+  std::swap(s.pairs, s.pair_scratch);
+  s.position_at_rebuild = s.position;
+  s.pairs_valid = true;
+  return true;
+}
+
+}  // namespace ishibashi

@@ -1,0 +1,119 @@
+// Contact law of MODEL.md section 3 for every sub-contact: normal and shear springs with
+// dashpots, tension cut-off, Coulomb friction with cohesion, permanent loss of bond.
+#include <array>
+#include <cmath>
+
+#include "engine/parallel.h"
+#include "engine/pipeline.h"
+
+namespace ishibashi {
+
+SpringConstants spring_constants(const Model& m, const SubContacts& c, std::size_t i) {
+  const Material& ma = m.materials[m.material[c.block_a[i]]];
+  const Material& mb = m.materials[m.material[c.block_b[i]]];
+  const PairLaw& law = m.law(m.material[c.block_a[i]], m.material[c.block_b[i]]);
+  const double floor = 1e-6 * std::min(m.size_m[c.block_a[i]], m.size_m[c.block_b[i]]);
+  const double la = std::max(c.lever_a_m[i], floor), lb = std::max(c.lever_b_m[i], floor);
+  const double ga = ma.young_pa / (2.0 * (1.0 + ma.poisson)), gb = mb.young_pa / (2.0 * (1.0 + mb.poisson));
+  const double area = c.area_m2[i];
+  SpringConstants k;
+  k.kn = area / (la / ma.young_pa + lb / mb.young_pa);
+  k.ks = area / (la / ga + lb / gb);
+  const double meq = (ma.density_kg_m3 * la + mb.density_kg_m3 * lb) * area;
+  k.cn = 2.0 * law.damping_normal * std::sqrt(meq * k.kn);
+  k.cs = 2.0 * law.damping_shear * std::sqrt(meq * k.ks);
+  return k;
+}
+
+namespace {
+
+constexpr int kChunks = 64;  // fixed, so energy sums do not depend on the thread count
+
+struct EnergyParts {
+  double elastic = 0, damping = 0, friction = 0, bond = 0;
+};
+
+}  // namespace
+
+double apply_contact_law(const Model& m, State& s, double dt) {
+  SubContacts& c = s.contacts;
+  std::array<EnergyParts, kChunks> parts{};
+  parallel_chunks(static_cast<std::ptrdiff_t>(c.size()), kChunks, [&](std::ptrdiff_t begin, std::ptrdiff_t end, int k) {
+    EnergyParts e;
+    for (std::ptrdiff_t i = begin; i < end; ++i) {
+      const int a = c.block_a[i], b = c.block_b[i];
+      const Vec3& p = c.point[i];
+      const Vec3& n = c.normal[i];
+      const Vec3 v_rel = s.velocity[b] + s.angular_velocity[b].cross(p - s.position[b]) - s.velocity[a] -
+                         s.angular_velocity[a].cross(p - s.position[a]);
+      const double vn = v_rel.dot(n);
+      const Vec3 vs = v_rel - vn * n;
+      const SpringConstants k = spring_constants(m, c, i);
+      const PairLaw& law = m.law(m.material[a], m.material[b]);
+      const double area = c.area_m2[i];
+      std::uint8_t flags = c.flags[i] & (SubContactFlag::bonded | SubContactFlag::broken);
+
+      // Normal spring from the gap: e_n = K_n * gap is the incremental form
+      // e_n += K_n dn with dn the change of gap, without drift (tension positive).
+      double en = k.kn * c.gap_m[i];
+      // Shear spring: turn last step's force into the current contact plane, keep its
+      // magnitude, then add the increment from the tangential relative displacement.
+      Vec3 es = c.shear_spring_n[i];
+      const double es_old = es.norm();
+      es -= es.dot(n) * n;
+      const double es_in_plane = es.norm();
+      if (es_in_plane > 0) es *= es_old / es_in_plane;
+      es -= k.ks * dt * vs;
+
+      if (flags & SubContactFlag::bonded) {
+        const double sigma = en / area, tau = es.norm() / area;
+        const bool tension_failure = sigma - law.tensile_pa >= 0;
+        const bool shear_failure = tau + sigma * law.tan_friction - law.cohesion_pa >= 0;
+        if (tension_failure || shear_failure) flags = SubContactFlag::broken;
+      }
+      const bool bonded = flags & SubContactFlag::bonded;
+      Vec3 force = Vec3::Zero();
+      if (!bonded && en >= 0) {
+        // Open: no spring, no dashpot. The springs' energy is released.
+        const double released = (en > 0 ? 0.5 * en * en / k.kn : 0.0) + 0.5 * es.squaredNorm() / k.ks;
+        (c.flags[i] & SubContactFlag::bonded ? e.bond : e.friction) += released;
+        en = 0;
+        es = Vec3::Zero();
+        flags |= SubContactFlag::open;
+      } else {
+        Vec3 shear_damping = -k.cs * vs;
+        if (!bonded) {
+          const double limit = -en * law.tan_friction;
+          const double es_norm = es.norm();
+          if (es_norm > limit) {
+            e.friction += limit * (es_norm - limit) / k.ks;  // force x plastic slip
+            es *= limit / es_norm;
+            shear_damping = Vec3::Zero();
+            flags |= SubContactFlag::sliding;
+          }
+        }
+        double fn = en + k.cn * vn;
+        if (!bonded && fn > 0) fn = 0;  // a dashpot must not pull a dry joint
+        const Vec3 damping_force = -(fn - en) * n + shear_damping;
+        e.damping -= damping_force.dot(v_rel) * dt;
+        force = -fn * n + es + shear_damping;
+        e.elastic += 0.5 * en * en / k.kn + 0.5 * es.squaredNorm() / k.ks;
+      }
+      c.normal_spring_n[i] = en;
+      c.shear_spring_n[i] = es;
+      c.force_n[i] = force;
+      c.flags[i] = flags;
+    }
+    parts[k] = e;
+  });
+  double elastic = 0;
+  for (const EnergyParts& e : parts) {
+    elastic += e.elastic;
+    s.energy.damping_j += e.damping;
+    s.energy.friction_j += e.friction;
+    s.energy.bond_j += e.bond;
+  }
+  return elastic;
+}
+
+}  // namespace ishibashi

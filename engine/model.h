@@ -1,0 +1,151 @@
+// The immutable description of a DEM problem: block shapes, mass properties, materials,
+// contact-law parameters and global settings. Built once by ModelBuilder (which validates
+// every block), then only read by the step pipeline. SI units throughout.
+#pragma once
+#include <algorithm>
+#include <array>
+#include <cstdint>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include "engine/math.h"
+
+namespace ishibashi {
+
+// Any problem with the user's model or run settings; the message names the block,
+// material or setting and says what would be right.
+struct ModelError : std::runtime_error {
+  using std::runtime_error::runtime_error;
+};
+
+enum class Motion : std::uint8_t {
+  free,        // moves under forces (Newton-Euler)
+  fixed,       // never moves
+  prescribed,  // moves with the velocity the driver sets in State each step
+};
+
+struct Material {
+  std::string name;
+  double density_kg_m3 = 2500.0;
+  double young_pa = 1e10;
+  double poisson = 0.25;
+  double friction_deg = 30.0;
+  double tensile_pa = 0.0;   // bond tensile strength f_t of joints originally in contact
+  double cohesion_pa = 0.0;  // bond cohesion c of joints originally in contact
+  double damping_normal = 0.0;  // h_n, fraction of critical
+  double damping_shear = 0.0;   // h_s, fraction of critical
+};
+
+// Contact-law parameters of one material pair (MODEL.md section 3).
+struct PairLaw {
+  double tan_friction = 0.0;
+  double tensile_pa = 0.0;
+  double cohesion_pa = 0.0;
+  double damping_normal = 0.0;
+  double damping_shear = 0.0;
+};
+
+struct ContactSettings {
+  // A sub-contact exists while its gap is below tolerance_ratio * (size of the smaller
+  // block), size = cbrt(volume). Forces depend on the gap, not on this tolerance.
+  double tolerance_ratio = 1e-3;
+  // Broadphase margin as a fraction of the mean block size; the pair list is rebuilt when
+  // a block has moved more than half of it.
+  double margin_ratio = 0.1;
+  // 1: one sub-contact per vertex of the contact polygon. n > 1: the polygon is split
+  // into triangles from its centroid and each into n*n sub-triangles, one sub-contact at
+  // each centroid, so the joint's rotational stiffness approaches a uniform spring bed.
+  int subdivision = 1;
+  // Area given to a corner or edge contact (vertex-face, edge-face, edge-edge), as a
+  // fraction of size^2 of the smaller block, so that K_n stays finite and sensible.
+  double point_area_ratio = 0.01;
+};
+
+struct Model {
+  // ---- blocks (nb) ----
+  int block_count = 0;
+  std::vector<std::string> block_name;   // for messages (nb)
+  std::vector<double> mass_kg;           // (nb)
+  std::vector<Vec3> inertia_kg_m2;       // principal moments (nb)
+  std::vector<double> volume_m3;         // (nb)
+  std::vector<double> size_m;            // cbrt(volume) (nb)
+  std::vector<double> radius_m;          // bounding radius about the centroid (nb)
+  std::vector<int> material;             // index into materials (nb)
+  std::vector<Motion> motion;            // (nb)
+  std::vector<Vec3> initial_position;    // centroid, world frame (nb)
+  std::vector<Quat> initial_orientation; // principal frame -> world (nb)
+
+  // ---- shapes: flat tables in each block's principal frame (origin at the centroid) ----
+  std::vector<int> vertex_begin{0};         // block b owns vertices [vertex_begin[b], vertex_begin[b+1]) (nb+1)
+  std::vector<Vec3> vertex_local;        // (nv)
+  std::vector<int> face_begin{0};           // block b owns faces [face_begin[b], face_begin[b+1]) (nb+1)
+  std::vector<int> face_vertex_begin{0};    // face f has corners face_vertex[face_vertex_begin[f] ..] (nf+1)
+  std::vector<int> face_vertex;          // global vertex index, counter-clockwise seen from outside
+  std::vector<Vec3> face_normal_local;   // outward unit normal (nf)
+  std::vector<double> face_offset_local; // n . x on the face plane, m (nf)
+  std::vector<double> face_area_m2;      // (nf)
+  std::vector<int> edge_begin{0};           // (nb+1)
+  std::vector<std::array<int, 2>> edge_vertex;  // global vertex indices (ne)
+  std::vector<int> edge_direction;       // index into direction_local of the edge's direction (ne)
+  std::vector<int> direction_begin{0};      // (nb+1)
+  std::vector<Vec3> direction_local;     // distinct edge directions of a block, unit (nd)
+
+  // ---- materials and contact laws ----
+  std::vector<Material> materials;
+  std::vector<PairLaw> pair_law;         // (nmat x nmat), row-major
+  const PairLaw& law(int material_a, int material_b) const {
+    return pair_law[material_a * materials.size() + material_b];
+  }
+
+  Vec3 gravity_m_s2{0.0, 0.0, -9.81};
+  ContactSettings contact;
+  double margin_m = 0.0;  // broadphase margin, from contact.margin_ratio * mean block size
+
+  // Gap below which a sub-contact between blocks a and b exists, m.
+  double contact_tolerance_m(int a, int b) const {
+    return contact.tolerance_ratio * std::min(size_m[a], size_m[b]);
+  }
+  // Area of a corner or edge contact between blocks a and b, m^2.
+  double point_contact_area_m2(int a, int b) const {
+    const double size = std::min(size_m[a], size_m[b]);
+    return contact.point_area_ratio * size * size;
+  }
+
+  int face_count(int b) const { return face_begin[b + 1] - face_begin[b]; }
+  std::string block_label(int b) const;  // "block 12 'ring-3'" for messages
+};
+
+// Collects materials and blocks, validates each block and computes its mass properties.
+class ModelBuilder {
+ public:
+  int add_material(const Material& material);
+  // Overrides the default law of a material pair (both orders).
+  void set_pair_law(int material_a, int material_b, const PairLaw& law);
+
+  // A convex polyhedron given by its vertices (world frame, m) and faces (indices into
+  // `vertices`, counter-clockwise seen from outside). Throws ModelError naming the block
+  // when it is open, non-convex, degenerate or inside out.
+  int add_block(const std::vector<Vec3>& vertices, const std::vector<std::vector<int>>& faces,
+                int material, Motion motion = Motion::free, std::string name = {});
+
+  void set_gravity(const Vec3& g) { gravity_ = g; }
+  ContactSettings& contact_settings() { return contact_; }
+  Model build() const;
+
+ private:
+  struct PairOverride {
+    int a, b;
+    PairLaw law;
+  };
+  Model model_;
+  std::vector<PairOverride> overrides_;
+  Vec3 gravity_{0.0, 0.0, -9.81};
+  ContactSettings contact_;
+};
+
+// The default law of a material pair: friction of the weaker (smaller angle) side, as
+// MODEL.md asks for stone-soil; bond strengths of the weaker side; mean damping ratios.
+PairLaw default_pair_law(const Material& a, const Material& b);
+
+}  // namespace ishibashi

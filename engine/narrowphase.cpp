@@ -1,0 +1,393 @@
+// Narrowphase: separating-axis test per candidate pair, then a contact manifold.
+// Face-face and edge-face contacts clip the incident face against the reference face
+// (Sutherland-Hodgman), which gives the exact overlap polygon; corner and edge-edge
+// contacts get one point with a nominal area (Model::point_contact_area_m2).
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+
+#include "engine/parallel.h"
+#include "engine/pipeline.h"
+
+namespace ishibashi {
+namespace {
+
+constexpr int kMaxPolygon = 64;
+constexpr int kMaxManifold = 4096;  // polygon corners x subdivision^2, with room to spare
+
+struct ClipPoint {
+  Vec3 x;
+  std::uint32_t feature;  // incident vertex id, or a mix of the features that made it
+};
+
+struct Polygon {
+  int n = 0;
+  ClipPoint p[kMaxPolygon];
+  void push(const ClipPoint& q) {
+    if (n < kMaxPolygon) p[n++] = q;
+  }
+};
+
+// Feature id of a point made by cutting segment (p, q) with plane `plane`; order-free.
+std::uint32_t crossing_feature(std::uint32_t plane, std::uint32_t fp, std::uint32_t fq) {
+  const std::uint32_t lo = std::min(fp, fq), hi = std::max(fp, fq);
+  std::uint32_t h = lo * 2654435761u ^ (hi + 0x9e3779b9u + (lo << 6) + (lo >> 2)) * 2246822519u ^ plane * 3266489917u;
+  return h | 0x80000000u;  // top bit: a crossing, never an incident vertex id
+}
+
+// Keeps the part of `in` where normal . x - offset <= 0.
+void clip(const Polygon& in, const Vec3& normal, double offset, std::uint32_t plane, Polygon& out) {
+  out.n = 0;
+  for (int i = 0; i < in.n; ++i) {
+    const ClipPoint& p = in.p[i];
+    const ClipPoint& q = in.p[(i + 1) % in.n];
+    const double dp = normal.dot(p.x) - offset, dq = normal.dot(q.x) - offset;
+    if (dp <= 0) out.push(p);
+    if ((dp <= 0) != (dq <= 0)) {
+      const double t = dp / (dp - dq);
+      out.push(ClipPoint{p.x + t * (q.x - p.x), crossing_feature(plane, p.feature, q.feature)});
+    }
+  }
+}
+
+struct Axis {
+  double separation_m = -1e300;
+  int kind = -1;     // 0: face of a, 1: face of b, 2: edge-edge
+  int feature = -1;  // global face index, or direction pair (da * 65536 + db)
+  Vec3 normal = Vec3::Zero();  // a -> b
+};
+
+// Largest signed distance of block `other`'s vertices from the plane of face f, negated:
+// the separation along the face's normal (> 0: separated).
+double face_separation(const Model& m, const State& s, int f, int other) {
+  const Vec3& n = s.face_normal_world[f];
+  double lowest = 1e300;
+  for (int v = m.vertex_begin[other]; v < m.vertex_begin[other + 1]; ++v)
+    lowest = std::min(lowest, n.dot(s.vertex_world[v]));
+  return lowest - s.face_offset_world[f];
+}
+
+Axis best_face_axis(const Model& m, const State& s, int owner, int other, int kind) {
+  Axis best;
+  for (int f = m.face_begin[owner]; f < m.face_begin[owner + 1]; ++f) {
+    const double sep = face_separation(m, s, f, other);
+    if (sep > best.separation_m) best = Axis{sep, kind, f, s.face_normal_world[f]};
+  }
+  if (kind == 1) best.normal = -best.normal;
+  return best;
+}
+
+void support_range(const Model& m, const State& s, int b, const Vec3& axis, double& lo, double& hi) {
+  lo = 1e300;
+  hi = -1e300;
+  for (int v = m.vertex_begin[b]; v < m.vertex_begin[b + 1]; ++v) {
+    const double d = axis.dot(s.vertex_world[v]);
+    lo = std::min(lo, d);
+    hi = std::max(hi, d);
+  }
+}
+
+Axis best_edge_axis(const Model& m, const State& s, int a, int b) {
+  Axis best;
+  for (int da = m.direction_begin[a]; da < m.direction_begin[a + 1]; ++da)
+    for (int db = m.direction_begin[b]; db < m.direction_begin[b + 1]; ++db) {
+      Vec3 axis = s.direction_world[da].cross(s.direction_world[db]);
+      const double len = axis.norm();
+      if (len < 1e-6) continue;  // parallel edges: their axis is a face axis or none
+      axis /= len;
+      double alo, ahi, blo, bhi;
+      support_range(m, s, a, axis, alo, ahi);
+      support_range(m, s, b, axis, blo, bhi);
+      const double forward = blo - ahi, backward = alo - bhi;
+      const double sep = std::max(forward, backward);
+      if (sep > best.separation_m)
+        best = Axis{sep, 2, (da - m.direction_begin[a]) * 65536 + (db - m.direction_begin[b]),
+                    forward >= backward ? axis : Vec3(-axis)};
+    }
+  return best;
+}
+
+// Closest points of segments p1-q1 and p2-q2 (Ericson, Real-Time Collision Detection 5.1.9).
+void closest_points(const Vec3& p1, const Vec3& q1, const Vec3& p2, const Vec3& q2, Vec3& c1, Vec3& c2) {
+  const Vec3 d1 = q1 - p1, d2 = q2 - p2, r = p1 - p2;
+  const double a = d1.dot(d1), e = d2.dot(d2), f = d2.dot(r), c = d1.dot(r), b = d1.dot(d2);
+  const double denom = a * e - b * b;
+  double sc = denom > 1e-14 * a * e ? std::clamp((b * f - c * e) / denom, 0.0, 1.0) : 0.0;
+  double tc = (b * sc + f) / e;
+  if (tc < 0.0) {
+    tc = 0.0;
+    sc = std::clamp(-c / a, 0.0, 1.0);
+  } else if (tc > 1.0) {
+    tc = 1.0;
+    sc = std::clamp((b - c) / a, 0.0, 1.0);
+  }
+  c1 = p1 + sc * d1;
+  c2 = p2 + tc * d2;
+}
+
+// The edge of block `b` with direction index `dir` that lies furthest along `axis`
+// (sign = +1) or least far (sign = -1).
+int extreme_edge(const Model& m, const State& s, int b, int dir, const Vec3& axis, double sign) {
+  int best = -1;
+  double best_value = -1e300;
+  for (int e = m.edge_begin[b]; e < m.edge_begin[b + 1]; ++e) {
+    if (m.edge_direction[e] != dir) continue;
+    const double u = sign * axis.dot(s.vertex_world[m.edge_vertex[e][0]]);
+    const double w = sign * axis.dot(s.vertex_world[m.edge_vertex[e][1]]);
+    const double value = std::min(u, w);
+    if (value > best_value) {
+      best_value = value;
+      best = e;
+    }
+  }
+  return best;
+}
+
+std::uint64_t make_key(int kind, int ref_face_local, int inc_face_local, std::uint32_t feature) {
+  return (static_cast<std::uint64_t>(kind) << 62) | (static_cast<std::uint64_t>(ref_face_local & 0x3FFF) << 48) |
+         (static_cast<std::uint64_t>(inc_face_local & 0xFFFF) << 32) | feature;
+}
+
+// Output of one pair before it joins the sub-contact arrays.
+struct ManifoldPoint {
+  Vec3 x;          // on the common plane
+  double gap_m;
+  double area_m2;
+  std::uint64_t key;
+};
+
+struct Manifold {
+  Vec3 normal;  // a -> b
+  double lever_a_m, lever_b_m;
+  int n = 0;
+  ManifoldPoint p[kMaxManifold];
+  void push(const ManifoldPoint& q) {
+    if (n < kMaxManifold) p[n++] = q;
+  }
+};
+
+void face_manifold(const Model& m, const State& s, int a, int b, const Axis& axis, Manifold& out) {
+  const bool ref_is_a = axis.kind == 0;
+  const int ref = ref_is_a ? a : b, inc = ref_is_a ? b : a;
+  const int f = axis.feature;
+  const Vec3 n = s.face_normal_world[f];  // out of the reference block
+  const double d = s.face_offset_world[f];
+  const double tol = m.contact_tolerance_m(a, b);
+
+  // Incident face: the one most anti-parallel to the reference normal.
+  int g = m.face_begin[inc];
+  double lowest = 2.0;
+  for (int h = m.face_begin[inc]; h < m.face_begin[inc + 1]; ++h) {
+    const double c = n.dot(s.face_normal_world[h]);
+    if (c < lowest - 1e-12) {
+      lowest = c;
+      g = h;
+    }
+  }
+  Polygon poly, tmp;
+  for (int k = m.face_vertex_begin[g]; k < m.face_vertex_begin[g + 1]; ++k) {
+    const int v = m.face_vertex[k];
+    poly.push(ClipPoint{s.vertex_world[v], static_cast<std::uint32_t>(v - m.vertex_begin[inc])});
+  }
+  // Side planes of the reference face (edge direction x normal points outward).
+  const int rb = m.face_vertex_begin[f], re = m.face_vertex_begin[f + 1];
+  for (int k = rb; k < re; ++k) {
+    const Vec3& p = s.vertex_world[m.face_vertex[k]];
+    const Vec3& q = s.vertex_world[m.face_vertex[k + 1 < re ? k + 1 : rb]];
+    const Vec3 side = (q - p).cross(n).normalized();
+    clip(poly, side, side.dot(p), static_cast<std::uint32_t>(k - rb + 1), tmp);
+    std::swap(poly, tmp);
+    if (poly.n == 0) return;
+  }
+  clip(poly, n, d + tol, 0xFFu, tmp);  // keep only what lies within the tolerance
+  std::swap(poly, tmp);
+  if (poly.n == 0) return;
+
+  out.normal = ref_is_a ? n : Vec3(-n);
+  const double lever_ref = std::abs(d - n.dot(s.position[ref]));
+  const double lever_inc = std::abs(n.dot(s.position[inc]) - d);
+  out.lever_a_m = ref_is_a ? lever_ref : lever_inc;
+  out.lever_b_m = ref_is_a ? lever_inc : lever_ref;
+  const int ref_local = f - m.face_begin[ref], inc_local = g - m.face_begin[inc];
+  const int kind = ref_is_a ? 0 : 1;
+
+  // Polygon projected on the reference plane, with gaps; fan areas from the vertex mean.
+  Vec3 x[kMaxPolygon];
+  double gap[kMaxPolygon], fan[kMaxPolygon];
+  Vec3 mean = Vec3::Zero();
+  for (int i = 0; i < poly.n; ++i) {
+    gap[i] = n.dot(poly.p[i].x) - d;
+    x[i] = poly.p[i].x - gap[i] * n;
+    mean += x[i];
+  }
+  mean /= poly.n;
+  double area = 0.0;
+  Vec3 centroid = Vec3::Zero();
+  for (int i = 0; i < poly.n; ++i) {
+    const Vec3& p = x[i];
+    const Vec3& q = x[(i + 1) % poly.n];
+    fan[i] = poly.n >= 3 ? 0.5 * (p - mean).cross(q - mean).dot(n) : 0.0;
+    area += fan[i];
+    centroid += fan[i] * (mean + p + q) / 3.0;
+  }
+  const double nominal = m.point_contact_area_m2(a, b);
+  const int level = m.contact.subdivision;
+  const double incident_cos = -n.dot(s.face_normal_world[g]);
+
+  if (poly.n < 3 || area < nominal) {
+    // A corner, an edge or a sliver: the nominal area, shared equally.
+    for (int i = 0; i < poly.n; ++i)
+      out.push(ManifoldPoint{x[i] + 0.5 * gap[i] * n, gap[i], nominal / poly.n,
+                             make_key(kind, ref_local, inc_local, poly.p[i].feature)});
+    return;
+  }
+  if (level == 1 || incident_cos < 0.5) {
+    // One point per polygon vertex with its tributary half of the two fan triangles.
+    for (int i = 0; i < poly.n; ++i) {
+      const double share = 0.5 * (fan[i] + fan[(i + poly.n - 1) % poly.n]);
+      out.push(ManifoldPoint{x[i] + 0.5 * gap[i] * n, gap[i], share,
+                             make_key(kind, ref_local, inc_local, poly.p[i].feature)});
+    }
+    return;
+  }
+  // Subdivision: fan triangles from the area centroid, each cut into level^2 equal
+  // sub-triangles; a point at each sub-triangle's centroid. The gap there follows the
+  // incident face's plane.
+  centroid /= area;
+  const Vec3& ni = s.face_normal_world[g];
+  const double di = s.face_offset_world[g];
+  auto gap_at = [&](const Vec3& y) { return (di - ni.dot(y)) / ni.dot(n); };
+  std::uint32_t index = 0;
+  for (int i = 0; i < poly.n; ++i) {
+    const Vec3 e1 = x[i] - centroid, e2 = x[(i + 1) % poly.n] - centroid;
+    const double sub_area = 0.5 * e1.cross(e2).dot(n) / (level * level);
+    for (int u = 0; u < level; ++u)
+      for (int v = 0; u + v < level; ++v)
+        for (int down = 0; down < 2; ++down) {
+          if (down && u + v > level - 2) continue;
+          const double cu = (3.0 * u + 1.0 + down) / (3.0 * level), cv = (3.0 * v + 1.0 + down) / (3.0 * level);
+          const Vec3 y = centroid + cu * e1 + cv * e2;
+          const double gy = gap_at(y);
+          out.push(ManifoldPoint{y + 0.5 * gy * n, gy, sub_area,
+                                 make_key(kind, ref_local, inc_local, 0x40000000u | index++)});
+        }
+  }
+}
+
+void edge_manifold(const Model& m, const State& s, int a, int b, const Axis& axis, Manifold& out) {
+  const int da = m.direction_begin[a] + axis.feature / 65536, db = m.direction_begin[b] + axis.feature % 65536;
+  const int ea = extreme_edge(m, s, a, da, axis.normal, +1.0);
+  const int eb = extreme_edge(m, s, b, db, axis.normal, -1.0);
+  Vec3 ca, cb;
+  closest_points(s.vertex_world[m.edge_vertex[ea][0]], s.vertex_world[m.edge_vertex[ea][1]],
+                 s.vertex_world[m.edge_vertex[eb][0]], s.vertex_world[m.edge_vertex[eb][1]], ca, cb);
+  const Vec3 x = 0.5 * (ca + cb);
+  out.normal = axis.normal;
+  out.lever_a_m = std::abs(axis.normal.dot(x - s.position[a]));
+  out.lever_b_m = std::abs(axis.normal.dot(s.position[b] - x));
+  const std::uint32_t feature = static_cast<std::uint32_t>((ea - m.edge_begin[a]) * 65536 + (eb - m.edge_begin[b]));
+  out.push(ManifoldPoint{x, axis.separation_m, m.point_contact_area_m2(a, b), make_key(2, 0, 0, feature)});
+}
+
+// Chooses the contact axis of a pair (with hysteresis) and builds its manifold.
+void pair_manifold(const Model& m, const State& s, Pair& pair, Manifold& out) {
+  out.n = 0;
+  const int a = pair.a, b = pair.b;
+  const double tol = m.contact_tolerance_m(a, b);
+  if ((s.position[a] - s.position[b]).norm() > m.radius_m[a] + m.radius_m[b] + tol) return;
+
+  const Axis face_a = best_face_axis(m, s, a, b, 0);
+  if (face_a.separation_m > tol) return;
+  const Axis face_b = best_face_axis(m, s, b, a, 1);
+  if (face_b.separation_m > tol) return;
+  const Axis edge = best_edge_axis(m, s, a, b);
+  if (edge.separation_m > tol) return;
+
+  // Prefer a face of a over one of b, and last step's face over both, unless clearly
+  // worse: exactly touching faces tie, and a flip would change every key.
+  const double bias = 0.1 * tol;
+  Axis face = face_a.separation_m >= face_b.separation_m - 1e-3 * tol ? face_a : face_b;
+  if (pair.axis_kind == 0 || pair.axis_kind == 1) {
+    const int f = pair.axis_feature;
+    const double sep = face_separation(m, s, f, pair.axis_kind == 0 ? b : a);
+    if (sep >= face.separation_m - bias)
+      face = Axis{sep, pair.axis_kind, f, pair.axis_kind == 0 ? s.face_normal_world[f] : Vec3(-s.face_normal_world[f])};
+  }
+  const Axis& chosen = edge.separation_m > face.separation_m + bias ? edge : face;
+  pair.axis_kind = chosen.kind;
+  pair.axis_feature = chosen.feature;
+  if (chosen.kind == 2)
+    edge_manifold(m, s, a, b, chosen, out);
+  else
+    face_manifold(m, s, a, b, chosen, out);
+}
+
+}  // namespace
+
+void update_contacts(const Model& m, State& s, bool first_detection) {
+  std::swap(s.contacts, s.previous_contacts);
+  const SubContacts& old = s.previous_contacts;
+  const int np = static_cast<int>(s.pairs.size());
+  const int chunks = thread_count();
+  s.chunk_contacts.resize(chunks);
+
+  parallel_chunks(np, chunks, [&](std::ptrdiff_t begin, std::ptrdiff_t end, int k) {
+    SubContacts& out = s.chunk_contacts[k];
+    out.clear();
+    thread_local Manifold manifold;  // large; one per thread, reused
+    for (std::ptrdiff_t pi = begin; pi < end; ++pi) {
+      Pair& pair = s.pairs[pi];
+      const int old_begin = pair.sub_begin, old_end = pair.sub_begin + pair.sub_count;
+      pair_manifold(m, s, pair, manifold);
+      pair.sub_begin = static_cast<int>(out.size());  // within the chunk; offset below
+      pair.sub_count = manifold.n;
+      const PairLaw& law = m.law(m.material[pair.a], m.material[pair.b]);
+      const bool bondable = first_detection && (law.tensile_pa > 0 || law.cohesion_pa > 0);
+      for (int i = 0; i < manifold.n; ++i) {
+        const ManifoldPoint& p = manifold.p[i];
+        const std::size_t j = out.size();
+        out.resize(j + 1);
+        out.pair[j] = static_cast<int>(pi);
+        out.block_a[j] = pair.a;
+        out.block_b[j] = pair.b;
+        out.key[j] = p.key;
+        out.point[j] = p.x;
+        out.normal[j] = manifold.normal;
+        out.gap_m[j] = p.gap_m;
+        out.area_m2[j] = p.area_m2;
+        out.lever_a_m[j] = manifold.lever_a_m;
+        out.lever_b_m[j] = manifold.lever_b_m;
+        out.force_n[j] = Vec3::Zero();
+        // A key seen last step keeps its springs and bond; a new one starts unloaded.
+        int found = -1;
+        for (int q = old_begin; q < old_end; ++q)
+          if (old.key[q] == p.key) {
+            found = q;
+            break;
+          }
+        if (found >= 0) {
+          out.normal_spring_n[j] = old.normal_spring_n[found];
+          out.shear_spring_n[j] = old.shear_spring_n[found];
+          out.flags[j] = old.flags[found];
+        } else {
+          out.normal_spring_n[j] = 0.0;
+          out.shear_spring_n[j] = Vec3::Zero();
+          out.flags[j] = bondable ? SubContactFlag::bonded : 0;
+        }
+      }
+    }
+  });
+
+  std::size_t total = 0;
+  for (const SubContacts& c : s.chunk_contacts) total += c.size();
+  s.contacts.resize(total);
+  std::size_t offset = 0;
+  for (int k = 0; k < chunks; ++k) {
+    s.contacts.copy_from(s.chunk_contacts[k], offset);
+    const std::ptrdiff_t begin = np * k / chunks, end = np * (k + 1) / chunks;
+    for (std::ptrdiff_t pi = begin; pi < end; ++pi) s.pairs[pi].sub_begin += static_cast<int>(offset);
+    offset += s.chunk_contacts[k].size();
+  }
+}
+
+}  // namespace ishibashi

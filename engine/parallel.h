@@ -1,0 +1,34 @@
+// The one threading seam of the engine. Kernels are plain loops over an index range;
+// this decides how ranges are spread over OpenMP threads. Static contiguous chunks in
+// thread order make every reduction that follows chunk order deterministic.
+#pragma once
+#include <omp.h>
+
+#include <algorithm>
+#include <cstddef>
+
+namespace ishibashi {
+
+inline int thread_count() { return omp_get_max_threads(); }
+
+// Calls fn(i) for i in [0, n), spread over the threads.
+template <class Fn>
+void parallel_for(std::ptrdiff_t n, Fn&& fn) {
+#pragma omp parallel for schedule(static)
+  for (std::ptrdiff_t i = 0; i < n; ++i) fn(i);
+}
+
+// Calls fn(begin, end, chunk) for `chunk_count` contiguous chunks covering [0, n), chunk k
+// before chunk k+1 in index order. The chunking depends on chunk_count only, never on
+// the number of threads, so per-chunk results can be combined deterministically.
+template <class Fn>
+void parallel_chunks(std::ptrdiff_t n, int chunk_count, Fn&& fn) {
+#pragma omp parallel for schedule(static)
+  for (int k = 0; k < chunk_count; ++k) {
+    const std::ptrdiff_t begin = n * k / chunk_count;
+    const std::ptrdiff_t end = n * (k + 1) / chunk_count;
+    fn(begin, end, k);
+  }
+}
+
+}  // namespace ishibashi

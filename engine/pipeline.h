@@ -1,0 +1,51 @@
+// The stages of one time step, in the order World::step calls them. Each stage reads the
+// Model and updates part of the State; each lives in its own .cpp file.
+#pragma once
+#include "engine/model.h"
+#include "engine/state.h"
+
+namespace ishibashi {
+
+// pose.cpp: world-frame vertices, face planes and edge directions of every block.
+void update_pose(const Model& model, State& state);
+
+// broadphase.cpp: rebuilds the sorted candidate pair list when a block has moved more
+// than half the margin since the last rebuild; keeps each surviving pair's memory.
+// Returns true when it rebuilt.
+bool update_pairs(const Model& model, State& state);
+// The margin-inflated bounding boxes of blocks a and b overlap (the broadphase's test).
+bool boxes_overlap(const Model& model, const State& state, int a, int b);
+// Brute-force oracle of the broadphase: all pairs a < b whose inflated boxes overlap.
+std::vector<Pair> brute_force_pairs(const Model& model, const State& state);
+
+// narrowphase.cpp: sub-contacts of every candidate pair, with the history (springs, bond)
+// of each key that already existed. `first_detection` marks the joints originally in
+// contact, the only ones that may carry a bond.
+void update_contacts(const Model& model, State& state, bool first_detection);
+
+// contact_law.cpp: spring and dashpot constants of sub-contact i (MODEL.md section 3):
+// K_n = S_i / (l_A/E_A + l_B/E_B), K_s likewise with G, C = 2 h sqrt(m_eq K),
+// m_eq = (rho_A l_A + rho_B l_B) S_i.
+struct SpringConstants {
+  double kn, ks;  // N/m
+  double cn, cs;  // N s/m
+};
+SpringConstants spring_constants(const Model& model, const SubContacts& contacts, std::size_t i);
+
+// contact_law.cpp: spring, dashpot and failure update of every sub-contact over dt;
+// accumulates dissipated energy and returns the elastic energy now stored (J).
+double apply_contact_law(const Model& model, State& state, double dt_s);
+
+// gather.cpp: resultant force and torque on each block, race-free (block -> contacts index).
+// Returns the power that prescribed blocks put into the system (W).
+double gather_forces(const Model& model, State& state);
+
+// integrate.cpp: semi-implicit Euler with Euler's rotation equations in the principal frame.
+// Throws ModelError naming the block when its state becomes NaN or infinite.
+void integrate(const Model& model, State& state, double dt_s);
+
+// energy.cpp: kinetic and gravitational energy of the current state (J).
+double kinetic_energy(const Model& model, const State& state);
+double gravitational_energy(const Model& model, const State& state);
+
+}  // namespace ishibashi

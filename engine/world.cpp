@@ -1,0 +1,137 @@
+#include "engine/world.h"
+
+#include <chrono>
+#include <cmath>
+#include <cstring>
+#include <sstream>
+
+#include "engine/pipeline.h"
+
+namespace ishibashi {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+double seconds_since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
+
+}  // namespace
+
+World::World(Model model, double dt_s) : model_(std::move(model)), state_(make_initial_state(model_)), dt_s_(dt_s) {
+  if (!(dt_s > 0) || !std::isfinite(dt_s)) throw ModelError("the time step dt must be a positive number of seconds");
+  update_pose(model_, state_);
+  update_pairs(model_, state_);
+  update_contacts(model_, state_, /*first_detection=*/true);
+
+  const SubContacts& c = state_.contacts;
+  for (std::size_t i = 0; i < c.size(); ++i) {
+    const double overlap_limit = model_.contact_tolerance_m(c.block_a[i], c.block_b[i]);
+    if (-c.gap_m[i] > overlap_limit) {
+      std::ostringstream msg;
+      msg << model_.block_label(c.block_a[i]) << " and " << model_.block_label(c.block_b[i]) << " overlap by "
+          << -c.gap_m[i] << " m at (" << c.point[i].x() << ", " << c.point[i].y() << ", " << c.point[i].z()
+          << "); initial blocks may touch but not overlap by more than " << overlap_limit << " m";
+      throw ModelError(msg.str());
+    }
+  }
+  int block = -1;
+  const double limit = critical_time_step_s(&block);
+  if (dt_s > limit) {
+    std::ostringstream msg;
+    msg << "time step " << dt_s << " s exceeds the stability limit " << limit << " s set by "
+        << model_.block_label(block) << " and its contacts; use dt below " << limit << " s";
+    throw ModelError(msg.str());
+  }
+}
+
+double World::critical_time_step_s(int* block) const {
+  const int nb = model_.block_count;
+  std::vector<double> stiffness(nb, 0.0), damping(nb, 0.0);
+  const SubContacts& c = state_.contacts;
+  for (std::size_t i = 0; i < c.size(); ++i) {
+    const SpringConstants k = spring_constants(model_, c, i);
+    for (int b : {c.block_a[i], c.block_b[i]}) {
+      stiffness[b] += k.kn;
+      damping[b] += k.cn;
+    }
+  }
+  double best = INFINITY;
+  for (int b = 0; b < nb; ++b) {
+    if (model_.motion[b] != Motion::free || stiffness[b] <= 0) continue;
+    const double omega = std::sqrt(stiffness[b] / model_.mass_kg[b]);
+    const double zeta = damping[b] / (2.0 * std::sqrt(stiffness[b] * model_.mass_kg[b]));
+    const double limit = 2.0 / omega * (std::sqrt(1.0 + zeta * zeta) - zeta);
+    if (limit < best) {
+      best = limit;
+      if (block) *block = b;
+    }
+  }
+  return best;
+}
+
+void World::step() {
+  const Model& m = model_;
+  State& s = state_;
+  Profile& p = s.profile;
+
+  auto t0 = Clock::now();
+  update_pose(m, s);
+  p.pose_s += seconds_since(t0);
+
+  t0 = Clock::now();
+  if (update_pairs(m, s)) ++p.broadphase_rebuilds;
+  p.broadphase_s += seconds_since(t0);
+
+  t0 = Clock::now();
+  update_contacts(m, s, /*first_detection=*/false);
+  p.narrowphase_s += seconds_since(t0);
+
+  t0 = Clock::now();
+  const double elastic = apply_contact_law(m, s, dt_s_);
+  p.contact_law_s += seconds_since(t0);
+
+  t0 = Clock::now();
+  const double prescribed_power = gather_forces(m, s);
+  p.gather_s += seconds_since(t0);
+
+  // Energy at this step. v was last updated between the previous pose and this one, so
+  // the potential is averaged over the two poses: that is the quantity semi-implicit
+  // Euler conserves to second order.
+  Energy& e = s.energy;
+  const double gravitational = gravitational_energy(m, s);
+  if (!s.energy_started) {
+    s.last_gravitational_j = gravitational;
+    s.last_elastic_j = elastic;
+    e.initial_total_j = kinetic_energy(m, s) + gravitational + elastic;
+    s.energy_started = true;
+  }
+  e.kinetic_j = kinetic_energy(m, s);
+  e.gravitational_j = 0.5 * (s.last_gravitational_j + gravitational);
+  e.elastic_j = 0.5 * (s.last_elastic_j + elastic);
+  s.last_gravitational_j = gravitational;
+  s.last_elastic_j = elastic;
+  e.prescribed_work_j += prescribed_power * dt_s_;
+
+  t0 = Clock::now();
+  integrate(m, s, dt_s_);
+  p.integrate_s += seconds_since(t0);
+
+  s.time_s += dt_s_;
+  ++s.step;
+}
+
+std::uint64_t World::state_hash() const {
+  std::uint64_t h = 1469598103934665603ull;  // FNV-1a over the raw bytes
+  auto mix = [&](const void* data, std::size_t bytes) {
+    const unsigned char* c = static_cast<const unsigned char*>(data);
+    for (std::size_t i = 0; i < bytes; ++i) h = (h ^ c[i]) * 1099511628211ull;
+  };
+  for (int b = 0; b < model_.block_count; ++b) {
+    mix(state_.position[b].data(), sizeof(double) * 3);
+    mix(state_.orientation[b].coeffs().data(), sizeof(double) * 4);
+    mix(state_.velocity[b].data(), sizeof(double) * 3);
+    mix(state_.angular_velocity[b].data(), sizeof(double) * 3);
+  }
+  mix(state_.contacts.shear_spring_n.data(), sizeof(Vec3) * state_.contacts.size());
+  return h;
+}
+
+}  // namespace ishibashi
