@@ -48,14 +48,25 @@ double apply_contact_law(const Model& m, State& s, double dt) {
                          s.angular_velocity[a].cross(p - s.position[a]);
       const double vn = v_rel.dot(n);
       const Vec3 vs = v_rel - vn * n;
+      // Dashpot work over a step is F . (v_before + v_after) / 2 dt, the form in which
+      // semi-implicit Euler balances kinetic energy: last step's half is added now.
+      e.damping -= 0.5 * dt * c.damping_force_n[i].dot(v_rel);
       const SpringConstants k = spring_constants(m, c, i);
       const PairLaw& law = m.law(m.material[a], m.material[b]);
       const double area = c.area_m2[i];
       std::uint8_t flags = c.flags[i] & (SubContactFlag::bonded | SubContactFlag::broken);
 
-      // Normal spring from the gap: e_n = K_n * gap is the incremental form
-      // e_n += K_n dn with dn the change of gap, without drift (tension positive).
-      double en = k.kn * c.gap_m[i];
+      // Normal spring, incremental: e_n += K_n dn, dn = change of the gap (tension
+      // positive). A dry joint only counts the part of dn spent in overlap, so it takes
+      // up load exactly when the gap closes. A new sub-contact starts from its overlap.
+      const double gap = c.gap_m[i], gap_before = gap - c.gap_change_m[i];
+      double en;
+      if (c.flags[i] & SubContactFlag::fresh)
+        en = k.kn * ((flags & SubContactFlag::bonded) ? gap : std::min(gap, 0.0));
+      else if (flags & SubContactFlag::bonded)
+        en = c.normal_spring_n[i] + k.kn * c.gap_change_m[i];
+      else
+        en = std::min(0.0, c.normal_spring_n[i] + k.kn * (std::min(gap, 0.0) - std::min(gap_before, 0.0)));
       // Shear spring: turn last step's force into the current contact plane, keep its
       // magnitude, then add the increment from the tangential relative displacement.
       Vec3 es = c.shear_spring_n[i];
@@ -63,6 +74,7 @@ double apply_contact_law(const Model& m, State& s, double dt) {
       es -= es.dot(n) * n;
       const double es_in_plane = es.norm();
       if (es_in_plane > 0) es *= es_old / es_in_plane;
+      const double es_stored = es_old;  // before this step's increment
       es -= k.ks * dt * vs;
 
       if (flags & SubContactFlag::bonded) {
@@ -72,11 +84,14 @@ double apply_contact_law(const Model& m, State& s, double dt) {
         if (tension_failure || shear_failure) flags = SubContactFlag::broken;
       }
       const bool bonded = flags & SubContactFlag::bonded;
-      Vec3 force = Vec3::Zero();
-      if (!bonded && en >= 0) {
-        // Open: no spring, no dashpot. The springs' energy is released.
-        const double released = (en > 0 ? 0.5 * en * en / k.kn : 0.0) + 0.5 * es.squaredNorm() / k.ks;
-        (c.flags[i] & SubContactFlag::bonded ? e.bond : e.friction) += released;
+      Vec3 force = Vec3::Zero(), damping_force = Vec3::Zero();
+      if (!bonded && (en >= 0 || gap >= 0)) {
+        // Open: no spring, no dashpot. A bond that broke just now releases its springs'
+        // energy; a dry joint's shear spring slips free (a dry gap stores nothing).
+        if (c.flags[i] & SubContactFlag::bonded)
+          e.bond += 0.5 * en * en / k.kn + 0.5 * es.squaredNorm() / k.ks;
+        else
+          e.friction += 0.5 * es_stored * es_stored / k.ks;
         en = 0;
         es = Vec3::Zero();
         flags |= SubContactFlag::open;
@@ -86,7 +101,10 @@ double apply_contact_law(const Model& m, State& s, double dt) {
           const double limit = -en * law.tan_friction;
           const double es_norm = es.norm();
           if (es_norm > limit) {
-            e.friction += limit * (es_norm - limit) / k.ks;  // force x plastic slip
+            // Dissipated by slip: the stored spring energy above the new limit (when the
+            // normal force dropped), plus force x plastic slip of this step's increment.
+            const double stored = std::max(std::min(es_stored, es_norm), limit);
+            e.friction += 0.5 * (stored * stored - limit * limit) / k.ks + limit * (es_norm - stored) / k.ks;
             es *= limit / es_norm;
             shear_damping = Vec3::Zero();
             flags |= SubContactFlag::sliding;
@@ -94,14 +112,15 @@ double apply_contact_law(const Model& m, State& s, double dt) {
         }
         double fn = en + k.cn * vn;
         if (!bonded && fn > 0) fn = 0;  // a dashpot must not pull a dry joint
-        const Vec3 damping_force = -(fn - en) * n + shear_damping;
-        e.damping -= damping_force.dot(v_rel) * dt;
+        damping_force = -(fn - en) * n + shear_damping;
+        e.damping -= 0.5 * dt * damping_force.dot(v_rel);
         force = -fn * n + es + shear_damping;
         e.elastic += 0.5 * en * en / k.kn + 0.5 * es.squaredNorm() / k.ks;
       }
       c.normal_spring_n[i] = en;
       c.shear_spring_n[i] = es;
       c.force_n[i] = force;
+      c.damping_force_n[i] = damping_force;
       c.flags[i] = flags;
     }
     parts[k] = e;

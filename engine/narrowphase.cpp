@@ -35,17 +35,23 @@ std::uint32_t crossing_feature(std::uint32_t plane, std::uint32_t fp, std::uint3
   return h | 0x80000000u;  // top bit: a crossing, never an incident vertex id
 }
 
-// Keeps the part of `in` where normal . x - offset <= 0.
-void clip(const Polygon& in, const Vec3& normal, double offset, std::uint32_t plane, Polygon& out) {
+// Keeps the part of `in` where normal . x - offset <= 0. A point within `slack` outside
+// counts as inside: masonry joints have corners exactly on each other's edges, and a
+// vibration must not make a corner flicker between a vertex and a pair of cuts (new
+// keys; near-parallel edges would put the cuts anywhere along the edge).
+void clip(const Polygon& in, const Vec3& normal, double offset, double slack, std::uint32_t plane, Polygon& out) {
   out.n = 0;
   for (int i = 0; i < in.n; ++i) {
     const ClipPoint& p = in.p[i];
     const ClipPoint& q = in.p[(i + 1) % in.n];
     const double dp = normal.dot(p.x) - offset, dq = normal.dot(q.x) - offset;
-    if (dp <= 0) out.push(p);
-    if ((dp <= 0) != (dq <= 0)) {
+    const bool p_in = dp <= slack, q_in = dq <= slack;
+    if (p_in) out.push(p);
+    if (p_in != q_in) {
+      // The cut lies on the true plane; when a kept end is itself within the slack
+      // outside, the cut falls beyond the segment and that end stands for it.
       const double t = dp / (dp - dq);
-      out.push(ClipPoint{p.x + t * (q.x - p.x), crossing_feature(plane, p.feature, q.feature)});
+      if (t > 0.0 && t < 1.0) out.push(ClipPoint{p.x + t * (q.x - p.x), crossing_feature(plane, p.feature, q.feature)});
     }
   }
 }
@@ -195,11 +201,11 @@ void face_manifold(const Model& m, const State& s, int a, int b, const Axis& axi
     const Vec3& p = s.vertex_world[m.face_vertex[k]];
     const Vec3& q = s.vertex_world[m.face_vertex[k + 1 < re ? k + 1 : rb]];
     const Vec3 side = (q - p).cross(n).normalized();
-    clip(poly, side, side.dot(p), static_cast<std::uint32_t>(k - rb + 1), tmp);
+    clip(poly, side, side.dot(p), 0.1 * tol, static_cast<std::uint32_t>(k - rb + 1), tmp);
     std::swap(poly, tmp);
     if (poly.n == 0) return;
   }
-  clip(poly, n, d + tol, 0xFFu, tmp);  // keep only what lies within the tolerance
+  clip(poly, n, d + tol, 0.0, 0xFFu, tmp);  // keep only what lies within the tolerance
   std::swap(poly, tmp);
   if (poly.n == 0) return;
 
@@ -212,6 +218,7 @@ void face_manifold(const Model& m, const State& s, int a, int b, const Axis& axi
   const int kind = ref_is_a ? 0 : 1;
 
   // Polygon projected on the reference plane, with gaps; fan areas from the vertex mean.
+  // The incident face runs counter-clockwise about its own normal, i.e. about -n.
   Vec3 x[kMaxPolygon];
   double gap[kMaxPolygon], fan[kMaxPolygon];
   Vec3 mean = Vec3::Zero();
@@ -226,7 +233,7 @@ void face_manifold(const Model& m, const State& s, int a, int b, const Axis& axi
   for (int i = 0; i < poly.n; ++i) {
     const Vec3& p = x[i];
     const Vec3& q = x[(i + 1) % poly.n];
-    fan[i] = poly.n >= 3 ? 0.5 * (p - mean).cross(q - mean).dot(n) : 0.0;
+    fan[i] = poly.n >= 3 ? -0.5 * (p - mean).cross(q - mean).dot(n) : 0.0;
     area += fan[i];
     centroid += fan[i] * (mean + p + q) / 3.0;
   }
@@ -235,10 +242,19 @@ void face_manifold(const Model& m, const State& s, int a, int b, const Axis& axi
   const double incident_cos = -n.dot(s.face_normal_world[g]);
 
   if (poly.n < 3 || area < nominal) {
-    // A corner, an edge or a sliver: the nominal area, shared equally.
-    for (int i = 0; i < poly.n; ++i)
-      out.push(ManifoldPoint{x[i] + 0.5 * gap[i] * n, gap[i], nominal / poly.n,
+    // A corner or an edge touching the face: keep its own points, not those the
+    // tolerance plane cut (they sit at gap = tolerance), and give them the nominal area.
+    int kept[kMaxPolygon], count = 0, deepest = 0;
+    for (int i = 0; i < poly.n; ++i) {
+      if (gap[i] <= 0.5 * tol) kept[count++] = i;
+      if (gap[i] < gap[deepest]) deepest = i;
+    }
+    if (count == 0) kept[count++] = deepest;
+    for (int k = 0; k < count; ++k) {
+      const int i = kept[k];
+      out.push(ManifoldPoint{x[i] + 0.5 * gap[i] * n, gap[i], nominal / count,
                              make_key(kind, ref_local, inc_local, poly.p[i].feature)});
+    }
     return;
   }
   if (level == 1 || incident_cos < 0.5) {
@@ -260,7 +276,7 @@ void face_manifold(const Model& m, const State& s, int a, int b, const Axis& axi
   std::uint32_t index = 0;
   for (int i = 0; i < poly.n; ++i) {
     const Vec3 e1 = x[i] - centroid, e2 = x[(i + 1) % poly.n] - centroid;
-    const double sub_area = 0.5 * e1.cross(e2).dot(n) / (level * level);
+    const double sub_area = -0.5 * e1.cross(e2).dot(n) / (level * level);
     for (int u = 0; u < level; ++u)
       for (int v = 0; u + v < level; ++v)
         for (int down = 0; down < 2; ++down) {
@@ -343,6 +359,7 @@ void update_contacts(const Model& m, State& s, bool first_detection) {
       pair.sub_count = manifold.n;
       const PairLaw& law = m.law(m.material[pair.a], m.material[pair.b]);
       const bool bondable = first_detection && (law.tensile_pa > 0 || law.cohesion_pa > 0);
+      const double reach = 1e-2 * std::min(m.size_m[pair.a], m.size_m[pair.b]);
       for (int i = 0; i < manifold.n; ++i) {
         const ManifoldPoint& p = manifold.p[i];
         const std::size_t j = out.size();
@@ -358,21 +375,40 @@ void update_contacts(const Model& m, State& s, bool first_detection) {
         out.lever_a_m[j] = manifold.lever_a_m;
         out.lever_b_m[j] = manifold.lever_b_m;
         out.force_n[j] = Vec3::Zero();
-        // A key seen last step keeps its springs and bond; a new one starts unloaded.
+        // A key seen last step keeps its springs and bond. Failing that, the nearest old
+        // point of the pair within `reach` passes them on: where corners lie exactly on
+        // each other's edges (aligned masonry joints), a vertex and a pair of cuts swap
+        // back and forth under round-off-sized motions, and the joint must not forget.
+        // Springs pass on as stresses (scaled by the area ratio).
         int found = -1;
         for (int q = old_begin; q < old_end; ++q)
           if (old.key[q] == p.key) {
             found = q;
             break;
           }
+        if (found < 0) {
+          double best = reach * reach;
+          for (int q = old_begin; q < old_end; ++q) {
+            const double d2 = (old.point[q] - p.x).squaredNorm();
+            if (d2 < best) {
+              best = d2;
+              found = q;
+            }
+          }
+        }
         if (found >= 0) {
-          out.normal_spring_n[j] = old.normal_spring_n[found];
-          out.shear_spring_n[j] = old.shear_spring_n[found];
+          const double ratio = p.area_m2 / old.area_m2[found];
+          out.normal_spring_n[j] = old.normal_spring_n[found] * ratio;
+          out.shear_spring_n[j] = old.shear_spring_n[found] * ratio;
           out.flags[j] = old.flags[found];
+          out.damping_force_n[j] = old.damping_force_n[found] * ratio;
+          out.gap_change_m[j] = p.gap_m - old.gap_m[found];
         } else {
           out.normal_spring_n[j] = 0.0;
           out.shear_spring_n[j] = Vec3::Zero();
-          out.flags[j] = bondable ? SubContactFlag::bonded : 0;
+          out.flags[j] = SubContactFlag::fresh | (bondable ? SubContactFlag::bonded : 0);
+          out.damping_force_n[j] = Vec3::Zero();
+          out.gap_change_m[j] = 0.0;
         }
       }
     }

@@ -12,12 +12,14 @@ void SubContacts::resize(std::size_t n) {
   point.resize(n);
   normal.resize(n);
   gap_m.resize(n);
+  gap_change_m.resize(n);
   area_m2.resize(n);
   lever_a_m.resize(n);
   lever_b_m.resize(n);
   normal_spring_n.resize(n);
   shear_spring_n.resize(n);
   force_n.resize(n);
+  damping_force_n.resize(n);
   flags.resize(n);
 }
 
@@ -30,12 +32,14 @@ void SubContacts::copy_from(const SubContacts& s, std::size_t at) {
   copy(s.point, point);
   copy(s.normal, normal);
   copy(s.gap_m, gap_m);
+  copy(s.gap_change_m, gap_change_m);
   copy(s.area_m2, area_m2);
   copy(s.lever_a_m, lever_a_m);
   copy(s.lever_b_m, lever_b_m);
   copy(s.normal_spring_n, normal_spring_n);
   copy(s.shear_spring_n, shear_spring_n);
   copy(s.force_n, force_n);
+  copy(s.damping_force_n, damping_force_n);
   copy(s.flags, flags);
 }
 

@@ -16,6 +16,7 @@ enum SubContactFlag : std::uint8_t {
   broken = 2,    // had a bond and lost it (tension or shear failure)
   sliding = 4,   // shear force at the friction limit this step
   open = 8,      // gap >= 0 and no bond: carries no force
+  fresh = 16,    // created this step: its springs start from the current overlap
 };
 
 // Sub-contacts, sorted by (pair, key). The normal points from block_a to block_b and the
@@ -27,11 +28,13 @@ struct SubContacts {
   std::vector<Vec3> point;               // m, world, on the common plane
   std::vector<Vec3> normal;              // unit, a -> b
   std::vector<double> gap_m;             // signed normal gap, > 0 open, < 0 overlap
+  std::vector<double> gap_change_m;      // gap_m minus last step's gap of the same sub-contact
   std::vector<double> area_m2;           // share S_i of the contact area
   std::vector<double> lever_a_m, lever_b_m;  // l_A, l_B: centroid to contact plane
   std::vector<double> normal_spring_n;   // e_n, tension positive
   std::vector<Vec3> shear_spring_n;      // e_s, force on b, in the contact plane
   std::vector<Vec3> force_n;             // total force on b (springs + dashpots)
+  std::vector<Vec3> damping_force_n;     // dashpot part of force_n (for the energy balance)
   std::vector<std::uint8_t> flags;       // SubContactFlag bits
 
   std::size_t size() const { return key.size(); }

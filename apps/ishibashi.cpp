@@ -1,0 +1,40 @@
+// ishibashi: 3-D distinct element analysis of masonry stone arch bridges.
+#include <CLI/CLI.hpp>
+
+#include <cstdio>
+#include <exception>
+
+#include "apps/demo.h"
+#include "engine/model.h"
+#include "engine/parallel.h"
+
+int main(int argc, char** argv) {
+  CLI::App app{"ishibashi: 3-D distinct element analysis of masonry stone arch bridges"};
+  app.set_version_flag("--version", std::string("ishibashi ") + ISHIBASHI_VERSION);
+  app.require_subcommand(1);
+  int threads = 0;
+  app.add_option("--threads", threads, "OpenMP threads (default: all cores)")->check(CLI::NonNegativeNumber);
+
+  ishibashi::DemoOptions demo;
+  CLI::App* demo_cmd = app.add_subcommand("demo", "A masonry wall on a shaking or tilting base, written for ParaView");
+  demo_cmd->add_option("--scene", demo.scene, "shake or tilt")->check(CLI::IsMember({"shake", "tilt"}));
+  demo_cmd->add_option("--out", demo.out, "output folder (blocks.pvd and .vtu files)");
+  demo_cmd->add_option("--duration", demo.duration_s, "simulated time, s")->check(CLI::PositiveNumber);
+  demo_cmd->add_option("--fps", demo.frames_per_s, "output frames per simulated second")->check(CLI::PositiveNumber);
+  demo_cmd->add_option("--dt", demo.dt_s, "time step, s")->check(CLI::PositiveNumber);
+  demo_cmd->add_option("--courses", demo.courses, "courses of stones")->check(CLI::Range(1, 200));
+  demo_cmd->add_option("--stones", demo.stones_per_course, "stones per course")->check(CLI::Range(2, 500));
+
+  CLI11_PARSE(app, argc, argv);
+  if (threads > 0) omp_set_num_threads(threads);
+  try {
+    if (*demo_cmd) return ishibashi::run_demo(demo);
+  } catch (const ishibashi::ModelError& e) {
+    std::fprintf(stderr, "ishibashi: model error: %s\n", e.what());
+    return 2;
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "ishibashi: error: %s\n", e.what());
+    return 1;
+  }
+  return 0;
+}

@@ -1,0 +1,128 @@
+#include "io/vtk_output.h"
+
+#include <vtkCellData.h>
+#include <vtkDoubleArray.h>
+#include <vtkIdList.h>
+#include <vtkIntArray.h>
+#include <vtkNew.h>
+#include <vtkPointData.h>
+#include <vtkPoints.h>
+#include <vtkUnsignedCharArray.h>
+#include <vtkUnstructuredGrid.h>
+#include <vtkXMLUnstructuredGridWriter.h>
+
+#include <cstdio>
+#include <sstream>
+#include <stdexcept>
+
+#include "io/atomic_file.h"
+
+namespace ishibashi {
+namespace {
+
+vtkNew<vtkDoubleArray> vector_array(const char* name, vtkIdType n) {
+  vtkNew<vtkDoubleArray> a;
+  a->SetName(name);
+  a->SetNumberOfComponents(3);
+  a->SetNumberOfTuples(n);
+  return a;
+}
+
+}  // namespace
+
+void write_blocks_vtu(const Model& m, const State& s, const std::filesystem::path& file) {
+  const int nb = m.block_count;
+  const vtkIdType nv = static_cast<vtkIdType>(m.vertex_local.size());
+  vtkNew<vtkPoints> points;
+  points->SetDataTypeToDouble();
+  points->SetNumberOfPoints(nv);
+  auto point_velocity = vector_array("velocity", nv);
+  auto point_displacement = vector_array("displacement", nv);
+  auto cell_velocity = vector_array("velocity", nb);
+  auto cell_angular = vector_array("angular_velocity", nb);
+  auto cell_displacement = vector_array("displacement", nb);
+  vtkNew<vtkIntArray> block_id, material;
+  block_id->SetName("block_id");
+  material->SetName("material");
+  vtkNew<vtkUnsignedCharArray> fixed;
+  fixed->SetName("fixed");
+
+  vtkNew<vtkUnstructuredGrid> grid;
+  grid->Allocate(nb);
+  std::vector<vtkIdType> ids, face_stream;
+  for (int b = 0; b < nb; ++b) {
+    const Mat3 r = s.orientation[b].toRotationMatrix();
+    const Mat3 r0 = m.initial_orientation[b].toRotationMatrix();
+    ids.clear();
+    for (int v = m.vertex_begin[b]; v < m.vertex_begin[b + 1]; ++v) {
+      const Vec3 x = s.position[b] + r * m.vertex_local[v];
+      const Vec3 x0 = m.initial_position[b] + r0 * m.vertex_local[v];
+      const Vec3 vel = s.velocity[b] + s.angular_velocity[b].cross(x - s.position[b]);
+      points->SetPoint(v, x.data());
+      point_velocity->SetTuple(v, vel.data());
+      const Vec3 d = x - x0;
+      point_displacement->SetTuple(v, d.data());
+      ids.push_back(v);
+    }
+    face_stream.clear();
+    for (int f = m.face_begin[b]; f < m.face_begin[b + 1]; ++f) {
+      face_stream.push_back(m.face_vertex_begin[f + 1] - m.face_vertex_begin[f]);
+      for (int k = m.face_vertex_begin[f]; k < m.face_vertex_begin[f + 1]; ++k) face_stream.push_back(m.face_vertex[k]);
+    }
+    grid->InsertNextCell(VTK_POLYHEDRON, static_cast<vtkIdType>(ids.size()), ids.data(), m.face_count(b),
+                         face_stream.data());
+    block_id->InsertNextValue(b);
+    material->InsertNextValue(m.material[b]);
+    fixed->InsertNextValue(m.motion[b] == Motion::free ? 0 : 1);
+    cell_velocity->SetTuple(b, s.velocity[b].data());
+    cell_angular->SetTuple(b, s.angular_velocity[b].data());
+    const Vec3 d = s.position[b] - m.initial_position[b];
+    cell_displacement->SetTuple(b, d.data());
+  }
+  grid->SetPoints(points);
+  grid->GetPointData()->AddArray(point_velocity);
+  grid->GetPointData()->AddArray(point_displacement);
+  grid->GetCellData()->AddArray(block_id);
+  grid->GetCellData()->AddArray(material);
+  grid->GetCellData()->AddArray(fixed);
+  grid->GetCellData()->AddArray(cell_velocity);
+  grid->GetCellData()->AddArray(cell_angular);
+  grid->GetCellData()->AddArray(cell_displacement);
+
+  write_atomically(file, [&](const std::filesystem::path& tmp) {
+    vtkNew<vtkXMLUnstructuredGridWriter> writer;
+    writer->SetFileName(tmp.c_str());
+    writer->SetInputData(grid);
+    writer->SetDataModeToAppended();
+    writer->EncodeAppendedDataOff();  // raw binary
+    writer->SetCompressorTypeToZLib();
+    if (writer->Write() != 1) throw std::runtime_error("cannot write " + file.string() + " (VTK writer failed)");
+  });
+}
+
+VtkSeriesWriter::VtkSeriesWriter(std::filesystem::path directory, std::string name)
+    : directory_(std::move(directory)), name_(std::move(name)) {
+  std::error_code ec;
+  std::filesystem::create_directories(directory_, ec);
+  if (ec) throw std::runtime_error("cannot create output folder " + directory_.string() + ": " + ec.message());
+}
+
+void VtkSeriesWriter::write(const Model& model, const State& state) {
+  char file[64];
+  std::snprintf(file, sizeof file, "_%06d.vtu", frame_count());
+  const std::string vtu = name_ + file;
+  write_blocks_vtu(model, state, directory_ / vtu);
+  times_.push_back(state.time_s);
+  files_.push_back(vtu);
+
+  std::ostringstream pvd;
+  pvd.precision(12);
+  pvd << "<?xml version=\"1.0\"?>\n<VTKFile type=\"Collection\" version=\"0.1\" byte_order=\"LittleEndian\">\n"
+         "  <Collection>\n";
+  for (std::size_t i = 0; i < times_.size(); ++i)
+    pvd << "    <DataSet timestep=\"" << times_[i] << "\" group=\"\" part=\"0\" file=\"" << files_[i] << "\"/>\n";
+  pvd << "  </Collection>\n</VTKFile>\n";
+  write_text_atomically(pvd_path(), pvd.str());
+}
+
+}  // namespace ishibashi

@@ -1,0 +1,34 @@
+// ParaView output of the blocks: one binary, zlib-compressed .vtu per output time (one
+// polyhedron cell per block) and a .pvd collection that lists them with their times.
+#pragma once
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include "engine/model.h"
+#include "engine/state.h"
+
+namespace ishibashi {
+
+// Cell data: block_id, material, fixed (1 unless the block is free), velocity (m/s),
+// angular_velocity (rad/s), displacement of the centroid (m). Point data: velocity and
+// displacement of each vertex.
+void write_blocks_vtu(const Model& model, const State& state, const std::filesystem::path& file);
+
+// A time series <name>.pvd + <name>_NNNNNN.vtu in one folder. The .pvd is rewritten
+// atomically after each frame, so a run stopped at any moment leaves a valid series.
+class VtkSeriesWriter {
+ public:
+  VtkSeriesWriter(std::filesystem::path directory, std::string name);
+  void write(const Model& model, const State& state);
+  std::filesystem::path pvd_path() const { return directory_ / (name_ + ".pvd"); }
+  int frame_count() const { return static_cast<int>(times_.size()); }
+
+ private:
+  std::filesystem::path directory_;
+  std::string name_;
+  std::vector<double> times_;
+  std::vector<std::string> files_;
+};
+
+}  // namespace ishibashi

@@ -1,0 +1,168 @@
+// Contact mechanics against closed forms: a block resting on a base, sliding and
+// tipping on an incline, the vertical natural frequency, bonded joint strength.
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "engine/world.h"
+#include "scenes.h"
+
+namespace ishibashi {
+namespace {
+
+constexpr double kG = 9.81;
+constexpr double kRho = 1.88e3, kE = 1.4039e10;
+constexpr double kPi = 3.14159265358979323846;
+
+double deg(double d) { return d * kPi / 180.0; }
+
+// Gravity tilted by theta about y: the same as a base tilted by theta (slope down +x).
+Vec3 tilted_gravity(double theta) { return kG * Vec3(std::sin(theta), 0, -std::cos(theta)); }
+
+TEST(Resting, CubeOnBaseCarriesItsWeightEquallyAndSettlesByMgOverKn) {
+  const double a = 0.64;
+  World w(test::block_on_base(Vec3(a, a, a), test::stone()).build(), 4e-5);
+  w.run(5000);  // 0.2 s, about 130 periods of the (critically damped) joint
+  const State& s = w.state();
+  const double mg = kRho * a * a * a * kG;
+  const double kn = test::joint_normal_stiffness(a * a, a / 2, a / 2, kE);
+  ASSERT_EQ(s.contacts.size(), 4u);
+  double total = 0;
+  for (std::size_t i = 0; i < 4; ++i) {
+    total += s.contacts.force_n[i].z();
+    EXPECT_NEAR(s.contacts.force_n[i].z(), mg / 4, 1e-3 * mg / 4) << "corner " << i;
+  }
+  EXPECT_NEAR(total, mg, 1e-3 * mg);
+  const double settlement = a / 2 - s.position[1].z();
+  EXPECT_NEAR(settlement, mg / kn, 1e-3 * mg / kn);
+}
+
+double slide_acceleration(double theta, double friction_deg, double* drift_at_rest) {
+  const double a = 0.64;
+  ModelBuilder b = test::block_on_base(Vec3(a, a, a), test::stone(1.0, friction_deg));
+  b.set_gravity(tilted_gravity(theta));
+  World w(b.build(), 4e-5);
+  w.run(5000);  // 0.2 s
+  const double x1 = w.state().position[1].x(), v1 = w.state().velocity[1].x(), t1 = w.state().time_s;
+  w.run(5000);
+  const double v2 = w.state().velocity[1].x(), t2 = w.state().time_s;
+  if (drift_at_rest) *drift_at_rest = std::abs(w.state().position[1].x() - x1);
+  return (v2 - v1) / (t2 - t1);
+}
+
+TEST(Incline, BlockStaysWhenTanThetaBelowTanPhi) {
+  double drift = 0;
+  const double acc = slide_acceleration(deg(30.0), 33.23, &drift);
+  EXPECT_LT(std::abs(acc), 1e-6);
+  EXPECT_LT(drift, 1e-9);  // no creep over 0.2 s
+}
+
+TEST(Incline, BlockSlidesWithClosedFormAcceleration) {
+  for (double theta_deg : {36.0, 40.0}) {
+    const double theta = deg(theta_deg), phi = deg(33.23);
+    const double expected = kG * (std::sin(theta) - std::cos(theta) * std::tan(phi));
+    const double acc = slide_acceleration(theta, 33.23, nullptr);
+    EXPECT_NEAR(acc, expected, 0.01 * expected) << "theta " << theta_deg;
+  }
+}
+
+// Rotation of a b x h block (b along x) about y after 1 s on a base tilted by theta.
+double tipping_rotation(double theta) {
+  const double b = 0.32, h = 0.64, depth = 0.64;
+  ModelBuilder builder = test::block_on_base(Vec3(b, depth, h), test::stone(1.0, 60.0));
+  builder.set_gravity(tilted_gravity(theta));
+  World w(builder.build(), 5e-5);
+  w.run(20000);
+  const Quat q = w.state().orientation[1] * w.model().initial_orientation[1].inverse();
+  return Eigen::AngleAxisd(q).angle();
+}
+
+TEST(Tipping, BlockTipsIffTanThetaExceedsWidthOverHeight) {
+  const double critical = std::atan(0.32 / 0.64);  // 26.57 degrees
+  EXPECT_LT(tipping_rotation(critical - deg(2.0)), 1e-3);
+  EXPECT_GT(tipping_rotation(critical + deg(2.0)), 0.1);
+}
+
+TEST(Vibration, VerticalFrequencyMatchesSpringClosedForm) {
+  // Bonded (linear) joint, no gravity, no damping: free vertical vibration.
+  const double a = 0.64;
+  ModelBuilder b = test::block_on_base(Vec3(a, a, a), test::stone(0.0, 33.23, 1e9));
+  b.set_gravity(Vec3::Zero());
+  World w(b.build(), 1e-5);
+  State& s = w.state();
+  s.velocity[1] = Vec3(0, 0, -1e-3);
+  const double mass = kRho * a * a * a;
+  const double kn = test::joint_normal_stiffness(a * a, a / 2, a / 2, kE);
+  const double expected = std::sqrt(kn / mass) / (2 * kPi);
+
+  // Times of upward zero crossings of the displacement, linearly interpolated.
+  const double z0 = s.position[1].z();
+  std::vector<double> crossings;
+  double last = 0;
+  while (crossings.size() < 11) {
+    w.step();
+    const double z = s.position[1].z() - z0;
+    if (last < 0 && z >= 0) crossings.push_back(s.time_s - w.dt_s() * z / (z - last));
+    last = z;
+    ASSERT_LT(s.time_s, 1.0);
+  }
+  const double measured = 10.0 / (crossings.back() - crossings.front());
+  EXPECT_NEAR(measured, expected, 0.01 * expected);
+}
+
+// Loads the block on a bonded joint with a force ramped from 0 to 1.2 x `capacity` over
+// 0.2 s; returns the load at which the first sub-contact lost its bond (or -1).
+double ramped_failure_load(const Vec3& direction, double capacity, double normal_load, World& w) {
+  State& s = w.state();
+  const double h = 0.64;
+  const int steps = 10000;
+  for (int i = 0; i < steps; ++i) {
+    const double load = 1.2 * capacity * i / steps;
+    s.applied_force[1] = load * direction + Vec3(0, 0, -normal_load);
+    // Apply the load at the joint plane, not the centroid: no overturning couple.
+    s.applied_torque[1] = Vec3(0, 0, -h / 2).cross(s.applied_force[1]);
+    w.step();
+    for (std::uint8_t f : s.contacts.flags)
+      if (f & SubContactFlag::broken) return load;
+  }
+  return -1;
+}
+
+TEST(Bond, TensionHoldsUpToTensileStrengthTimesArea) {
+  const double a = 0.64, ft = 2e5, area = a * a;
+  ModelBuilder b = test::block_on_base(Vec3(a, a, a), test::stone(1.0, 33.23, ft));
+  b.set_gravity(Vec3::Zero());
+  World w(b.build(), 2e-5);
+  const double failure = ramped_failure_load(Vec3::UnitZ(), ft * area, 0.0, w);
+  EXPECT_NEAR(failure, ft * area, 0.01 * ft * area);
+
+  // Once broken, the joint carries no tension: a small pull lifts the block at F / m.
+  State& s = w.state();
+  const double pull = 0.05 * ft * area, mass = kRho * a * a * a;
+  s.applied_force[1] = Vec3(0, 0, pull);
+  s.applied_torque[1] = Vec3::Zero();
+  w.run(2000);
+  const double v1 = s.velocity[1].z();
+  w.run(2000);
+  EXPECT_NEAR((s.velocity[1].z() - v1) / (2000 * w.dt_s()), pull / mass, 0.01 * pull / mass);
+  for (std::size_t i = 0; i < s.contacts.size(); ++i) EXPECT_EQ(s.contacts.force_n[i].norm(), 0.0);
+}
+
+TEST(Bond, ShearHoldsUpToCohesionPlusFriction) {
+  const double a = 0.64, c = 2e5, area = a * a, normal = 4e4, tan_phi = std::tan(deg(33.23));
+  ModelBuilder b = test::block_on_base(Vec3(a, a, a), test::stone(1.0, 33.23, c));
+  b.set_gravity(Vec3::Zero());
+  World w(b.build(), 2e-5);
+  // Settle the normal load first.
+  w.state().applied_force[1] = Vec3(0, 0, -normal);
+  w.run(2000);
+  const double capacity = c * area + normal * tan_phi;
+  const double failure = ramped_failure_load(Vec3::UnitX(), capacity, normal, w);
+  EXPECT_NEAR(failure, capacity, 0.01 * capacity);
+  // After failure only friction resists: the block slides away.
+  w.run(2000);
+  EXPECT_GT(w.state().velocity[1].x(), 0.1);
+}
+
+}  // namespace
+}  // namespace ishibashi

@@ -1,0 +1,143 @@
+// Contact geometry: exact overlap areas of offset face-face contacts, and the corner,
+// edge and edge-edge configurations.
+#include <gtest/gtest.h>
+
+#include "engine/pipeline.h"
+#include "geometry/shapes.h"
+#include "scenes.h"
+
+namespace ishibashi {
+namespace {
+
+// Block 0: unit cube with its top at z = 0 (fixed). Block 1: `top` as given.
+State contacts_of(const Polyhedron& top, int subdivision = 1, Model* model_out = nullptr) {
+  ModelBuilder b;
+  const int mat = b.add_material(test::stone());
+  const Polyhedron bottom = make_box(Vec3(0, 0, -0.5), Vec3(1, 1, 1));
+  b.add_block(bottom.vertices, bottom.faces, mat, Motion::fixed);
+  b.add_block(top.vertices, top.faces, mat);
+  b.contact_settings().subdivision = subdivision;
+  const Model m = b.build();
+  State s = make_initial_state(m);
+  update_pose(m, s);
+  update_pairs(m, s);
+  update_contacts(m, s, true);
+  if (model_out) *model_out = m;
+  return s;
+}
+
+double total_area(const State& s) {
+  double a = 0;
+  for (double x : s.contacts.area_m2) a += x;
+  return a;
+}
+
+TEST(Narrowphase, OffsetFaceContactAreaIsExactOverlap) {
+  const State s = contacts_of(make_box(Vec3(0.3, 0.4, 0.5), Vec3(1, 1, 1)));
+  ASSERT_EQ(s.contacts.size(), 4u);
+  EXPECT_NEAR(total_area(s), 0.7 * 0.6, 1e-12);
+  for (std::size_t i = 0; i < s.contacts.size(); ++i) {
+    EXPECT_NEAR(s.contacts.normal[i].z(), 1.0, 1e-12);
+    EXPECT_NEAR(s.contacts.gap_m[i], 0.0, 1e-12);
+    EXPECT_NEAR(s.contacts.area_m2[i], 0.42 / 4, 1e-12);  // a rectangle: equal corner shares
+  }
+}
+
+TEST(Narrowphase, RotatedSquareOverlapIsRegularOctagon) {
+  const Mat3 r = Eigen::AngleAxisd(M_PI / 4, Vec3::UnitZ()).toRotationMatrix();
+  const Polyhedron top = transformed(make_box(Vec3::Zero(), Vec3(1, 1, 1)), r, Vec3(0, 0, 0.5));
+  const double octagon = 2.0 * (std::sqrt(2.0) - 1.0);
+  const State s = contacts_of(top);
+  EXPECT_EQ(s.contacts.size(), 8u);
+  EXPECT_NEAR(total_area(s), octagon, 1e-12);
+  for (int level : {2, 5}) {
+    const State sub = contacts_of(top, level);
+    EXPECT_EQ(sub.contacts.size(), 8u * level * level);
+    EXPECT_NEAR(total_area(sub), octagon, 1e-12) << "subdivision " << level;
+  }
+}
+
+TEST(Narrowphase, SubdivisionApproachesUniformSpringBed) {
+  // The rotational stiffness of a joint is K_n times the second moment of the
+  // sub-contact areas about its centre; a uniform bed on a unit square gives 1/12.
+  // Corner points give 1/4 (three times too stiff); subdivision must converge to 1/12.
+  double last_error = 1e9;
+  for (int level : {1, 2, 4, 12}) {
+    const State s = contacts_of(make_box(Vec3(0, 0, 0.5), Vec3(1, 1, 1)), level);
+    double second = 0;
+    for (std::size_t i = 0; i < s.contacts.size(); ++i) second += s.contacts.area_m2[i] * std::pow(s.contacts.point[i].x(), 2);
+    const double error = std::abs(second * 12.0 - 1.0);
+    if (level == 1) EXPECT_NEAR(second, 0.25, 1e-12);
+    EXPECT_LT(error, last_error) << "subdivision " << level;
+    last_error = error;
+  }
+  EXPECT_LT(last_error, 0.01);
+}
+
+TEST(Narrowphase, VertexOnFace) {
+  // A cube balanced on one corner: rotate so that the body diagonal is vertical.
+  const Mat3 r = Eigen::Quaterniond::FromTwoVectors(Vec3(-1, -1, -1).normalized(), -Vec3::UnitZ()).toRotationMatrix();
+  const Polyhedron top = transformed(make_box(Vec3::Zero(), Vec3(0.4, 0.4, 0.4)), r, Vec3(0, 0, 0.2 * std::sqrt(3.0)));
+  const State s = contacts_of(top);
+  ASSERT_EQ(s.contacts.size(), 1u);
+  EXPECT_NEAR(s.contacts.point[0].norm(), 0.0, 1e-9);
+  EXPECT_NEAR(s.contacts.normal[0].z(), 1.0, 1e-12);
+  EXPECT_NEAR(s.contacts.area_m2[0], 0.01 * 0.4 * 0.4, 1e-12);  // nominal: point_area_ratio * size^2
+}
+
+TEST(Narrowphase, EdgeOnFace) {
+  const Mat3 r = Eigen::AngleAxisd(M_PI / 4, Vec3::UnitX()).toRotationMatrix();
+  const Polyhedron top = transformed(make_box(Vec3::Zero(), Vec3(0.6, 0.4, 0.4)), r, Vec3(0, 0, 0.2 * std::sqrt(2.0)));
+  const State s = contacts_of(top);
+  ASSERT_EQ(s.contacts.size(), 2u);
+  for (int i = 0; i < 2; ++i) {
+    EXPECT_NEAR(std::abs(s.contacts.point[i].x()), 0.3, 1e-9);
+    EXPECT_NEAR(s.contacts.point[i].y(), 0.0, 1e-9);
+    EXPECT_NEAR(s.contacts.normal[i].z(), 1.0, 1e-12);
+  }
+}
+
+TEST(Narrowphase, EdgeOnEdge) {
+  // Two bars turned 45 degrees about their own axes, crossing at right angles: the lower
+  // one's top edge runs along x, the upper one's bottom edge along y.
+  ModelBuilder b;
+  const int mat = b.add_material(test::stone());
+  const double h = 0.1 * std::sqrt(2.0);  // half-diagonal of the 0.2 x 0.2 section
+  const Polyhedron lower = transformed(make_box(Vec3::Zero(), Vec3(2, 0.2, 0.2)),
+                                       Eigen::AngleAxisd(M_PI / 4, Vec3::UnitX()).toRotationMatrix(), Vec3(0, 0, -h));
+  const Polyhedron upper = transformed(make_box(Vec3::Zero(), Vec3(0.2, 2, 0.2)),
+                                       Eigen::AngleAxisd(M_PI / 4, Vec3::UnitY()).toRotationMatrix(), Vec3(0, 0, h - 1e-5));
+  b.add_block(lower.vertices, lower.faces, mat, Motion::fixed);
+  b.add_block(upper.vertices, upper.faces, mat);
+  const Model m = b.build();
+  State s = make_initial_state(m);
+  update_pose(m, s);
+  update_pairs(m, s);
+  update_contacts(m, s, true);
+  ASSERT_EQ(s.contacts.size(), 1u);
+  EXPECT_NEAR((s.contacts.point[0] - Vec3(0, 0, -0.5e-5)).norm(), 0.0, 1e-9);  // midway
+  EXPECT_NEAR(s.contacts.normal[0].z(), 1.0, 1e-9);
+  EXPECT_NEAR(s.contacts.gap_m[0], -1e-5, 1e-12);
+  EXPECT_EQ(s.contacts.key[0] >> 62, 2u);  // an edge-edge key
+}
+
+TEST(Narrowphase, SeparatedBeyondToleranceHasNoContact) {
+  const State s = contacts_of(make_box(Vec3(0, 0, 0.5 + 0.01), Vec3(1, 1, 1)));
+  EXPECT_EQ(s.contacts.size(), 0u);
+}
+
+TEST(Narrowphase, KeysPersistWhileSliding) {
+  Model m;
+  // A 0.6 m block overhanging one edge of the base: two of its own corners and two
+  // cuts by the base's edge. Sliding keeps that topology, hence the keys.
+  State s = contacts_of(make_box(Vec3(0.45, 0, 0.3), Vec3(0.6, 0.6, 0.6)), 1, &m);
+  ASSERT_EQ(s.contacts.size(), 4u);
+  const std::vector<std::uint64_t> before = s.contacts.key;
+  s.position[1] += Vec3(0.05, 0.02, 0);
+  update_pose(m, s);
+  update_contacts(m, s, false);
+  EXPECT_EQ(s.contacts.key, before);
+}
+
+}  // namespace
+}  // namespace ishibashi

@@ -1,0 +1,68 @@
+// The ParaView output read back with VTK's own readers.
+#include <gtest/gtest.h>
+#include <vtkCellData.h>
+#include <vtkDataArray.h>
+#include <vtkPointData.h>
+#include <vtkUnstructuredGrid.h>
+
+#include <filesystem>
+#include <fstream>
+
+#include "engine/world.h"
+#include "geometry/demo_scenes.h"
+#include "io/vtk_input.h"
+#include "io/vtk_output.h"
+
+namespace ishibashi {
+namespace {
+
+TEST(VtkOutput, SeriesReadsBackWithBlocksAndArrays) {
+  const auto dir = std::filesystem::temp_directory_path() / "ishibashi_vtk_test";
+  std::filesystem::remove_all(dir);
+  WallSpec spec;
+  spec.courses = 2;
+  spec.stones_per_course = 3;
+  World w(make_wall_model(spec), 4e-5);
+  VtkSeriesWriter writer(dir, "blocks");
+  writer.write(w.model(), w.state());
+  w.state().velocity[0] = Vec3(0.1, 0, 0);
+  w.run(500);
+  writer.write(w.model(), w.state());
+
+  const auto entries = read_pvd(writer.pvd_path());
+  ASSERT_EQ(entries.size(), 2u);
+  EXPECT_DOUBLE_EQ(entries[0].time_s, 0.0);
+  EXPECT_NEAR(entries[1].time_s, 500 * 4e-5, 1e-12);
+  vtkUnstructuredGrid* grid = read_vtu(entries[1].file);
+  const Model& m = w.model();
+  EXPECT_EQ(grid->GetNumberOfCells(), m.block_count);
+  EXPECT_EQ(grid->GetNumberOfPoints(), static_cast<vtkIdType>(m.vertex_local.size()));
+  EXPECT_EQ(grid->GetCellType(0), VTK_POLYHEDRON);
+  for (const char* name : {"block_id", "material", "fixed", "velocity", "displacement", "angular_velocity"})
+    EXPECT_NE(grid->GetCellData()->GetArray(name), nullptr) << name;
+  for (const char* name : {"velocity", "displacement"}) EXPECT_NE(grid->GetPointData()->GetArray(name), nullptr) << name;
+  // The base moved 500 dt * 0.1 m/s = 5 mm: its displacement says so.
+  EXPECT_NEAR(grid->GetCellData()->GetArray("displacement")->GetComponent(0, 0), 500 * 4e-5 * 0.1, 1e-9);
+  EXPECT_EQ(grid->GetCellData()->GetArray("fixed")->GetComponent(0, 0), 1.0);
+  EXPECT_EQ(grid->GetCellData()->GetArray("block_id")->GetComponent(3, 0), 3.0);
+  grid->Delete();
+  // No temporary files are left behind.
+  for (const auto& f : std::filesystem::directory_iterator(dir))
+    EXPECT_EQ(f.path().string().find(".tmp"), std::string::npos) << f.path();
+}
+
+TEST(VtkInput, MissingOrMalformedPvdIsAClearError) {
+  const auto dir = std::filesystem::temp_directory_path() / "ishibashi_vtk_bad";
+  std::filesystem::create_directories(dir);
+  EXPECT_THROW(read_pvd(dir / "none.pvd"), std::runtime_error);
+  std::ofstream(dir / "bad.pvd") << "<VTKFile type=\"UnstructuredGrid\"></VTKFile>";
+  try {
+    read_pvd(dir / "bad.pvd");
+    FAIL() << "no error";
+  } catch (const std::runtime_error& e) {
+    EXPECT_NE(std::string(e.what()).find("bad.pvd"), std::string::npos);
+  }
+}
+
+}  // namespace
+}  // namespace ishibashi
