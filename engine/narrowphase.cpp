@@ -190,10 +190,12 @@ void face_manifold(const Model& m, const State& s, int a, int b, const Axis& axi
       g = h;
     }
   }
-  Polygon poly, tmp;
+  Polygon buffers[2];  // clipping ping-pongs between the two (swapping pointers, not 2 KB)
+  Polygon* in = &buffers[0];
+  Polygon* cut = &buffers[1];
   for (int k = m.face_vertex_begin[g]; k < m.face_vertex_begin[g + 1]; ++k) {
     const int v = m.face_vertex[k];
-    poly.push(ClipPoint{s.vertex_world[v], static_cast<std::uint32_t>(v - m.vertex_begin[inc])});
+    in->push(ClipPoint{s.vertex_world[v], static_cast<std::uint32_t>(v - m.vertex_begin[inc])});
   }
   // Side planes of the reference face (edge direction x normal points outward).
   const int rb = m.face_vertex_begin[f], re = m.face_vertex_begin[f + 1];
@@ -201,12 +203,12 @@ void face_manifold(const Model& m, const State& s, int a, int b, const Axis& axi
     const Vec3& p = s.vertex_world[m.face_vertex[k]];
     const Vec3& q = s.vertex_world[m.face_vertex[k + 1 < re ? k + 1 : rb]];
     const Vec3 side = (q - p).cross(n).normalized();
-    clip(poly, side, side.dot(p), 0.1 * tol, static_cast<std::uint32_t>(k - rb + 1), tmp);
-    std::swap(poly, tmp);
-    if (poly.n == 0) return;
+    clip(*in, side, side.dot(p), 0.1 * tol, static_cast<std::uint32_t>(k - rb + 1), *cut);
+    std::swap(in, cut);
+    if (in->n == 0) return;
   }
-  clip(poly, n, d + tol, 0.0, 0xFFu, tmp);  // keep only what lies within the tolerance
-  std::swap(poly, tmp);
+  clip(*in, n, d + tol, 0.0, 0xFFu, *cut);  // keep only what lies within the tolerance
+  const Polygon& poly = *cut;
   if (poly.n == 0) return;
 
   out.normal = ref_is_a ? n : Vec3(-n);
@@ -310,14 +312,34 @@ void pair_manifold(const Model& m, const State& s, Pair& pair, Manifold& out) {
   out.n = 0;
   const int a = pair.a, b = pair.b;
   const double tol = m.contact_tolerance_m(a, b);
-  if ((s.position[a] - s.position[b]).norm() > m.radius_m[a] + m.radius_m[b] + tol) return;
+  // How far any point of one block can have moved relative to the other since the last
+  // axis search: translations plus rotations times the reach of the pair.
+  const double travel = s.travel_m[a] + s.travel_m[b], turn = s.turn_rad[a] + s.turn_rad[b];
+  const double moved = travel - pair.travel_at_search_m +
+                       (turn - pair.turn_at_search_rad) * (m.radius_m[a] + m.radius_m[b]);
+  if (pair.axis_kind == -1 && pair.separation_m - moved > tol) return;  // still apart
+  if ((pair.axis_kind == 0 || pair.axis_kind == 1) && moved < 0.05 * tol) {
+    // Barely moved: the last face axis still holds (a resting joint is decided once).
+    const int f = pair.axis_feature;
+    const Axis cached{0.0, pair.axis_kind, f, pair.axis_kind == 0 ? s.face_normal_world[f] : Vec3(-s.face_normal_world[f])};
+    face_manifold(m, s, a, b, cached, out);
+    return;
+  }
+  pair.travel_at_search_m = travel;
+  pair.turn_at_search_rad = turn;
+  auto apart = [&](double separation) {
+    pair.axis_kind = -1;
+    pair.separation_m = separation;
+  };
 
+  const double centre_gap = (s.position[a] - s.position[b]).norm() - m.radius_m[a] - m.radius_m[b];
+  if (centre_gap > tol) return apart(centre_gap);
   const Axis face_a = best_face_axis(m, s, a, b, 0);
-  if (face_a.separation_m > tol) return;
+  if (face_a.separation_m > tol) return apart(face_a.separation_m);
   const Axis face_b = best_face_axis(m, s, b, a, 1);
-  if (face_b.separation_m > tol) return;
+  if (face_b.separation_m > tol) return apart(face_b.separation_m);
   const Axis edge = best_edge_axis(m, s, a, b);
-  if (edge.separation_m > tol) return;
+  if (edge.separation_m > tol) return apart(edge.separation_m);
 
   // Prefer a face of a over one of b, and last step's face over both, unless clearly
   // worse: exactly touching faces tie, and a flip would change every key.
@@ -360,10 +382,11 @@ void update_contacts(const Model& m, State& s, bool first_detection) {
       const PairLaw& law = m.law(m.material[pair.a], m.material[pair.b]);
       const bool bondable = first_detection && (law.tensile_pa > 0 || law.cohesion_pa > 0);
       const double reach = 1e-2 * std::min(m.size_m[pair.a], m.size_m[pair.b]);
+      const std::size_t first = out.size();
+      out.resize(first + manifold.n);
       for (int i = 0; i < manifold.n; ++i) {
         const ManifoldPoint& p = manifold.p[i];
-        const std::size_t j = out.size();
-        out.resize(j + 1);
+        const std::size_t j = first + i;
         out.pair[j] = static_cast<int>(pi);
         out.block_a[j] = pair.a;
         out.block_b[j] = pair.b;

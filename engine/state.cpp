@@ -53,6 +53,8 @@ State make_initial_state(const Model& model) {
   s.applied_force.assign(nb, Vec3::Zero());
   s.applied_torque.assign(nb, Vec3::Zero());
   s.force.assign(nb, Vec3::Zero());
+  s.travel_m.assign(nb, 0.0);
+  s.turn_rad.assign(nb, 0.0);
   s.torque.assign(nb, Vec3::Zero());
   s.vertex_world.resize(model.vertex_local.size());
   s.face_normal_world.resize(model.face_normal_local.size());

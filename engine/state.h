@@ -51,6 +51,11 @@ struct Pair {
   // kind 0 = face of a, 1 = face of b, 2 = edge-edge, -1 = none yet.
   int axis_kind = -1;
   int axis_feature = -1;
+  // Separation found by the last full axis search (m) and the blocks' travel then
+  // (State::travel_m, turn_rad sums): while the blocks cannot have closed the distance,
+  // or have barely moved, the search is skipped.
+  double separation_m = -1.0;
+  double travel_at_search_m = 0.0, turn_at_search_rad = 0.0;
   int sub_begin = 0, sub_count = 0;  // this pair's range in State::contacts
 };
 
@@ -88,6 +93,8 @@ struct State {
   std::vector<Vec3> applied_force;       // external loads set by the driver, N
   std::vector<Vec3> applied_torque;      // N m
   std::vector<Vec3> force, torque;       // resultant of contacts + applied loads (no gravity)
+  std::vector<double> travel_m;          // path length of the centroid since the start (nb)
+  std::vector<double> turn_rad;          // accumulated rotation angle since the start (nb)
 
   // ---- world-frame geometry of the current pose ----
   std::vector<Vec3> vertex_world;        // (nv)

@@ -43,25 +43,47 @@ World::World(Model model, double dt_s) : model_(std::move(model)), state_(make_i
 }
 
 double World::critical_time_step_s(int* block) const {
+  // Per free block and per degree of freedom (3 translations, 3 rotations about the
+  // principal axes), the diagonal stiffness and damping of its sub-contacts against
+  // fixed neighbours: omega_j^2 = K_jj / M_jj. Rotation matters: corner sub-contacts make
+  // rocking stiffer than bouncing.
   const int nb = model_.block_count;
-  std::vector<double> stiffness(nb, 0.0), damping(nb, 0.0);
+  using Vec6 = Eigen::Matrix<double, 6, 1>;
+  std::vector<Vec6> stiffness(nb, Vec6::Zero()), damping(nb, Vec6::Zero());
   const SubContacts& c = state_.contacts;
   for (std::size_t i = 0; i < c.size(); ++i) {
     const SpringConstants k = spring_constants(model_, c, i);
+    const Vec3& n = c.normal[i];
+    const Vec3 t1 = n.unitOrthogonal(), t2 = n.cross(t1);
     for (int b : {c.block_a[i], c.block_b[i]}) {
-      stiffness[b] += k.kn;
-      damping[b] += k.cn;
+      if (model_.motion[b] != Motion::free) continue;
+      const Mat3 to_body = state_.orientation[b].toRotationMatrix().transpose();
+      const Vec3 r = c.point[i] - state_.position[b];
+      auto add = [&](const Vec3& dir, double kk, double cc) {
+        Vec6 j;
+        j << dir, to_body * r.cross(dir);
+        stiffness[b] += kk * j.cwiseAbs2();
+        damping[b] += cc * j.cwiseAbs2();
+      };
+      add(n, k.kn, k.cn);
+      add(t1, k.ks, k.cs);
+      add(t2, k.ks, k.cs);
     }
   }
   double best = INFINITY;
   for (int b = 0; b < nb; ++b) {
-    if (model_.motion[b] != Motion::free || stiffness[b] <= 0) continue;
-    const double omega = std::sqrt(stiffness[b] / model_.mass_kg[b]);
-    const double zeta = damping[b] / (2.0 * std::sqrt(stiffness[b] * model_.mass_kg[b]));
-    const double limit = 2.0 / omega * (std::sqrt(1.0 + zeta * zeta) - zeta);
-    if (limit < best) {
-      best = limit;
-      if (block) *block = b;
+    if (model_.motion[b] != Motion::free) continue;
+    Vec6 mass;
+    mass << Vec3::Constant(model_.mass_kg[b]), model_.inertia_kg_m2[b];
+    for (int j = 0; j < 6; ++j) {
+      if (stiffness[b][j] <= 0) continue;
+      const double omega = std::sqrt(stiffness[b][j] / mass[j]);
+      const double zeta = damping[b][j] / (2.0 * std::sqrt(stiffness[b][j] * mass[j]));
+      const double limit = 2.0 / omega * (std::sqrt(1.0 + zeta * zeta) - zeta);
+      if (limit < best) {
+        best = limit;
+        if (block) *block = b;
+      }
     }
   }
   return best;

@@ -25,9 +25,10 @@ class World {
   const State& state() const { return state_; }
   double dt_s() const { return dt_s_; }
 
-  // Largest stable dt over all free blocks: 2/omega (sqrt(1 + zeta^2) - zeta) with
-  // omega^2 = sum K_n / m and zeta the damping ratio of those contacts (Cundall's
-  // 2 sqrt(m / K_n) without damping). Sets *block to the limiting block.
+  // Largest stable dt over the free blocks: for each block and degree of freedom,
+  // 2/omega (sqrt(1 + zeta^2) - zeta) with omega^2 = K/M and zeta the damping ratio of
+  // its contacts (Cundall's 2 sqrt(m / K_n) for an undamped bounce). Sets *block to the
+  // limiting block.
   double critical_time_step_s(int* block = nullptr) const;
 
   // Hash of positions, orientations and velocities (for determinism checks).

@@ -1,0 +1,60 @@
+// Whole-run benchmark: a wall of 1,534 cubes of 0.64 m in two leaves of running bond
+// (30 and 29 stones per course alternately, 26 courses) on a fixed base under gravity,
+// all joints closed, dt = 4e-5 s, Nishida stone with damping ratio 0.1. Prints one CSV row per thread count:
+// threads,blocks,pairs,subcontacts,steps,seconds,steps_per_s,ns_per_subcontact_step,
+// then the per-stage times and the peak memory.
+#include <omp.h>
+#include <sys/resource.h>
+
+#include <chrono>
+#include <cstdio>
+#include <cstdlib>
+
+#include "engine/world.h"
+#include "geometry/demo_scenes.h"
+
+using namespace ishibashi;
+
+int main(int argc, char** argv) {
+  const long steps = argc > 1 ? std::atol(argv[1]) : 5000;
+  const int courses = argc > 2 ? std::atoi(argv[2]) : 26;
+  const int stones = argc > 3 ? std::atoi(argv[3]) : 30;
+  WallSpec spec;
+  spec.courses = courses;
+  spec.stones_per_course = stones;
+  spec.leaves = 2;
+  spec.base_motion = Motion::fixed;
+  // Damping ratio 0.1: with the study's critical damping (1.0) the damped stability
+  // limit of a wall block is 2.1e-5 s, below the benchmark's dt of 4e-5 s.
+  spec.stone = nishida_stone();
+  spec.stone.damping_normal = spec.stone.damping_shear = 0.1;
+  const Model model = make_wall_model(spec);
+
+  std::printf("threads,blocks,pairs,subcontacts,steps,seconds,steps_per_s,ns_per_subcontact_step,"
+              "pose_s,broadphase_s,narrowphase_s,contact_law_s,gather_s,integrate_s,rebuilds\n");
+  double one_thread = 0;
+  const int max_threads = omp_get_num_procs();
+  for (int threads = 1; threads <= max_threads; threads *= 2) {
+    omp_set_num_threads(threads);
+    World world(model, 4e-5);
+    world.run(50);  // warm-up: buffers reach their size
+    const State& s = world.state();
+    const Profile before = s.profile;
+    const auto t0 = std::chrono::steady_clock::now();
+    world.run(steps);
+    const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    const Profile& p = s.profile;
+    const double rate = steps / seconds;
+    if (threads == 1) one_thread = rate;
+    std::printf("%d,%d,%zu,%zu,%ld,%.3f,%.1f,%.1f,%.3f,%.3f,%.3f,%.3f,%.3f,%.3f,%ld\n", threads, model.block_count,
+                s.pairs.size(), s.contacts.size(), steps, seconds, rate, 1e9 * seconds / (steps * double(s.contacts.size())),
+                p.pose_s - before.pose_s, p.broadphase_s - before.broadphase_s, p.narrowphase_s - before.narrowphase_s,
+                p.contact_law_s - before.contact_law_s, p.gather_s - before.gather_s, p.integrate_s - before.integrate_s,
+                p.broadphase_rebuilds - before.broadphase_rebuilds);
+    if (threads > 1) std::printf("# speed-up %d threads / 1 thread: %.2f\n", threads, rate / one_thread);
+  }
+  rusage usage{};
+  getrusage(RUSAGE_SELF, &usage);
+  std::printf("# peak memory: %.1f MiB\n", usage.ru_maxrss / 1024.0);
+  return 0;
+}
