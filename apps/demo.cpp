@@ -21,7 +21,8 @@ int run_demo(const DemoOptions& o) {
   VtkSeriesWriter writer(o.out, "blocks");
 
   // Base motion. shake: 1 s of rest, then a 2 Hz sine whose amplitude grows by
-  // 0.25 g per second. tilt: after 1 s, the base turns about y at 0.1 rad/s.
+  // 0.25 g per second. tilt: after 1 s, the base turns about y at 0.2 rad/s
+  // (stones slide once the tilt passes the friction angle, 33 degrees, at t = 3.9 s).
   const double g = 9.81, pi = std::acos(-1.0);
   const long steps = std::lround(o.duration_s / o.dt_s);
   const long steps_per_frame = std::max(1L, std::lround(1.0 / (o.frames_per_s * o.dt_s)));
@@ -36,8 +37,8 @@ int run_demo(const DemoOptions& o) {
       const double accel = 0.25 * g * shaking * std::sin(2 * pi * 2.0 * shaking);
       s.velocity[0].x() += accel * o.dt_s;
     } else {
-      s.angular_velocity[0] = Vec3(0, t > 1.0 ? 0.1 : 0.0, 0);
-      s.velocity[0] = s.angular_velocity[0].cross(s.position[0] - Vec3(0, 0, 0));
+      s.angular_velocity[0] = Vec3(0, t > 1.0 ? 0.2 : 0.0, 0);
+      s.velocity[0] = s.angular_velocity[0].cross(s.position[0]);  // hinge: the y axis through the origin
     }
     world.step();
   }
