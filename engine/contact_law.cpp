@@ -68,13 +68,12 @@ double apply_contact_law(const Model& m, State& s, double dt) {
       else
         en = std::min(0.0, c.normal_spring_n[i] + k.kn * (std::min(gap, 0.0) - std::min(gap_before, 0.0)));
       // Shear spring: turn last step's force into the current contact plane, keep its
-      // magnitude, then add the increment from the tangential relative displacement.
+      // magnitude (es_old), then add the increment from the tangential displacement.
       Vec3 es = c.shear_spring_n[i];
       const double es_old = es.norm();
       es -= es.dot(n) * n;
       const double es_in_plane = es.norm();
       if (es_in_plane > 0) es *= es_old / es_in_plane;
-      const double es_stored = es_old;  // before this step's increment
       es -= k.ks * dt * vs;
 
       if (flags & SubContactFlag::bonded) {
@@ -91,7 +90,7 @@ double apply_contact_law(const Model& m, State& s, double dt) {
         if (c.flags[i] & SubContactFlag::bonded)
           e.bond += 0.5 * en * en / k.kn + 0.5 * es.squaredNorm() / k.ks;
         else
-          e.friction += 0.5 * es_stored * es_stored / k.ks;
+          e.friction += 0.5 * es_old * es_old / k.ks;
         en = 0;
         es = Vec3::Zero();
         flags |= SubContactFlag::open;
@@ -103,7 +102,7 @@ double apply_contact_law(const Model& m, State& s, double dt) {
           if (es_norm > limit) {
             // Dissipated by slip: the stored spring energy above the new limit (when the
             // normal force dropped), plus force x plastic slip of this step's increment.
-            const double stored = std::max(std::min(es_stored, es_norm), limit);
+            const double stored = std::max(std::min(es_old, es_norm), limit);
             e.friction += 0.5 * (stored * stored - limit * limit) / k.ks + limit * (es_norm - stored) / k.ks;
             es *= limit / es_norm;
             shear_damping = Vec3::Zero();
