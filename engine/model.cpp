@@ -64,7 +64,7 @@ Vec3 newell_normal(const std::vector<Vec3>& v, const std::vector<int>& face) {
 }  // namespace
 
 int ModelBuilder::add_block(const std::vector<Vec3>& vertices, const std::vector<std::vector<int>>& faces,
-                            int material, Motion motion, std::string name) {
+                            int material, Motion motion, std::string name, BlockTag tag) {
   Model& m = model_;
   const int b = m.block_count;
   std::ostringstream label;
@@ -184,6 +184,7 @@ int ModelBuilder::add_block(const std::vector<Vec3>& vertices, const std::vector
   }
 
   m.block_name.push_back(name);
+  m.block_tag.push_back(tag);
   m.mass_kg.push_back(mp.volume_m3 * mat.density_kg_m3);
   m.inertia_kg_m2.push_back(eig.eigenvalues());
   m.volume_m3.push_back(mp.volume_m3);

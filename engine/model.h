@@ -19,6 +19,13 @@ struct ModelError : std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
+// What a block is in the structure it belongs to; carried to the output, never used by
+// the mechanics. Part numbers are the generator's (geometry/bridge.h names them).
+struct BlockTag {
+  int part = 0;
+  int course = 0;
+};
+
 enum class Motion : std::uint8_t {
   free,        // moves under forces (Newton-Euler)
   fixed,       // never moves
@@ -66,6 +73,7 @@ struct Model {
   // ---- blocks (nb) ----
   int block_count = 0;
   std::vector<std::string> block_name;   // for messages (nb)
+  std::vector<BlockTag> block_tag;       // part and course, for output (nb)
   std::vector<double> mass_kg;           // (nb)
   std::vector<Vec3> inertia_kg_m2;       // principal moments (nb)
   std::vector<double> volume_m3;         // (nb)
@@ -127,7 +135,7 @@ class ModelBuilder {
   // `vertices`, counter-clockwise seen from outside). Throws ModelError naming the block
   // when it is open, non-convex, degenerate or inside out.
   int add_block(const std::vector<Vec3>& vertices, const std::vector<std::vector<int>>& faces,
-                int material, Motion motion = Motion::free, std::string name = {});
+                int material, Motion motion = Motion::free, std::string name = {}, BlockTag tag = {});
 
   void set_gravity(const Vec3& g) { gravity_ = g; }
   ContactSettings& contact_settings() { return contact_; }

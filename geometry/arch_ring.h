@@ -28,9 +28,30 @@ struct Voussoir {
   bool fixed;        // the springing stones
 };
 
-// Throws ModelError for impossible parameters (rise above half the span, non-positive
-// sizes, stones larger than the ring), naming the parameter and the allowed range.
-std::vector<Voussoir> make_arch_ring(const ArchRingSpec& spec);
+// The ring's circle and joints. Throws ModelError for impossible parameters (rise above
+// half the span, non-positive sizes, stones larger than the ring), naming the parameter
+// and the allowed range.
+struct RingGeometry {
+  double radius;        // intrados, m
+  double outer_radius;  // extrados, m
+  double centre_z;      // height of the circle's centre (springings at z = 0), m
+  double half_angle;    // from the crown to a springing, rad
+  double joint_angle;   // between radial joints, rad
+  int along;            // voussoirs along the arc
+  int across;           // courses across the width
+  double springer_half_width;  // half the ring's extent along x at the ground, m
+
+  // Angle of radial joint j (0 .. along) from the crown, rad. Joints j and along - j get
+  // exactly opposite angles, so both halves of the ring are mirror images to the bit.
+  double joint(int j) const { return (2 * j - along) * (half_angle / along); }
+};
+RingGeometry ring_geometry(const ArchRingSpec& spec);
+
+// The voussoirs of a ring centred at x = centre_x. With square_springers, the two
+// springing stones get a vertical outer face and a flat top at the next joint's height,
+// so walls and fill can stand beside them.
+std::vector<Voussoir> make_arch_ring_at(const ArchRingSpec& spec, double centre_x, bool square_springers);
+inline std::vector<Voussoir> make_arch_ring(const ArchRingSpec& spec) { return make_arch_ring_at(spec, 0.0, false); }
 
 // The ring as an engine Model (springing stones fixed).
 Model make_arch_ring_model(const ArchRingSpec& spec);

@@ -1,5 +1,7 @@
 #include "geometry/shapes.h"
 
+#include <algorithm>
+
 namespace ishibashi {
 
 Polyhedron make_prism(const std::vector<Vec3>& base, double z_bottom, double z_top) {
@@ -35,6 +37,24 @@ Polyhedron make_trapezoid_prism(double bottom_width, double top_width, double he
   Mat3 r;
   r << 1, 0, 0, 0, 0, -1, 0, 1, 0;
   return transformed(p, r, Vec3::Zero());
+}
+
+Polyhedron make_prism_xz(const std::vector<Vec3>& xz, double y0, double y1) {
+  // Build the prism along z from (x, z) seen as (x, y), then map (x, y, z) -> (x, z, y).
+  // Counter-clockwise order in (x, z) is needed; the axis swap mirrors, so faces flip.
+  std::vector<Vec3> base;
+  double twice_area = 0;
+  for (std::size_t i = 0; i < xz.size(); ++i) {
+    const Vec3& p = xz[i];
+    const Vec3& q = xz[(i + 1) % xz.size()];
+    twice_area += p.x() * q.z() - q.x() * p.z();
+    base.emplace_back(p.x(), p.z(), 0.0);
+  }
+  if (twice_area < 0) std::reverse(base.begin(), base.end());
+  Polyhedron p = make_prism(base, y0, y1);
+  for (Vec3& v : p.vertices) v = Vec3(v.x(), v.z(), v.y());
+  for (auto& f : p.faces) std::reverse(f.begin(), f.end());
+  return p;
 }
 
 Polyhedron transformed(const Polyhedron& p, const Mat3& rotation, const Vec3& translation) {

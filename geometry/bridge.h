@@ -1,0 +1,56 @@
+// Masonry arch bridges from a handful of parameters (MODEL.md section 5): arch rings of
+// voussoirs on fixed springers, spandrel walls and backfill of stones (or soil between
+// stone face walls) in horizontal courses, stones next to the extrados cut to fit the
+// ring (CGAL Boolean operations), fixed side walls, several spans, a fixed ground base.
+//
+// Layout: x along the bridge (spans side by side, centred on x = 0), y across it
+// (centred), z up from the ground at the springings.
+#pragma once
+#include <string>
+#include <vector>
+
+#include "engine/model.h"
+#include "geometry/arch_ring.h"
+#include "geometry/shapes.h"
+
+namespace ishibashi {
+
+enum class Part : int { ground = 0, ring = 1, wall = 2, fill = 3, soil = 4, side_wall = 5 };
+const char* part_name(Part part);
+
+enum class Backfill { stone, soil };
+
+struct BridgeSpec {
+  ArchRingSpec ring;               // span, rise, thickness, width, stone size, ring bond
+  int spans = 1;                   // identical spans side by side
+  double pier_width_m = 2.0;       // clear distance between neighbouring springers
+  double fill_height_m = 0.0;      // top of walls and backfill above the ground; 0: ring alone
+  double length_m = 0.0;           // length of walls and backfill (centred); 0: ring alone
+  Backfill backfill = Backfill::stone;  // soil: soil units between a front and a rear stone wall
+  double side_wall_width_m = 0.0;  // fixed side walls (abutments) at both ends; 0: none
+  double ground_thickness_m = 0.5; // fixed base under the whole bridge; 0: none
+  Material stone;                  // empty name: the Nishida stone
+  Material soil;                   // empty name: the Nishida soil (MODEL.md section 4)
+  double mortar_pa = 0.0;          // f_t = c of stone joints originally in contact; 0: dry
+};
+
+struct BridgeBlock {
+  Polyhedron shape;
+  Part part;
+  int course;   // horizontal course (fill) or position along the arc (ring)
+  bool fixed;
+};
+
+// Generates the blocks. Throws ModelError naming the parameter for impossible input.
+std::vector<BridgeBlock> generate_bridge(const BridgeSpec& spec);
+
+// Volume the blocks must fill: the bridge's outline less the openings under the
+// intrados chords, plus the side walls (m^3). Independent of how blocks are cut.
+double design_volume_m3(const BridgeSpec& spec);
+
+// The blocks as an engine Model (stone, soil materials; mortar on stone-stone joints).
+Model compile_bridge(const BridgeSpec& spec, const std::vector<BridgeBlock>& blocks);
+
+Material nishida_soil();
+
+}  // namespace ishibashi
