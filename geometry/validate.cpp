@@ -1,0 +1,202 @@
+#include "geometry/validate.h"
+
+#include <CGAL/Boolean_set_operations_2.h>
+#include <CGAL/Exact_predicates_exact_constructions_kernel.h>
+#include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
+#include <CGAL/Polygon_mesh_processing/measure.h>
+#include <CGAL/Polygon_mesh_processing/orientation.h>
+#include <CGAL/Polygon_mesh_processing/polygon_soup_to_polygon_mesh.h>
+#include <CGAL/Polygon_mesh_processing/triangulate_faces.h>
+#include <CGAL/Polyhedron_3.h>
+#include <CGAL/Surface_mesh.h>
+#include <CGAL/box_intersection_d.h>
+#include <CGAL/Convex_hull_3/dual/halfspace_intersection_3.h>
+#include <CGAL/Convex_hull_3/dual/halfspace_intersection_interior_point_3.h>
+#include <CGAL/convex_hull_3.h>
+
+#include <cmath>
+#include <sstream>
+
+namespace ishibashi {
+namespace {
+
+using Epick = CGAL::Exact_predicates_inexact_constructions_kernel;
+using Epeck = CGAL::Exact_predicates_exact_constructions_kernel;
+using Mesh = CGAL::Surface_mesh<Epick::Point_3>;
+namespace PMP = CGAL::Polygon_mesh_processing;
+
+std::string where(const Polyhedron& p) {
+  Vec3 c = Vec3::Zero();
+  for (const Vec3& v : p.vertices) c += v;
+  c /= static_cast<double>(p.vertices.size());
+  std::ostringstream s;
+  s.precision(4);
+  s << " at (" << c.x() << ", " << c.y() << ", " << c.z() << ")";
+  return s.str();
+}
+
+// Outward planes n . x <= d of a convex block's faces (Newell normals).
+struct Plane {
+  Vec3 n;
+  double d;
+};
+std::vector<Plane> planes_of(const Polyhedron& p) {
+  std::vector<Plane> out;
+  for (const auto& f : p.faces) {
+    Vec3 n = Vec3::Zero();
+    for (std::size_t k = 0; k < f.size(); ++k) n += p.vertices[f[k]].cross(p.vertices[f[(k + 1) % f.size()]]);
+    n.normalize();
+    out.push_back(Plane{n, n.dot(p.vertices[f[0]])});
+  }
+  return out;
+}
+
+// Volume common to two convex blocks: CGAL finds a point strictly inside both (a small
+// linear program) and intersects the half-spaces of all faces. Every face is first moved
+// inwards by `shrink`, so blocks that only touch (zero-thickness joints, round-off
+// included) have no common interior at all.
+double overlap_volume(const std::vector<Plane>& a, const std::vector<Plane>& b, double shrink) {
+  std::vector<Epick::Plane_3> planes;
+  for (const auto* set : {&a, &b})
+    for (const Plane& p : *set) planes.emplace_back(p.n.x(), p.n.y(), p.n.z(), -(p.d - shrink));  // n.x - d' <= 0
+  const auto inside = CGAL::halfspace_intersection_interior_point_3(planes.begin(), planes.end());
+  if (!inside) return 0.0;
+  const Vec3 x(inside->x(), inside->y(), inside->z());
+  for (const auto* set : {&a, &b})
+    for (const Plane& p : *set)
+      if (p.n.dot(x) - (p.d - shrink) > -1e-3 * shrink) return 0.0;  // too thin to build
+  CGAL::Polyhedron_3<Epick> common;
+  CGAL::halfspace_intersection_3(planes.begin(), planes.end(), common, inside);
+  if (common.size_of_vertices() < 4) return 0.0;
+  Mesh mesh;
+  CGAL::copy_face_graph(common, mesh);
+  PMP::triangulate_faces(mesh);
+  return std::abs(PMP::volume(mesh));
+}
+
+// Area common to two coplanar faces with opposite normals (0 if they are not).
+double shared_face_area(const Polyhedron& pa, const std::vector<int>& fa, const Plane& qa, const Polyhedron& pb,
+                        const std::vector<int>& fb, const Plane& qb, double eps) {
+  if (qa.n.dot(qb.n) > -1 + 1e-9 || std::abs(qa.d + qb.d) > eps) return 0.0;
+  const Vec3 u = qa.n.unitOrthogonal(), w = qa.n.cross(u);
+  auto project = [&](const Polyhedron& p, const std::vector<int>& f) {
+    CGAL::Polygon_2<Epeck> poly;
+    for (int v : f) poly.push_back(Epeck::Point_2(u.dot(p.vertices[v]), w.dot(p.vertices[v])));
+    if (poly.orientation() == CGAL::CLOCKWISE) poly.reverse_orientation();
+    return poly;
+  };
+  std::vector<CGAL::Polygon_with_holes_2<Epeck>> common;
+  CGAL::intersection(project(pa, fa), project(pb, fb), std::back_inserter(common));
+  double area = 0;
+  for (const auto& c : common) area += CGAL::to_double(c.outer_boundary().area());
+  return area;
+}
+
+}  // namespace
+
+ValidationReport validate_blocks(const std::vector<Polyhedron>& blocks, const std::vector<std::string>& names,
+                                 double overlap_tolerance_m3) {
+  ValidationReport r;
+  r.blocks = static_cast<int>(blocks.size());
+  auto label = [&](std::size_t b) {
+    std::string s = "block " + std::to_string(b);
+    if (b < names.size() && !names[b].empty()) s += " '" + names[b] + "'";
+    return s + where(blocks[b]);
+  };
+
+  std::vector<char> sound(blocks.size(), 0);
+  std::vector<std::vector<Plane>> planes(blocks.size());
+  for (std::size_t b = 0; b < blocks.size(); ++b) {
+    const Polyhedron& p = blocks[b];
+    std::vector<Epick::Point_3> points;
+    for (const Vec3& v : p.vertices) points.emplace_back(v.x(), v.y(), v.z());
+    std::vector<std::vector<std::size_t>> faces;
+    for (const auto& f : p.faces) faces.emplace_back(f.begin(), f.end());
+    if (!PMP::is_polygon_soup_a_polygon_mesh(faces)) {
+      r.errors.push_back(label(b) + ": its faces do not form a manifold surface (an edge is shared by more than two faces, or faces disagree in orientation)");
+      continue;
+    }
+    Mesh mesh;
+    PMP::polygon_soup_to_polygon_mesh(points, faces, mesh);
+    if (!CGAL::is_closed(mesh)) {
+      r.errors.push_back(label(b) + ": the surface is open (a hole in it); a block must be a closed polyhedron");
+      continue;
+    }
+    PMP::triangulate_faces(mesh);
+    const double extent = CGAL::to_double(CGAL::sqrt(CGAL::squared_distance(points.front(), points.back()))) + 1e-300;
+    bool degenerate = false;
+    for (auto f : mesh.faces()) degenerate = degenerate || PMP::face_area(f, mesh) < 1e-12 * extent * extent;
+    if (degenerate) {
+      r.errors.push_back(label(b) + ": has a degenerate (zero-area) face");
+      continue;
+    }
+    const double volume = PMP::volume(mesh);
+    if (volume <= 0 || !PMP::is_outward_oriented(mesh)) {
+      r.errors.push_back(label(b) + ": faces are inside out (they must be counter-clockwise seen from outside)");
+      continue;
+    }
+    Mesh hull;
+    CGAL::convex_hull_3(points.begin(), points.end(), hull);
+    const double hull_volume = PMP::volume(hull);
+    if (hull_volume > volume * (1 + 1e-9) + 1e-12 * extent * extent * extent) {
+      std::ostringstream s;
+      s << label(b) << ": not convex (its volume " << volume << " m^3 is less than its convex hull's " << hull_volume << " m^3)";
+      r.errors.push_back(s.str());
+      continue;
+    }
+    r.volume_m3 += volume;
+    planes[b] = planes_of(p);
+    sound[b] = 1;
+  }
+
+  // Candidate pairs: bounding boxes that touch or overlap (CGAL's box intersection).
+  using Box = CGAL::Box_intersection_d::Box_with_info_d<double, 3, std::size_t>;
+  std::vector<Box> boxes;
+  for (std::size_t b = 0; b < blocks.size(); ++b) {
+    if (!sound[b]) continue;
+    Vec3 lo = blocks[b].vertices[0], hi = lo;
+    for (const Vec3& v : blocks[b].vertices) {
+      lo = lo.cwiseMin(v);
+      hi = hi.cwiseMax(v);
+    }
+    const double pad = 1e-9 * (hi - lo).norm();
+    double l[3] = {lo.x() - pad, lo.y() - pad, lo.z() - pad}, h[3] = {hi.x() + pad, hi.y() + pad, hi.z() + pad};
+    boxes.emplace_back(l, h, b);
+  }
+  std::vector<std::pair<std::size_t, std::size_t>> candidates;
+  CGAL::box_self_intersection_d(boxes.begin(), boxes.end(), [&](const Box& x, const Box& y) {
+    candidates.emplace_back(std::min(x.info(), y.info()), std::max(x.info(), y.info()));
+  });
+  std::sort(candidates.begin(), candidates.end());
+
+  // Round-off allowance for touching faces: a micrometre per metre of the assembly.
+  double assembly = 0;
+  for (const Box& x : boxes) assembly = std::max(assembly, x.max_coord(0) - x.min_coord(0));
+  const double shrink = 1e-6 * std::max(1.0, assembly);
+  std::vector<char> touches(blocks.size(), 0);
+  for (const auto& [a, b] : candidates) {
+    const double common = overlap_volume(planes[a], planes[b], shrink);
+    if (common > overlap_tolerance_m3) {
+      ++r.overlapping_pairs;
+      std::ostringstream s;
+      s << label(a) << " and " << label(b) << " overlap by " << common << " m^3 (tolerance " << overlap_tolerance_m3 << ")";
+      r.errors.push_back(s.str());
+      continue;
+    }
+    const double eps = 1e-9 * (1.0 + std::abs(planes[a][0].d));
+    bool shared = false;
+    for (std::size_t i = 0; i < planes[a].size() && !shared; ++i)
+      for (std::size_t j = 0; j < planes[b].size() && !shared; ++j)
+        shared = shared_face_area(blocks[a], blocks[a].faces[i], planes[a][i], blocks[b], blocks[b].faces[j], planes[b][j], eps) > 1e-12;
+    if (shared) {
+      ++r.shared_faces;
+      touches[a] = touches[b] = 1;
+    }
+  }
+  if (blocks.size() > 1)
+    for (std::size_t b = 0; b < blocks.size(); ++b)
+      if (sound[b] && !touches[b]) r.errors.push_back(label(b) + ": meets no other block on a shared face (it floats)");
+  return r;
+}
+
+}  // namespace ishibashi
