@@ -4,7 +4,9 @@
 #include <cstdio>
 #include <exception>
 
+#include "apps/build_command.h"
 #include "apps/demo.h"
+#include "io/model_file.h"
 #include "engine/model.h"
 #include "engine/parallel.h"
 
@@ -25,10 +27,19 @@ int main(int argc, char** argv) {
   demo_cmd->add_option("--courses", demo.courses, "courses of stones")->check(CLI::Range(1, 200));
   demo_cmd->add_option("--stones", demo.stones_per_course, "stones per course")->check(CLI::Range(2, 500));
 
+  ishibashi::BuildOptions build;
+  CLI::App* build_cmd = app.add_subcommand("build", "Generate a bridge from a model file, validate it, write it for ParaView");
+  build_cmd->add_option("model_file", build.model_file, "model file (TOML), e.g. models/nishida_b.toml")->required();
+  build_cmd->add_option("--out", build.out, "output folder for the .vtu");
+
   CLI11_PARSE(app, argc, argv);
   if (threads > 0) omp_set_num_threads(threads);
   try {
     if (*demo_cmd) return ishibashi::run_demo(demo);
+    if (*build_cmd) return ishibashi::run_build(build);
+  } catch (const ishibashi::InputError& e) {
+    std::fprintf(stderr, "ishibashi: input error: %s\n", e.what());
+    return 2;
   } catch (const ishibashi::ModelError& e) {
     std::fprintf(stderr, "ishibashi: model error: %s\n", e.what());
     return 2;

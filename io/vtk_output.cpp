@@ -41,9 +41,11 @@ void write_blocks_vtu(const Model& m, const State& s, const std::filesystem::pat
   auto cell_velocity = vector_array("velocity", nb);
   auto cell_angular = vector_array("angular_velocity", nb);
   auto cell_displacement = vector_array("displacement", nb);
-  vtkNew<vtkIntArray> block_id, material;
+  vtkNew<vtkIntArray> block_id, material, part, course;
   block_id->SetName("block_id");
   material->SetName("material");
+  part->SetName("part");
+  course->SetName("course");
   vtkNew<vtkUnsignedCharArray> fixed;
   fixed->SetName("fixed");
 
@@ -73,6 +75,8 @@ void write_blocks_vtu(const Model& m, const State& s, const std::filesystem::pat
                          face_stream.data());
     block_id->InsertNextValue(b);
     material->InsertNextValue(m.material[b]);
+    part->InsertNextValue(m.block_tag[b].part);
+    course->InsertNextValue(m.block_tag[b].course);
     fixed->InsertNextValue(m.motion[b] == Motion::free ? 0 : 1);
     cell_velocity->SetTuple(b, s.velocity[b].data());
     cell_angular->SetTuple(b, s.angular_velocity[b].data());
@@ -84,6 +88,8 @@ void write_blocks_vtu(const Model& m, const State& s, const std::filesystem::pat
   grid->GetPointData()->AddArray(point_displacement);
   grid->GetCellData()->AddArray(block_id);
   grid->GetCellData()->AddArray(material);
+  grid->GetCellData()->AddArray(part);
+  grid->GetCellData()->AddArray(course);
   grid->GetCellData()->AddArray(fixed);
   grid->GetCellData()->AddArray(cell_velocity);
   grid->GetCellData()->AddArray(cell_angular);

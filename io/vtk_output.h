@@ -10,7 +10,9 @@
 
 namespace ishibashi {
 
-// Cell data: block_id, material, fixed (1 unless the block is free), velocity (m/s),
+// Cell data: block_id, material, part and course (the generator's labels, see
+// geometry/bridge.h: 0 ground, 1 ring, 2 wall, 3 fill, 4 soil, 5 side wall), fixed (1
+// unless the block is free), velocity (m/s),
 // angular_velocity (rad/s), displacement of the centroid (m). Point data: velocity and
 // displacement of each vertex.
 void write_blocks_vtu(const Model& model, const State& state, const std::filesystem::path& file);

@@ -1,0 +1,81 @@
+#include "apps/build_command.h"
+
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <map>
+
+#include "geometry/bridge.h"
+#include "geometry/validate.h"
+#include "io/model_file.h"
+#include "io/vtk_output.h"
+
+namespace ishibashi {
+
+int run_build(const BuildOptions& o) {
+  const auto t0 = std::chrono::steady_clock::now();
+  const ModelFile file = read_model_file(o.model_file);
+  std::vector<BridgeBlock> blocks;
+  try {
+    blocks = generate_bridge(file.bridge);
+  } catch (const ModelError& e) {
+    throw InputError(o.model_file.string() + ": " + e.what());
+  }
+  std::printf("%s: %s\n", file.name.c_str(), file.description.c_str());
+
+  // Validation (CGAL): every block sound, no overlaps, every block on a shared face.
+  std::vector<Polyhedron> shapes;
+  std::vector<std::string> names;
+  for (std::size_t i = 0; i < blocks.size(); ++i) {
+    shapes.push_back(blocks[i].shape);
+    names.push_back(std::string(part_name(blocks[i].part)) + "-" + std::to_string(i));
+  }
+  const ValidationReport report = validate_blocks(shapes, names);
+  double ground_volume = 0;
+  for (const BridgeBlock& b : blocks)
+    if (b.part == Part::ground)
+      for (const auto& f : {b.shape}) {
+        Vec3 lo = f.vertices[0], hi = lo;
+        for (const Vec3& v : f.vertices) {
+          lo = lo.cwiseMin(v);
+          hi = hi.cwiseMax(v);
+        }
+        ground_volume += (hi - lo).prod();
+      }
+  const double design = design_volume_m3(file.bridge);
+  const double built = report.volume_m3 - ground_volume;
+  const double volume_error = std::abs(built - design) / design;
+
+  const Model model = compile_bridge(file.bridge, blocks);
+  std::map<std::string, std::pair<int, int>> by_part;  // free, fixed
+  double mass = 0;
+  Vec3 lo = model.initial_position[0], hi = lo;
+  for (int b = 0; b < model.block_count; ++b) {
+    auto& count = by_part[part_name(static_cast<Part>(model.block_tag[b].part))];
+    (model.motion[b] == Motion::free ? count.first : count.second)++;
+    if (model.motion[b] == Motion::free) mass += model.mass_kg[b];
+    for (int v = model.vertex_begin[b]; v < model.vertex_begin[b + 1]; ++v) {
+      const Vec3 x = model.initial_position[b] + model.initial_orientation[b] * model.vertex_local[v];
+      lo = lo.cwiseMin(x);
+      hi = hi.cwiseMax(x);
+    }
+  }
+  std::printf("blocks: %d\n", model.block_count);
+  for (const auto& [part, count] : by_part) std::printf("  %-10s %5d free %5d fixed\n", part.c_str(), count.first, count.second);
+  std::printf("mass of the free blocks: %.1f t\n", mass / 1000.0);
+  std::printf("bounding box: x %.3f .. %.3f, y %.3f .. %.3f, z %.3f .. %.3f m\n", lo.x(), hi.x(), lo.y(), hi.y(), lo.z(), hi.z());
+  std::printf("volume: %.4f m^3, design %.4f m^3 (difference %.2e)\n", built, design, volume_error);
+  std::printf("validation: %d pairs meet on shared faces, %d overlapping pairs, %zu errors\n", report.shared_faces,
+              report.overlapping_pairs, report.errors.size());
+  for (const std::string& e : report.errors) std::printf("  error: %s\n", e.c_str());
+  if (volume_error > 1e-3) std::printf("  error: the blocks' volume differs from the design volume by more than 0.1 %%\n");
+
+  std::filesystem::create_directories(o.out);
+  const auto vtu = o.out / (o.model_file.stem().string() + ".vtu");
+  write_blocks_vtu(model, make_initial_state(model), vtu);
+  std::printf("wrote %s (%.1f s)\n", vtu.c_str(),
+              std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
+  return report.ok() && volume_error <= 1e-3 ? 0 : 3;
+}
+
+}  // namespace ishibashi

@@ -1,0 +1,16 @@
+// `ishibashi build <model file>`: generate the bridge, validate it with CGAL, print a
+// summary and write the initial model for ParaView.
+#pragma once
+#include <filesystem>
+
+namespace ishibashi {
+
+struct BuildOptions {
+  std::filesystem::path model_file;
+  std::filesystem::path out = "out/build";
+};
+
+// Returns the exit code: 0 when the model is valid, 3 when validation found errors.
+int run_build(const BuildOptions& options);
+
+}  // namespace ishibashi
