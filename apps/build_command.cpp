@@ -5,6 +5,7 @@
 #include <cstdio>
 #include <map>
 
+#include "geometry/block_files.h"
 #include "geometry/bridge.h"
 #include "geometry/validate.h"
 #include "io/model_file.h"
@@ -16,10 +17,17 @@ int run_build(const BuildOptions& o) {
   const auto t0 = std::chrono::steady_clock::now();
   const ModelFile file = read_model_file(o.model_file);
   std::vector<BridgeBlock> blocks;
-  try {
-    blocks = generate_bridge(file.bridge);
-  } catch (const ModelError& e) {
-    throw InputError(o.model_file.string() + ": " + e.what());
+  if (file.imported()) {
+    for (const auto* list : {&file.import_files, &file.fixed_files})
+      for (const auto& path : *list)
+        for (const Polyhedron& p : read_block_file(path))
+          blocks.push_back(BridgeBlock{p, Part::imported, 0, list == &file.fixed_files});
+  } else {
+    try {
+      blocks = generate_bridge(file.bridge);
+    } catch (const ModelError& e) {
+      throw InputError(o.model_file.string() + ": " + e.what());
+    }
   }
   std::printf("%s: %s\n", file.name.c_str(), file.description.c_str());
 
@@ -42,10 +50,19 @@ int run_build(const BuildOptions& o) {
         }
         ground_volume += (hi - lo).prod();
       }
-  const double design = design_volume_m3(file.bridge);
   const double built = report.volume_m3 - ground_volume;
+  const double design = file.imported() ? built : design_volume_m3(file.bridge);
   const double volume_error = std::abs(built - design) / design;
 
+  // Imported blocks reach the engine with coplanar triangles merged into one face each
+  // (a face is a contact plane); only once validation has shown them convex.
+  if (file.imported() && report.ok())
+    for (BridgeBlock& b : blocks) b.shape = merged_faces(b.shape);
+  if (!report.ok()) {
+    for (const std::string& e : report.errors) std::printf("  error: %s\n", e.c_str());
+    std::printf("validation failed: %zu errors\n", report.errors.size());
+    return 3;
+  }
   const Model model = compile_bridge(file.bridge, blocks);
   std::map<std::string, std::pair<int, int>> by_part;  // free, fixed
   double mass = 0;
@@ -67,15 +84,20 @@ int run_build(const BuildOptions& o) {
   std::printf("volume: %.4f m^3, design %.4f m^3 (difference %.2e)\n", built, design, volume_error);
   std::printf("validation: %d pairs meet on shared faces, %d overlapping pairs, %zu errors\n", report.shared_faces,
               report.overlapping_pairs, report.errors.size());
-  for (const std::string& e : report.errors) std::printf("  error: %s\n", e.c_str());
   if (volume_error > 1e-3) std::printf("  error: the blocks' volume differs from the design volume by more than 0.1 %%\n");
 
+  if (!o.export_file.empty()) {
+    std::vector<Polyhedron> shapes_out;
+    for (const BridgeBlock& b : blocks) shapes_out.push_back(b.shape);
+    write_block_file(o.export_file, shapes_out);
+    std::printf("exported %zu blocks to %s\n", shapes_out.size(), o.export_file.c_str());
+  }
   std::filesystem::create_directories(o.out);
   const auto vtu = o.out / (o.model_file.stem().string() + ".vtu");
   write_blocks_vtu(model, make_initial_state(model), vtu);
   std::printf("wrote %s (%.1f s)\n", vtu.c_str(),
               std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
-  return report.ok() && volume_error <= 1e-3 ? 0 : 3;
+  return volume_error <= 1e-3 ? 0 : 3;
 }
 
 }  // namespace ishibashi

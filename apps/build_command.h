@@ -8,6 +8,7 @@ namespace ishibashi {
 struct BuildOptions {
   std::filesystem::path model_file;
   std::filesystem::path out = "out/build";
+  std::filesystem::path export_file;  // optional: the blocks as .off or .obj
 };
 
 // Returns the exit code: 0 when the model is valid, 3 when validation found errors.

@@ -31,6 +31,7 @@ int main(int argc, char** argv) {
   CLI::App* build_cmd = app.add_subcommand("build", "Generate a bridge from a model file, validate it, write it for ParaView");
   build_cmd->add_option("model_file", build.model_file, "model file (TOML), e.g. models/nishida_b.toml")->required();
   build_cmd->add_option("--out", build.out, "output folder for the .vtu");
+  build_cmd->add_option("--export", build.export_file, "also write the blocks to this .off or .obj file");
 
   CLI11_PARSE(app, argc, argv);
   if (threads > 0) omp_set_num_threads(threads);

@@ -34,7 +34,8 @@ RingGeometry ring_geometry(const ArchRingSpec& s) {
   g.half_angle = std::asin(std::min(1.0, half / g.radius));  // pi/2 for a semicircle
   const double mid = g.radius + 0.5 * s.thickness_m;
   require(2.0 * g.half_angle * mid >= 3 * s.stone_m, "stone_m is too large for the ring (fewer than 3 voussoirs)");
-  g.along = std::max(3, static_cast<int>(std::lround(2.0 * g.half_angle * mid / s.stone_m)));
+  require(s.voussoirs == 0 || s.voussoirs >= 3, "voussoirs must be 0 (from stone_m) or at least 3");
+  g.along = s.voussoirs > 0 ? s.voussoirs : std::max(3, static_cast<int>(std::lround(2.0 * g.half_angle * mid / s.stone_m)));
   g.across = std::max(1, static_cast<int>(std::lround(s.width_m / s.stone_m)));
   g.joint_angle = 2.0 * g.half_angle / g.along;
   g.springer_half_width = g.outer_radius * std::sin(g.half_angle);

@@ -17,6 +17,7 @@ struct ArchRingSpec {
   double thickness_m = 0.64;   // ring thickness (radial)
   double width_m = 3.2;        // across the bridge (y)
   double stone_m = 0.64;       // target stone length along the arc and across the width
+  int voussoirs = 0;           // voussoirs along the arc; 0: from stone_m at mid-thickness
   Bond bond = Bond::stack;     // courses across the width: stacked or staggered by half a stone
   Material stone;              // empty name: the Nishida stone
 };

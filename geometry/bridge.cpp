@@ -116,6 +116,7 @@ const char* part_name(Part p) {
     case Part::fill: return "fill";
     case Part::soil: return "soil";
     case Part::side_wall: return "side wall";
+    case Part::imported: return "imported";
   }
   return "?";
 }
@@ -141,7 +142,9 @@ std::vector<double> span_centres(const BridgeSpec& s, const RingGeometry& g) {
 
 std::vector<BridgeBlock> generate_bridge(const BridgeSpec& s) {
   const RingGeometry g = ring_geometry(s.ring);  // validates the ring parameters
-  const double stone = s.ring.stone_m, sliver = 0.3 * stone;
+  // No stone thinner than 0.3 stone (height) and none shorter than half a stone along a
+  // course next to a ring: small blocks would set a small stable time step.
+  const double stone = s.ring.stone_m, sliver = 0.3 * stone, clearance = 0.5 * stone;
   require(s.spans >= 1, "spans must be at least 1");
   require(s.spans == 1 || s.pier_width_m >= 0, "pier_width_m must be >= 0");
   require(s.fill_height_m >= 0 && s.length_m >= 0, "fill_height_m and length_m must be >= 0");
@@ -211,7 +214,7 @@ std::vector<BridgeBlock> generate_bridge(const BridgeSpec& s) {
     // Per ring and course, the x-range its outline (or its columns) takes on each side:
     // `near` is the boundary's extreme towards the ring's centre, `far` towards the fill.
     // Cells start at `near` (the cut removes what lies in the ring) and joints keep
-    // 0.3 stone clear of `far`, so no stone next to a ring is a sliver.
+    // half a stone clear of `far`, so no stone next to a ring is a sliver.
     const double x_end = 0.5 * s.length_m;
     for (std::size_t band = 0; band + 1 < levels.size(); ++band) {
       const double z0 = levels[band], z1 = levels[band + 1];
@@ -245,9 +248,9 @@ std::vector<BridgeBlock> generate_bridge(const BridgeSpec& s) {
       const double offset = (band % 2) * 0.5 * stone;
       for (std::size_t k = 0; k < starts.size(); ++k) {
         std::vector<double> cuts{starts[k].near};
-        for (double j = std::ceil((starts[k].far + sliver + x_end - offset) / stone);; ++j) {
+        for (double j = std::ceil((starts[k].far + clearance + x_end - offset) / stone);; ++j) {
           const double x = -x_end + offset + j * stone;
-          if (x > ends[k].far - sliver) break;
+          if (x > ends[k].far - clearance) break;
           cuts.push_back(x);
         }
         cuts.push_back(ends[k].near);

@@ -15,7 +15,7 @@
 
 namespace ishibashi {
 
-enum class Part : int { ground = 0, ring = 1, wall = 2, fill = 3, soil = 4, side_wall = 5 };
+enum class Part : int { ground = 0, ring = 1, wall = 2, fill = 3, soil = 4, side_wall = 5, imported = 6 };
 const char* part_name(Part part);
 
 enum class Backfill { stone, soil };

@@ -50,6 +50,17 @@ class TableReader {
       out = *v;
     }
   }
+  void paths(const char* key, const std::filesystem::path& base, std::vector<std::filesystem::path>& out) {
+    if (const toml::node* n = find(key)) {
+      const toml::array* a = n->as_array();
+      if (!a) fail(*n, std::string("'") + key + "' must be an array of file names");
+      for (const toml::node& e : *a) {
+        auto v = e.value<std::string>();
+        if (!v) fail(e, std::string("'") + key + "' must hold strings (file names)");
+        out.push_back(base / *v);
+      }
+    }
+  }
   void material(Material& m) {
     text("name", m.name);
     number("density_kg_m3", m.density_kg_m3);
@@ -98,10 +109,10 @@ ModelFile read_model_file(const std::filesystem::path& file) {
     throw InputError(s.str());
   }
   for (const auto& [key, node] : root)
-    if (key != "model" && key != "ring" && key != "bridge" && key != "stone" && key != "soil") {
+    if (key != "model" && key != "ring" && key != "bridge" && key != "stone" && key != "soil" && key != "import") {
       std::ostringstream s;
       s << file.string() << ":" << node.source().begin.line << ": unknown table or key '" << key.str()
-        << "'; allowed: [model], [ring], [bridge], [stone], [soil]";
+        << "'; allowed: [model], [ring], [bridge], [stone], [soil], [import]";
       throw InputError(s.str());
     }
 
@@ -122,6 +133,7 @@ ModelFile read_model_file(const std::filesystem::path& file) {
   ring.number("thickness_m", b.ring.thickness_m);
   ring.number("width_m", b.ring.width_m);
   ring.number("stone_m", b.ring.stone_m);
+  ring.integer("voussoirs", b.ring.voussoirs);
   std::string bond = "stack";
   ring.text("bond", bond, {"stack", "running"});
   b.ring.bond = bond == "running" ? Bond::running : Bond::stack;
@@ -139,6 +151,14 @@ ModelFile read_model_file(const std::filesystem::path& file) {
   bridge.number("ground_thickness_m", b.ground_thickness_m);
   bridge.number("mortar_pa", b.mortar_pa);
   bridge.finish();
+
+  TableReader import(file, root, "import");
+  const std::filesystem::path base = std::filesystem::absolute(file).parent_path();
+  import.paths("files", base, m.import_files);
+  import.paths("fixed_files", base, m.fixed_files);
+  import.finish();
+  if (import.present() && (ring.present() || bridge.present()))
+    throw InputError(file.string() + ": [import] and [ring]/[bridge] exclude each other: a model is either imported or generated");
 
   TableReader stone(file, root, "stone");
   stone.material(b.stone);

@@ -5,6 +5,7 @@
 #include <filesystem>
 #include <stdexcept>
 #include <string>
+#include <vector>
 
 #include "geometry/bridge.h"
 
@@ -17,7 +18,11 @@ struct InputError : std::runtime_error {
 struct ModelFile {
   std::string name;        // [model] name, or the file's stem
   std::string description; // [model] description
-  BridgeSpec bridge;
+  BridgeSpec bridge;       // [ring], [bridge], [stone], [soil]: a generated bridge
+  // [import]: blocks from mesh files instead (paths resolved against the model file).
+  std::vector<std::filesystem::path> import_files;  // free blocks
+  std::vector<std::filesystem::path> fixed_files;   // fixed blocks (ground, abutments)
+  bool imported() const { return !import_files.empty() || !fixed_files.empty(); }
 };
 
 ModelFile read_model_file(const std::filesystem::path& file);

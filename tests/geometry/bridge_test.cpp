@@ -1,0 +1,100 @@
+// The bridge generator and its presets: counts near the study's, exact design volume,
+// CGAL validation (sound blocks, no overlaps, shared faces), clear errors.
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+
+#include "geometry/bridge.h"
+#include "geometry/validate.h"
+#include "io/model_file.h"
+
+namespace ishibashi {
+namespace {
+
+std::vector<Polyhedron> shapes_of(const std::vector<BridgeBlock>& blocks, bool with_ground) {
+  std::vector<Polyhedron> out;
+  for (const BridgeBlock& b : blocks)
+    if (with_ground || b.part != Part::ground) out.push_back(b.shape);
+  return out;
+}
+
+struct Preset {
+  const char* file;
+  int study_count;
+};
+
+class Presets : public ::testing::TestWithParam<Preset> {};
+
+TEST_P(Presets, CountVolumeAndValidation) {
+  const Preset p = GetParam();
+  const ModelFile file = read_model_file(std::filesystem::path(ISHIBASHI_SOURCE_DIR) / "models" / p.file);
+  const std::vector<BridgeBlock> blocks = generate_bridge(file.bridge);
+  const int count = static_cast<int>(blocks.size()) - 1;  // the ground slab is ours, not the study's
+  EXPECT_NEAR(count, p.study_count, 0.10 * p.study_count) << p.file;
+
+  // The blocks fill the design outline exactly: no gaps, no overlaps (CGAL).
+  const ValidationReport r = validate_blocks(shapes_of(blocks, false), {});
+  EXPECT_TRUE(r.ok()) << (r.errors.empty() ? "" : r.errors.front());
+  EXPECT_EQ(r.overlapping_pairs, 0);
+  EXPECT_NEAR(r.volume_m3, design_volume_m3(file.bridge), 1e-9 * r.volume_m3);
+  EXPECT_GT(r.shared_faces, count);  // a connected assembly: more joints than blocks
+
+  // Every fill stone stands on something and none is a sliver.
+  for (const BridgeBlock& b : blocks) {
+    double lo = 1e9, hi = -1e9;
+    for (const Vec3& v : b.shape.vertices) {
+      lo = std::min(lo, v.z());
+      hi = std::max(hi, v.z());
+    }
+    EXPECT_GT(hi - lo, 0.29 * file.bridge.ring.stone_m) << part_name(b.part);
+  }
+}
+
+INSTANTIATE_TEST_SUITE_P(Nishida, Presets,
+                         ::testing::Values(Preset{"nishida_a.toml", 165}, Preset{"nishida_b.toml", 1586},
+                                           Preset{"nishida_c.toml", 1588}, Preset{"nishida_d.toml", 1448},
+                                           Preset{"nishida_e.toml", 1450}, Preset{"nishida_f.toml", 2043}));
+
+TEST(Bridge, SoilBackfillHasStoneFaceWallsAndSoilInside) {
+  BridgeSpec s;
+  s.fill_height_m = 5.8;
+  s.length_m = 24.0;
+  s.backfill = Backfill::soil;
+  int walls = 0, soil = 0, fill = 0;
+  for (const BridgeBlock& b : generate_bridge(s)) {
+    walls += b.part == Part::wall;
+    soil += b.part == Part::soil;
+    fill += b.part == Part::fill;
+  }
+  EXPECT_EQ(fill, 0);
+  EXPECT_EQ(soil * 2, walls * 3);  // 5 across: 2 face walls, 3 soil units
+  const Model m = compile_bridge(s, generate_bridge(s));
+  EXPECT_EQ(m.materials[1].name, "soil");
+}
+
+TEST(Bridge, ImpossibleParametersAreClearErrors) {
+  using ::testing::HasSubstr;
+  auto error = [](const BridgeSpec& s) {
+    try {
+      generate_bridge(s);
+    } catch (const ModelError& e) {
+      return std::string(e.what());
+    }
+    return std::string("no error");
+  };
+  BridgeSpec s;
+  s.fill_height_m = 4.0;  // below the crown
+  s.length_m = 24.0;
+  EXPECT_THAT(error(s), HasSubstr("fill_height_m"));
+  s.fill_height_m = 5.8;
+  s.length_m = 10.0;  // shorter than the ring
+  EXPECT_THAT(error(s), HasSubstr("length_m"));
+  s = BridgeSpec{};
+  s.ring.rise_m = 7.0;
+  EXPECT_THAT(error(s), HasSubstr("rise_m"));
+  s = BridgeSpec{};
+  s.ring.thickness_m = 0.0;
+  EXPECT_THAT(error(s), HasSubstr("thickness_m must be positive"));
+}
+
+}  // namespace
+}  // namespace ishibashi

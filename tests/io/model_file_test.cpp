@@ -1,0 +1,48 @@
+// Model files: presets read, and bad files name the file, line and key.
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+
+#include <fstream>
+
+#include "io/model_file.h"
+
+namespace ishibashi {
+namespace {
+
+using ::testing::HasSubstr;
+
+std::string error_of(const std::string& text) {
+  const auto file = std::filesystem::temp_directory_path() / "ishibashi_model_test.toml";
+  std::ofstream(file) << text;
+  try {
+    read_model_file(file);
+  } catch (const InputError& e) {
+    return e.what();
+  }
+  return "no error";
+}
+
+TEST(ModelFile, PresetReads) {
+  const ModelFile m = read_model_file(std::filesystem::path(ISHIBASHI_SOURCE_DIR) / "models" / "nishida_f.toml");
+  EXPECT_EQ(m.name, "Nishida F");
+  EXPECT_EQ(m.bridge.spans, 2);
+  EXPECT_DOUBLE_EQ(m.bridge.length_m, 36.0);
+  EXPECT_DOUBLE_EQ(m.bridge.ring.span_m, 11.36);
+  EXPECT_EQ(m.bridge.stone.name, "stone");
+}
+
+TEST(ModelFile, UnknownKeyNamesFileLineAndKey) {
+  const std::string e = error_of("[ring]\nspan_m = 10.0\nrisee_m = 3.0\n");
+  EXPECT_THAT(e, HasSubstr("ishibashi_model_test.toml:3"));
+  EXPECT_THAT(e, HasSubstr("unknown key 'risee_m' in [ring]"));
+}
+
+TEST(ModelFile, WrongTypeAndBadChoiceAreErrors) {
+  EXPECT_THAT(error_of("[bridge]\n\nfill_height_m = \"high\"\n"), HasSubstr(":3: 'fill_height_m' must be a number"));
+  EXPECT_THAT(error_of("[bridge]\nbackfill = \"gravel\"\n"), HasSubstr("allowed: \"stone\", \"soil\""));
+  EXPECT_THAT(error_of("[brigde]\n"), HasSubstr("unknown table or key 'brigde'"));
+  EXPECT_THAT(error_of("[ring\n"), HasSubstr("ishibashi_model_test.toml:1"));
+}
+
+}  // namespace
+}  // namespace ishibashi
