@@ -94,6 +94,12 @@ TEST(Bridge, ImpossibleParametersAreClearErrors) {
   s = BridgeSpec{};
   s.ring.thickness_m = 0.0;
   EXPECT_THAT(error(s), HasSubstr("thickness_m must be positive"));
+  s = BridgeSpec{};
+  s.fill_height_m = -1.0;  // a negative height
+  EXPECT_THAT(error(s), HasSubstr("fill_height_m and length_m must be >= 0"));
+  s = BridgeSpec{};
+  s.ring.stone_m = 4.0;  // stones larger than the ring is wide
+  EXPECT_THAT(error(s), HasSubstr("stone_m must not exceed the ring width"));
 }
 
 }  // namespace
