@@ -37,7 +37,6 @@ RingGeometry ring_geometry(const ArchRingSpec& s) {
   require(s.voussoirs == 0 || s.voussoirs >= 3, "voussoirs must be 0 (from stone_m) or at least 3");
   g.along = s.voussoirs > 0 ? s.voussoirs : std::max(3, static_cast<int>(std::lround(2.0 * g.half_angle * mid / s.stone_m)));
   g.across = std::max(1, static_cast<int>(std::lround(s.width_m / s.stone_m)));
-  g.joint_angle = 2.0 * g.half_angle / g.along;
   g.springer_half_width = g.outer_radius * std::sin(g.half_angle);
   return g;
 }

@@ -37,7 +37,6 @@ struct RingGeometry {
   double outer_radius;  // extrados, m
   double centre_z;      // height of the circle's centre (springings at z = 0), m
   double half_angle;    // from the crown to a springing, rad
-  double joint_angle;   // between radial joints, rad
   int along;            // voussoirs along the arc
   int across;           // courses across the width
   double springer_half_width;  // half the ring's extent along x at the ground, m

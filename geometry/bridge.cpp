@@ -133,7 +133,8 @@ Material nishida_soil() {
   return m;
 }
 
-std::vector<double> span_centres(const BridgeSpec& s, const RingGeometry& g) {
+// x of each span's centre: springers a pier width apart, the whole centred on x = 0.
+static std::vector<double> span_centres(const BridgeSpec& s, const RingGeometry& g) {
   const double pitch = 2.0 * g.springer_half_width + s.pier_width_m;
   std::vector<double> c;
   for (int k = 0; k < s.spans; ++k) c.push_back((k - 0.5 * (s.spans - 1)) * pitch);
@@ -305,7 +306,7 @@ double design_volume_m3(const BridgeSpec& s) {
   if (s.fill_height_m > 0) {
     // Outline: the fill's rectangle less the openings under the intrados chords.
     area = s.length_m * s.fill_height_m;
-    for (double c : centres) area -= area_xz(ring_outline(g, c).intrados) ;
+    for (double c : centres) area -= area_xz(ring_outline(g, c).intrados);  // the opening
   } else {
     // The ring alone: each span's outline less its opening.
     for (double c : centres) {
