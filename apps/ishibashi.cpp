@@ -6,6 +6,7 @@
 
 #include "apps/build_command.h"
 #include "apps/demo.h"
+#include "apps/run_command.h"
 #include "io/model_file.h"
 #include "engine/model.h"
 #include "engine/parallel.h"
@@ -33,11 +34,19 @@ int main(int argc, char** argv) {
   build_cmd->add_option("--out", build.out, "output folder for the .vtu");
   build_cmd->add_option("--export", build.export_file, "also write the blocks to this .off or .obj file");
 
+  ishibashi::RunOptions run;
+  CLI::App* run_cmd = app.add_subcommand("run", "Settle a bridge under gravity, then shake it with a recorded ground motion");
+  run_cmd->add_option("scenario", run.scenario, "scenario file (TOML), e.g. scenarios/nishida_a_kobe.toml")->required();
+  run_cmd->add_option("--out", run.out, "output folder (default: out/<scenario name>)");
+  run_cmd->add_flag("--profile", run.profile, "print the time spent in each stage of the step");
+  run_cmd->add_flag("--quiet", run.quiet, "no progress bar");
+
   CLI11_PARSE(app, argc, argv);
   if (threads > 0) omp_set_num_threads(threads);
   try {
     if (*demo_cmd) return ishibashi::run_demo(demo);
     if (*build_cmd) return ishibashi::run_build(build);
+    if (*run_cmd) return ishibashi::run_scenario(run);
   } catch (const ishibashi::InputError& e) {
     std::fprintf(stderr, "ishibashi: input error: %s\n", e.what());
     return 2;

@@ -54,7 +54,7 @@ double apply_contact_law(const Model& m, State& s, double dt) {
       const SpringConstants k = spring_constants(m, c, i);
       const PairLaw& law = m.law(m.material[a], m.material[b]);
       const double area = c.area_m2[i];
-      std::uint8_t flags = c.flags[i] & (SubContactFlag::bonded | SubContactFlag::broken);
+      std::uint8_t flags = c.flags[i] & (SubContactFlag::bonded | SubContactFlag::broken | SubContactFlag::original);
 
       // Normal spring, incremental: e_n += K_n dn, dn = change of the gap (tension
       // positive). A dry joint only counts the part of dn spent in overlap, so it takes
@@ -80,7 +80,7 @@ double apply_contact_law(const Model& m, State& s, double dt) {
         const double sigma = en / area, tau = es.norm() / area;
         const bool tension_failure = sigma - law.tensile_pa >= 0;
         const bool shear_failure = tau + sigma * law.tan_friction - law.cohesion_pa >= 0;
-        if (tension_failure || shear_failure) flags = SubContactFlag::broken;
+        if (tension_failure || shear_failure) flags = (flags & SubContactFlag::original) | SubContactFlag::broken;
       }
       const bool bonded = flags & SubContactFlag::bonded;
       Vec3 force = Vec3::Zero(), damping_force = Vec3::Zero();

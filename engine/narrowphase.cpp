@@ -429,7 +429,8 @@ void update_contacts(const Model& m, State& s, bool first_detection) {
         } else {
           out.normal_spring_n[j] = 0.0;
           out.shear_spring_n[j] = Vec3::Zero();
-          out.flags[j] = SubContactFlag::fresh | (bondable ? SubContactFlag::bonded : 0);
+          out.flags[j] = SubContactFlag::fresh | (bondable ? SubContactFlag::bonded : 0) |
+                         (first_detection ? SubContactFlag::original : 0);
           out.damping_force_n[j] = Vec3::Zero();
           out.gap_change_m[j] = 0.0;
         }

@@ -17,6 +17,7 @@ enum SubContactFlag : std::uint8_t {
   sliding = 4,   // shear force at the friction limit this step
   open = 8,      // gap >= 0 and no bond: carries no force
   fresh = 16,    // created this step: its springs start from the current overlap
+  original = 32, // part of a joint in contact at the start (may carry a bond)
 };
 
 // Sub-contacts, sorted by (pair, key). The normal points from block_a to block_b and the

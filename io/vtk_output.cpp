@@ -28,6 +28,18 @@ vtkNew<vtkDoubleArray> vector_array(const char* name, vtkIdType n) {
   return a;
 }
 
+void write_grid(vtkUnstructuredGrid* grid, const std::filesystem::path& file) {
+  write_atomically(file, [&](const std::filesystem::path& tmp) {
+    vtkNew<vtkXMLUnstructuredGridWriter> writer;
+    writer->SetFileName(tmp.c_str());
+    writer->SetInputData(grid);
+    writer->SetDataModeToAppended();
+    writer->EncodeAppendedDataOff();  // raw binary
+    writer->SetCompressorTypeToZLib();
+    if (writer->Write() != 1) throw std::runtime_error("cannot write " + file.string() + " (VTK writer failed)");
+  });
+}
+
 }  // namespace
 
 void write_blocks_vtu(const Model& m, const State& s, const std::filesystem::path& file) {
@@ -95,19 +107,54 @@ void write_blocks_vtu(const Model& m, const State& s, const std::filesystem::pat
   grid->GetCellData()->AddArray(cell_angular);
   grid->GetCellData()->AddArray(cell_displacement);
 
-  write_atomically(file, [&](const std::filesystem::path& tmp) {
-    vtkNew<vtkXMLUnstructuredGridWriter> writer;
-    writer->SetFileName(tmp.c_str());
-    writer->SetInputData(grid);
-    writer->SetDataModeToAppended();
-    writer->EncodeAppendedDataOff();  // raw binary
-    writer->SetCompressorTypeToZLib();
-    if (writer->Write() != 1) throw std::runtime_error("cannot write " + file.string() + " (VTK writer failed)");
-  });
+  write_grid(grid, file);
 }
 
-VtkSeriesWriter::VtkSeriesWriter(std::filesystem::path directory, std::string name)
-    : directory_(std::move(directory)), name_(std::move(name)) {
+
+void write_contacts_vtu(const State& s, const std::filesystem::path& file) {
+  const SubContacts& c = s.contacts;
+  const vtkIdType n = static_cast<vtkIdType>(c.size());
+  vtkNew<vtkPoints> points;
+  points->SetDataTypeToDouble();
+  points->SetNumberOfPoints(n);
+  auto normal = vector_array("normal", n);
+  vtkNew<vtkDoubleArray> sigma, tau, opening;
+  sigma->SetName("normal_stress_pa");
+  tau->SetName("shear_stress_pa");
+  opening->SetName("opening_m");
+  vtkNew<vtkIntArray> state, original, block_a, block_b;
+  state->SetName("state");
+  original->SetName("original");
+  block_a->SetName("block_a");
+  block_b->SetName("block_b");
+  vtkNew<vtkUnstructuredGrid> grid;
+  grid->Allocate(n);
+  for (vtkIdType i = 0; i < n; ++i) {
+    points->SetPoint(i, c.point[i].data());
+    normal->SetTuple(i, c.normal[i].data());
+    sigma->InsertNextValue(c.normal_spring_n[i] / c.area_m2[i]);
+    tau->InsertNextValue(c.shear_spring_n[i].norm() / c.area_m2[i]);
+    opening->InsertNextValue(std::max(0.0, c.gap_m[i]));
+    const std::uint8_t f = c.flags[i];
+    const int code = (f & SubContactFlag::open)      ? 3
+                     : (f & SubContactFlag::sliding) ? 2
+                     : (f & SubContactFlag::bonded)  ? 0
+                     : (f & SubContactFlag::broken)  ? 4
+                                                     : 1;
+    state->InsertNextValue(code);
+    original->InsertNextValue((f & SubContactFlag::original) ? 1 : 0);
+    block_a->InsertNextValue(c.block_a[i]);
+    block_b->InsertNextValue(c.block_b[i]);
+    grid->InsertNextCell(VTK_VERTEX, 1, &i);
+  }
+  grid->SetPoints(points);
+  for (vtkDataArray* a : std::initializer_list<vtkDataArray*>{normal, sigma, tau, opening, state, original, block_a, block_b})
+    grid->GetPointData()->AddArray(a);
+  write_grid(grid, file);
+}
+
+VtkSeriesWriter::VtkSeriesWriter(std::filesystem::path directory, std::string name, Kind kind)
+    : directory_(std::move(directory)), name_(std::move(name)), kind_(kind) {
   std::error_code ec;
   std::filesystem::create_directories(directory_, ec);
   if (ec) throw std::runtime_error("cannot create output folder " + directory_.string() + ": " + ec.message());
@@ -117,7 +164,10 @@ void VtkSeriesWriter::write(const Model& model, const State& state) {
   char file[64];
   std::snprintf(file, sizeof file, "_%06d.vtu", frame_count());
   const std::string vtu = name_ + file;
-  write_blocks_vtu(model, state, directory_ / vtu);
+  if (kind_ == Kind::blocks)
+    write_blocks_vtu(model, state, directory_ / vtu);
+  else
+    write_contacts_vtu(state, directory_ / vtu);
   times_.push_back(state.time_s);
   files_.push_back(vtu);
 

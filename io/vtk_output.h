@@ -17,11 +17,19 @@ namespace ishibashi {
 // displacement of each vertex.
 void write_blocks_vtu(const Model& model, const State& state, const std::filesystem::path& file);
 
+// The sub-contacts as points (one vertex cell each), so cracks can be seen: point data
+// normal (a -> b), normal_stress_pa (tension positive), shear_stress_pa, opening_m
+// (positive gap), state (0 bonded, 1 elastic, 2 sliding, 3 open, 4 broken: lost its
+// bond, in contact), original (1: part of a joint in contact at the start), block_a,
+// block_b.
+void write_contacts_vtu(const State& state, const std::filesystem::path& file);
+
 // A time series <name>.pvd + <name>_NNNNNN.vtu in one folder. The .pvd is rewritten
 // atomically after each frame, so a run stopped at any moment leaves a valid series.
 class VtkSeriesWriter {
  public:
-  VtkSeriesWriter(std::filesystem::path directory, std::string name);
+  enum class Kind { blocks, contacts };
+  VtkSeriesWriter(std::filesystem::path directory, std::string name, Kind kind = Kind::blocks);
   void write(const Model& model, const State& state);
   std::filesystem::path pvd_path() const { return directory_ / (name_ + ".pvd"); }
   int frame_count() const { return static_cast<int>(times_.size()); }
@@ -29,6 +37,7 @@ class VtkSeriesWriter {
  private:
   std::filesystem::path directory_;
   std::string name_;
+  Kind kind_;
   std::vector<double> times_;
   std::vector<std::string> files_;
 };

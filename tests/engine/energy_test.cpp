@@ -41,7 +41,7 @@ TEST(Energy, ConservedWithoutDampingOrSliding) {
   EXPECT_LT(worst, 1e-3 * in_play);
   EXPECT_EQ(s.energy.friction_j, 0.0);
   EXPECT_EQ(s.energy.damping_j, 0.0);
-  for (std::uint8_t f : s.contacts.flags) EXPECT_EQ(f, SubContactFlag::bonded);
+  for (std::uint8_t f : s.contacts.flags) EXPECT_EQ(f, SubContactFlag::bonded | SubContactFlag::original);
 }
 
 TEST(Energy, BalanceClosesWithDamping) {

@@ -1,0 +1,18 @@
+// `ishibashi run scenario.toml`: settle the model under gravity, then shake it with the
+// recorded ground motion, writing the ParaView series, history.csv and summary.json.
+#pragma once
+#include <filesystem>
+
+namespace ishibashi {
+
+struct RunOptions {
+  std::filesystem::path scenario;
+  std::filesystem::path out;  // empty: out/<scenario name>
+  bool profile = false;       // print the per-stage time table at the end
+  bool quiet = false;         // no progress bar
+};
+
+// Returns the exit code: 0 done, 130 interrupted (outputs valid up to that moment).
+int run_scenario(const RunOptions& options);
+
+}  // namespace ishibashi

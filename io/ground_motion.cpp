@@ -1,0 +1,231 @@
+#include "io/ground_motion.h"
+
+#include <algorithm>
+#include <cmath>
+#include <fstream>
+#include <regex>
+#include <sstream>
+
+namespace ishibashi {
+namespace {
+
+constexpr double kG = 9.80665;  // standard gravity, m/s^2 (unit conversion of records)
+
+[[noreturn]] void fail(const std::filesystem::path& file, int line, const std::string& what) {
+  std::ostringstream s;
+  s << file.string();
+  if (line > 0) s << ":" << line;
+  s << ": " << what;
+  throw InputError(s.str());
+}
+
+std::ifstream open(const std::filesystem::path& file) {
+  std::ifstream in(file);
+  if (!in) fail(file, 0, "cannot open the ground-motion file");
+  return in;
+}
+
+// Parses every whitespace-separated number of a line; a word that is not a number is an
+// error naming the line.
+void numbers_of(const std::filesystem::path& file, int line_no, const std::string& line, std::vector<double>& out) {
+  std::istringstream s(line);
+  std::string word;
+  while (s >> word) {
+    char* end = nullptr;
+    const double v = std::strtod(word.c_str(), &end);
+    if (end == word.c_str() || *end != '\0' || !std::isfinite(v))
+      fail(file, line_no, "'" + word + "' is not a number");
+    out.push_back(v);
+  }
+}
+
+double unit_factor(AccelerationUnit u) {
+  switch (u) {
+    case AccelerationUnit::g: return kG;
+    case AccelerationUnit::gal: return 0.01;
+    case AccelerationUnit::m_s2: return 1.0;
+  }
+  return 1.0;
+}
+
+}  // namespace
+
+double Record::peak_m_s2() const {
+  double p = 0;
+  for (double a : accel_m_s2) p = std::max(p, std::abs(a));
+  return p;
+}
+
+Record read_at2(const std::filesystem::path& file) {
+  std::ifstream in = open(file);
+  std::string line;
+  int line_no = 0;
+  std::string units;
+  for (int k = 0; k < 4; ++k) {
+    if (!std::getline(in, line)) fail(file, line_no, "the AT2 header is incomplete (4 lines expected)");
+    ++line_no;
+    if (k == 2) units = line;
+  }
+  static const std::regex header(R"(NPTS\s*=\s*([0-9]+)\s*,\s*DT\s*=\s*([0-9.eE+-]+)\s*SEC)", std::regex::icase);
+  std::smatch m;
+  if (!std::regex_search(line, m, header)) fail(file, 4, "expected 'NPTS = n, DT = dt SEC' in the AT2 header");
+  const long npts = std::stol(m[1].str());
+  Record r;
+  r.source = file.filename().string();
+  r.dt_s = std::stod(m[2].str());
+  if (r.dt_s <= 0 || npts <= 1) fail(file, 4, "NPTS must exceed 1 and DT must be positive");
+  std::string upper = units;
+  std::transform(upper.begin(), upper.end(), upper.begin(), ::toupper);
+  const double factor = upper.find("UNITS OF G") != std::string::npos ? kG
+                        : upper.find("CM/S") != std::string::npos ? 0.01
+                                                                  : 0.0;
+  if (factor == 0.0) fail(file, 3, "unknown acceleration units (expected 'UNITS OF G' or 'CM/S/S')");
+  while (std::getline(in, line)) {
+    ++line_no;
+    numbers_of(file, line_no, line, r.accel_m_s2);
+  }
+  if (static_cast<long>(r.accel_m_s2.size()) != npts)
+    fail(file, 0, "the header says NPTS = " + std::to_string(npts) + " but the file holds " +
+                      std::to_string(r.accel_m_s2.size()) + " values");
+  for (double& a : r.accel_m_s2) a *= factor;
+  return r;
+}
+
+Record read_knet(const std::filesystem::path& file) {
+  std::ifstream in = open(file);
+  std::string line;
+  int line_no = 0;
+  double frequency = 0, scale = 0;
+  bool data = false;
+  Record r;
+  r.source = file.filename().string();
+  while (std::getline(in, line)) {
+    ++line_no;
+    if (!data) {
+      if (line.rfind("Sampling Freq(Hz)", 0) == 0) {
+        std::smatch m;
+        if (!std::regex_search(line, m, std::regex(R"(([0-9.]+)\s*Hz)"))) fail(file, line_no, "cannot read the sampling frequency");
+        frequency = std::stod(m[1].str());
+      } else if (line.rfind("Scale Factor", 0) == 0) {
+        std::smatch m;
+        if (!std::regex_search(line, m, std::regex(R"(([0-9.]+)\(gal\)/([0-9.]+))")))
+          fail(file, line_no, "cannot read the scale factor (expected like '7845(gal)/8223790')");
+        scale = std::stod(m[1].str()) / std::stod(m[2].str());
+      } else if (line.rfind("Memo.", 0) == 0) {
+        data = true;
+      }
+      continue;
+    }
+    numbers_of(file, line_no, line, r.accel_m_s2);
+  }
+  if (!data) fail(file, 0, "no 'Memo.' line: not a K-NET/KiK-net ASCII file");
+  if (frequency <= 0) fail(file, 0, "missing 'Sampling Freq(Hz)' in the header");
+  if (scale <= 0) fail(file, 0, "missing 'Scale Factor' in the header");
+  if (r.accel_m_s2.size() < 2) fail(file, 0, "no data after the header");
+  r.dt_s = 1.0 / frequency;
+  double mean = 0;
+  for (double& a : r.accel_m_s2) mean += (a *= scale * 0.01);  // counts -> gal -> m/s^2
+  mean /= static_cast<double>(r.accel_m_s2.size());
+  for (double& a : r.accel_m_s2) a -= mean;  // K-NET counts carry an offset
+  return r;
+}
+
+Record read_columns(const std::filesystem::path& file, AccelerationUnit unit, double dt_s) {
+  std::ifstream in = open(file);
+  std::string line;
+  int line_no = 0;
+  Record r;
+  r.source = file.filename().string();
+  std::vector<double> times;
+  while (std::getline(in, line)) {
+    ++line_no;
+    std::replace(line.begin(), line.end(), ',', ' ');
+    const auto first = line.find_first_not_of(" \t\r");
+    if (first == std::string::npos || line[first] == '#') continue;
+    std::vector<double> v;
+    numbers_of(file, line_no, line, v);
+    if (dt_s > 0) {
+      if (v.size() != 1) fail(file, line_no, "expected one column (acceleration) since dt_s is given");
+      r.accel_m_s2.push_back(v[0]);
+    } else {
+      if (v.size() != 2) fail(file, line_no, "expected two columns: time (s) and acceleration");
+      times.push_back(v[0]);
+      r.accel_m_s2.push_back(v[1]);
+    }
+  }
+  if (r.accel_m_s2.size() < 2) fail(file, 0, "fewer than two samples");
+  if (dt_s > 0) {
+    r.dt_s = dt_s;
+  } else {
+    r.dt_s = times[1] - times[0];
+    for (std::size_t i = 1; i < times.size(); ++i)
+      if (std::abs(times[i] - times[i - 1] - r.dt_s) > 1e-6 * r.dt_s + 1e-9)
+        fail(file, 0, "time steps are not uniform (near t = " + std::to_string(times[i]) + " s)");
+    if (r.dt_s <= 0) fail(file, 0, "times must increase");
+  }
+  for (double& a : r.accel_m_s2) a *= unit_factor(unit);
+  return r;
+}
+
+GroundMotion prepare_ground_motion(const GroundMotionSpec& spec, double dt_s) {
+  std::array<Record, 3> records;
+  double end = INFINITY;
+  bool any = false;
+  for (int c = 0; c < 3; ++c) {
+    if (!spec.component[c]) continue;
+    const ComponentSpec& cs = *spec.component[c];
+    if (cs.format == "at2") records[c] = read_at2(cs.file);
+    else if (cs.format == "knet") records[c] = read_knet(cs.file);
+    else if (cs.format == "columns") records[c] = read_columns(cs.file, cs.unit, cs.dt_s);
+    else throw InputError(cs.file.string() + ": unknown format '" + cs.format + "' (at2, knet or columns)");
+    for (double& a : records[c].accel_m_s2) a *= cs.scale;
+    end = std::min(end, records[c].dt_s * (records[c].accel_m_s2.size() - 1));
+    any = true;
+  }
+  if (!any) throw InputError("ground motion: no component given (x, y or z)");
+  if (spec.start_s < 0 || spec.start_s >= end)
+    throw InputError("ground motion: start_s must lie in [0, " + std::to_string(end) + ") s");
+  const double duration = spec.duration_s > 0 ? std::min(spec.duration_s, end - spec.start_s) : end - spec.start_s;
+
+  GroundMotion g;
+  g.dt_s = dt_s;
+  const std::size_t n = static_cast<std::size_t>(std::floor(duration / dt_s)) + 1;
+  g.accel_m_s2.assign(n, Vec3::Zero());
+  for (int c = 0; c < 3; ++c) {
+    if (!spec.component[c]) continue;
+    const Record& r = records[c];
+    // Linear interpolation of the record at the engine's steps.
+    for (std::size_t k = 0; k < n; ++k) {
+      const double t = (spec.start_s + k * dt_s) / r.dt_s;
+      const std::size_t i = std::min(static_cast<std::size_t>(t), r.accel_m_s2.size() - 2);
+      const double f = t - i;
+      g.accel_m_s2[k][c] = (1 - f) * r.accel_m_s2[i] + f * r.accel_m_s2[i + 1];
+    }
+    if (spec.baseline_correction) {
+      // Remove the least-squares linear trend of the velocity (a constant offset of the
+      // acceleration), so that the ground does not drift away at the end of the record.
+      std::vector<double> v(n, 0.0);
+      for (std::size_t k = 1; k < n; ++k) v[k] = v[k - 1] + 0.5 * (g.accel_m_s2[k - 1][c] + g.accel_m_s2[k][c]) * dt_s;
+      double st = 0, sv = 0, stt = 0, stv = 0;
+      for (std::size_t k = 0; k < n; ++k) {
+        const double t = k * dt_s;
+        st += t;
+        sv += v[k];
+        stt += t * t;
+        stv += t * v[k];
+      }
+      const double slope = (n * stv - st * sv) / (n * stt - st * st);
+      for (std::size_t k = 0; k < n; ++k) g.accel_m_s2[k][c] -= slope;
+    }
+  }
+  // Velocity and displacement by the trapezoidal rule, starting from rest.
+  g.velocity_m_s.assign(n, Vec3::Zero());
+  g.displacement_m.assign(n, Vec3::Zero());
+  for (std::size_t k = 1; k < n; ++k) {
+    g.velocity_m_s[k] = g.velocity_m_s[k - 1] + 0.5 * (g.accel_m_s2[k - 1] + g.accel_m_s2[k]) * dt_s;
+    g.displacement_m[k] = g.displacement_m[k - 1] + 0.5 * (g.velocity_m_s[k - 1] + g.velocity_m_s[k]) * dt_s;
+  }
+  return g;
+}
+
+}  // namespace ishibashi

@@ -1,0 +1,80 @@
+#include "io/scenario_file.h"
+
+#include "io/toml_reader.h"
+
+namespace ishibashi {
+
+Scenario read_scenario(const std::filesystem::path& file) {
+  if (!std::filesystem::exists(file)) throw InputError(file.string() + ": no such file");
+  toml::table root;
+  try {
+    root = toml::parse_file(file.string());
+  } catch (const toml::parse_error& e) {
+    std::ostringstream s;
+    s << file.string() << ":" << e.source().begin.line << ": " << e.description();
+    throw InputError(s.str());
+  }
+  for (const auto& [key, node] : root)
+    if (key != "model" && key != "run" && key != "ground_motion" && key != "monitor") {
+      std::ostringstream s;
+      s << file.string() << ":" << node.source().begin.line << ": unknown table or key '" << key.str()
+        << "'; allowed: [model], [run], [ground_motion], [monitor]";
+      throw InputError(s.str());
+    }
+  Scenario sc;
+  sc.file = file;
+  const std::filesystem::path base = std::filesystem::absolute(file).parent_path();
+
+  TableReader model(file, root, "model");
+  std::string model_file;
+  model.text("file", model_file);
+  model.number("mortar_pa", sc.mortar_pa);
+  model.finish();
+  if (model_file.empty()) throw InputError(file.string() + ": [model] file = \"...\" is required (a model file, e.g. models/nishida_a.toml)");
+  sc.model_file = base / model_file;
+  sc.model = read_model_file(sc.model_file);
+  if (sc.mortar_pa >= 0) sc.model.bridge.mortar_pa = sc.mortar_pa;
+
+  TableReader run(file, root, "run");
+  run.number("dt_s", sc.dt_s);
+  run.number("settle_max_s", sc.settle_max_s);
+  run.number("settle_kinetic_j", sc.settle_kinetic_j);
+  run.number("duration_s", sc.duration_s);
+  run.number("output_interval_s", sc.output_interval_s);
+  run.integer("threads", sc.threads);
+  run.integer("subdivision", sc.subdivision);
+  run.finish();
+  if (sc.dt_s < 0 || sc.settle_max_s < 0 || sc.duration_s < 0 || sc.output_interval_s <= 0 || sc.threads < 0)
+    throw InputError(file.string() + ": [run] times must be >= 0 and output_interval_s > 0");
+
+  TableReader gm(file, root, "ground_motion");
+  const char* axes[3] = {"x", "y", "z"};
+  for (int c = 0; c < 3; ++c) {
+    const toml::table* t = gm.subtable(axes[c]);
+    if (!t) continue;
+    TableReader comp(file, t, std::string("ground_motion.") + axes[c]);
+    ComponentSpec cs;
+    std::string path, unit = "g";
+    comp.text("file", path);
+    comp.text("format", cs.format, {"at2", "knet", "columns"});
+    comp.text("unit", unit, {"g", "gal", "m/s2"});
+    comp.number("dt_s", cs.dt_s);
+    comp.number("scale", cs.scale);
+    comp.finish();
+    if (path.empty()) throw InputError(file.string() + ": [ground_motion] " + axes[c] + " needs file = \"...\"");
+    cs.file = base / path;
+    cs.unit = unit == "gal" ? AccelerationUnit::gal : unit == "m/s2" ? AccelerationUnit::m_s2 : AccelerationUnit::g;
+    sc.ground_motion.component[c] = cs;
+  }
+  gm.number("start_s", sc.ground_motion.start_s);
+  gm.boolean("baseline_correction", sc.ground_motion.baseline_correction);
+  gm.finish();
+  sc.ground_motion.duration_s = sc.duration_s;
+
+  TableReader monitor(file, root, "monitor");
+  monitor.integers("blocks", sc.monitor_blocks);
+  monitor.finish();
+  return sc;
+}
+
+}  // namespace ishibashi

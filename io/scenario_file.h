@@ -1,0 +1,31 @@
+// Scenario files (TOML): which model, which ground motion, how to run and what to
+// record. Paths are relative to the scenario file. Errors name the file, line and key.
+#pragma once
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include "io/ground_motion.h"
+#include "io/model_file.h"
+
+namespace ishibashi {
+
+struct Scenario {
+  std::filesystem::path file;          // the scenario file itself
+  std::filesystem::path model_file;    // [model] file
+  ModelFile model;
+  double mortar_pa = -1.0;             // [model] mortar_pa; < 0: as the model file says
+  double dt_s = 0.0;                   // [run] dt_s; 0: 0.8 of the stability limit
+  double settle_max_s = 1.0;           // [run] longest gravity settling
+  double settle_kinetic_j = 1e-3;      // [run] settled when the kinetic energy is below
+  double duration_s = 0.0;             // [run] shaking time; 0: the whole ground motion
+  double output_interval_s = 0.05;     // [run] ParaView frames and history rows
+  int threads = 0;                     // [run] 0: all cores
+  int subdivision = 1;                 // [run] contact subdivision
+  GroundMotionSpec ground_motion;      // [ground_motion] x, y, z = { file, format, scale, unit, dt_s }
+  std::vector<int> monitor_blocks;     // [monitor] blocks; empty: the unit on top of the crown
+};
+
+Scenario read_scenario(const std::filesystem::path& file);
+
+}  // namespace ishibashi

@@ -1,0 +1,131 @@
+// Strict reading of TOML tables: typed fields, and an error naming the file, line and key
+// for an unknown key, a wrong type or a value outside the allowed choices.
+#pragma once
+#include <toml++/toml.h>
+
+#include <filesystem>
+#include <set>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "engine/model.h"
+#include "io/model_file.h"
+
+namespace ishibashi {
+
+// Reads one TOML table into typed fields, remembering which keys were used, so that
+// unknown keys can be reported with their line.
+class TableReader {
+ public:
+  TableReader(const std::filesystem::path& file, const toml::table& root, const std::string& name)
+      : file_(file), name_(name), table_(root[name].as_table()) {
+    if (root.contains(name) && !table_)
+      fail(*root.get(name), "[" + name + "] must be a table");
+  }
+
+  // A reader of a table found elsewhere (a nested table), named for messages.
+  TableReader(const std::filesystem::path& file, const toml::table* table, const std::string& name)
+      : file_(file), name_(name), table_(table) {}
+
+  bool present() const { return table_ != nullptr; }
+
+  void number(const char* key, double& out) {
+    if (const toml::node* n = find(key)) {
+      if (auto v = n->value<double>()) out = *v;
+      else fail(*n, std::string("'") + key + "' must be a number");
+    }
+  }
+  void integer(const char* key, int& out) {
+    if (const toml::node* n = find(key)) {
+      if (auto v = n->as_integer()) out = static_cast<int>(v->get());
+      else fail(*n, std::string("'") + key + "' must be an integer");
+    }
+  }
+  void text(const char* key, std::string& out, std::initializer_list<const char*> allowed = {}) {
+    if (const toml::node* n = find(key)) {
+      auto v = n->value<std::string>();
+      if (!v) fail(*n, std::string("'") + key + "' must be a string");
+      if (allowed.size()) {
+        std::string list;
+        bool ok = false;
+        for (const char* a : allowed) {
+          ok = ok || *v == a;
+          list += std::string(list.empty() ? "" : ", ") + "\"" + a + "\"";
+        }
+        if (!ok) fail(*n, std::string("'") + key + "' is \"" + *v + "\"; allowed: " + list);
+      }
+      out = *v;
+    }
+  }
+  void integers(const char* key, std::vector<int>& out) {
+    if (const toml::node* n = find(key)) {
+      const toml::array* a = n->as_array();
+      if (!a) fail(*n, std::string("'") + key + "' must be an array of integers");
+      for (const toml::node& e : *a) {
+        if (!e.as_integer()) fail(e, std::string("'") + key + "' must hold integers");
+        out.push_back(static_cast<int>(e.as_integer()->get()));
+      }
+    }
+  }
+  void paths(const char* key, const std::filesystem::path& base, std::vector<std::filesystem::path>& out) {
+    if (const toml::node* n = find(key)) {
+      const toml::array* a = n->as_array();
+      if (!a) fail(*n, std::string("'") + key + "' must be an array of file names");
+      for (const toml::node& e : *a) {
+        auto v = e.value<std::string>();
+        if (!v) fail(e, std::string("'") + key + "' must hold strings (file names)");
+        out.push_back(base / *v);
+      }
+    }
+  }
+  void boolean(const char* key, bool& out) {
+    if (const toml::node* n = find(key)) {
+      if (auto v = n->value<bool>()) out = *v;
+      else fail(*n, std::string("'") + key + "' must be true or false");
+    }
+  }
+  // A nested table (e.g. x = { file = ... }) as its own reader.
+  const toml::table* subtable(const char* key) {
+    const toml::node* n = find(key);
+    if (!n) return nullptr;
+    if (!n->as_table()) fail(*n, std::string("'") + key + "' must be a table");
+    return n->as_table();
+  }
+  void material(Material& m) {
+    text("name", m.name);
+    number("density_kg_m3", m.density_kg_m3);
+    number("young_pa", m.young_pa);
+    number("poisson", m.poisson);
+    number("friction_deg", m.friction_deg);
+    number("damping_normal", m.damping_normal);
+    number("damping_shear", m.damping_shear);
+  }
+  // Every key of the table must have been read.
+  void finish() {
+    if (!table_) return;
+    for (const auto& [key, node] : *table_)
+      if (!used_.count(std::string(key.str())))
+        fail(node, "unknown key '" + std::string(key.str()) + "' in [" + name_ + "]");
+  }
+
+  [[noreturn]] void fail(const toml::node& n, const std::string& what) const {
+    std::ostringstream s;
+    s << file_.string() << ":" << n.source().begin.line << ": " << what;
+    throw InputError(s.str());
+  }
+
+ private:
+  const toml::node* find(const char* key) {
+    if (!table_) return nullptr;
+    used_.insert(key);
+    return table_->get(key);
+  }
+  std::filesystem::path file_;
+  std::string name_;
+  const toml::table* table_;
+  std::set<std::string> used_;
+};
+
+
+}  // namespace ishibashi
