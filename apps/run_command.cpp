@@ -55,7 +55,7 @@ Counts count(const Model& m, const State& s, double opening_m, int original_tota
   }
   c.cracked += std::max(0, original_total - original_now);  // opened beyond the contact tolerance
   for (int b = 0; b < m.block_count; ++b)
-    if (m.motion[b] == Motion::free && m.initial_position[b].z() - s.position[b].z() > m.size_m[b]) {
+    if (is_fallen(m, s, b)) {
       ++c.fallen;
       c.fallen_ring += m.block_tag[b].part == static_cast<int>(Part::ring);
     }

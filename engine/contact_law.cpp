@@ -104,6 +104,7 @@ double apply_contact_law(const Model& m, State& s, double dt) {
             // normal force dropped), plus force x plastic slip of this step's increment.
             const double stored = std::max(std::min(es_old, es_norm), limit);
             e.friction += 0.5 * (stored * stored - limit * limit) / k.ks + limit * (es_norm - stored) / k.ks;
+            c.slip_m[i] += (es_norm - limit) / k.ks;
             es *= limit / es_norm;
             shear_damping = Vec3::Zero();
             flags |= SubContactFlag::sliding;

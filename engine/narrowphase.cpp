@@ -426,6 +426,7 @@ void update_contacts(const Model& m, State& s, bool first_detection) {
           out.flags[j] = old.flags[found];
           out.damping_force_n[j] = old.damping_force_n[found] * ratio;
           out.gap_change_m[j] = p.gap_m - old.gap_m[found];
+          out.slip_m[j] = old.slip_m[found];
         } else {
           out.normal_spring_n[j] = 0.0;
           out.shear_spring_n[j] = Vec3::Zero();
@@ -433,6 +434,7 @@ void update_contacts(const Model& m, State& s, bool first_detection) {
                          (first_detection ? SubContactFlag::original : 0);
           out.damping_force_n[j] = Vec3::Zero();
           out.gap_change_m[j] = 0.0;
+          out.slip_m[j] = 0.0;
         }
       }
     }

@@ -20,6 +20,7 @@ void SubContacts::resize(std::size_t n) {
   shear_spring_n.resize(n);
   force_n.resize(n);
   damping_force_n.resize(n);
+  slip_m.resize(n);
   flags.resize(n);
 }
 
@@ -40,6 +41,7 @@ void SubContacts::copy_from(const SubContacts& s, std::size_t at) {
   copy(s.shear_spring_n, shear_spring_n);
   copy(s.force_n, force_n);
   copy(s.damping_force_n, damping_force_n);
+  copy(s.slip_m, slip_m);
   copy(s.flags, flags);
 }
 

@@ -36,6 +36,7 @@ struct SubContacts {
   std::vector<Vec3> shear_spring_n;      // e_s, force on b, in the contact plane
   std::vector<Vec3> force_n;             // total force on b (springs + dashpots)
   std::vector<Vec3> damping_force_n;     // dashpot part of force_n (for the energy balance)
+  std::vector<double> slip_m;            // accumulated sliding (plastic shear displacement)
   std::vector<std::uint8_t> flags;       // SubContactFlag bits
 
   std::size_t size() const { return key.size(); }

@@ -42,6 +42,10 @@ void write_grid(vtkUnstructuredGrid* grid, const std::filesystem::path& file) {
 
 }  // namespace
 
+bool is_fallen(const Model& m, const State& s, int b) {
+  return m.motion[b] == Motion::free && m.initial_position[b].z() - s.position[b].z() > m.size_m[b];
+}
+
 void write_blocks_vtu(const Model& m, const State& s, const std::filesystem::path& file) {
   const int nb = m.block_count;
   const vtkIdType nv = static_cast<vtkIdType>(m.vertex_local.size());
@@ -58,8 +62,9 @@ void write_blocks_vtu(const Model& m, const State& s, const std::filesystem::pat
   material->SetName("material");
   part->SetName("part");
   course->SetName("course");
-  vtkNew<vtkUnsignedCharArray> fixed;
+  vtkNew<vtkUnsignedCharArray> fixed, fallen;
   fixed->SetName("fixed");
+  fallen->SetName("fallen");
 
   vtkNew<vtkUnstructuredGrid> grid;
   grid->Allocate(nb);
@@ -90,6 +95,7 @@ void write_blocks_vtu(const Model& m, const State& s, const std::filesystem::pat
     part->InsertNextValue(m.block_tag[b].part);
     course->InsertNextValue(m.block_tag[b].course);
     fixed->InsertNextValue(m.motion[b] == Motion::free ? 0 : 1);
+    fallen->InsertNextValue(is_fallen(m, s, b) ? 1 : 0);
     cell_velocity->SetTuple(b, s.velocity[b].data());
     cell_angular->SetTuple(b, s.angular_velocity[b].data());
     const Vec3 d = s.position[b] - m.initial_position[b];
@@ -103,6 +109,7 @@ void write_blocks_vtu(const Model& m, const State& s, const std::filesystem::pat
   grid->GetCellData()->AddArray(part);
   grid->GetCellData()->AddArray(course);
   grid->GetCellData()->AddArray(fixed);
+  grid->GetCellData()->AddArray(fallen);
   grid->GetCellData()->AddArray(cell_velocity);
   grid->GetCellData()->AddArray(cell_angular);
   grid->GetCellData()->AddArray(cell_displacement);
@@ -118,7 +125,8 @@ void write_contacts_vtu(const State& s, const std::filesystem::path& file) {
   points->SetDataTypeToDouble();
   points->SetNumberOfPoints(n);
   auto normal = vector_array("normal", n);
-  vtkNew<vtkDoubleArray> sigma, tau, opening;
+  vtkNew<vtkDoubleArray> sigma, tau, opening, slip;
+  slip->SetName("slip_m");
   sigma->SetName("normal_stress_pa");
   tau->SetName("shear_stress_pa");
   opening->SetName("opening_m");
@@ -135,6 +143,7 @@ void write_contacts_vtu(const State& s, const std::filesystem::path& file) {
     sigma->InsertNextValue(c.normal_spring_n[i] / c.area_m2[i]);
     tau->InsertNextValue(c.shear_spring_n[i].norm() / c.area_m2[i]);
     opening->InsertNextValue(std::max(0.0, c.gap_m[i]));
+    slip->InsertNextValue(c.slip_m[i]);
     const std::uint8_t f = c.flags[i];
     const int code = (f & SubContactFlag::open)      ? 3
                      : (f & SubContactFlag::sliding) ? 2
@@ -148,7 +157,7 @@ void write_contacts_vtu(const State& s, const std::filesystem::path& file) {
     grid->InsertNextCell(VTK_VERTEX, 1, &i);
   }
   grid->SetPoints(points);
-  for (vtkDataArray* a : std::initializer_list<vtkDataArray*>{normal, sigma, tau, opening, state, original, block_a, block_b})
+  for (vtkDataArray* a : std::initializer_list<vtkDataArray*>{normal, sigma, tau, opening, slip, state, original, block_a, block_b})
     grid->GetPointData()->AddArray(a);
   write_grid(grid, file);
 }

@@ -10,16 +10,20 @@
 
 namespace ishibashi {
 
+// A free block has fallen when its centroid is lower than at the start by more than its
+// size (cbrt of its volume).
+bool is_fallen(const Model& model, const State& state, int block);
+
 // Cell data: block_id, material, part and course (the generator's labels, see
 // geometry/bridge.h: 0 ground, 1 ring, 2 wall, 3 fill, 4 soil, 5 side wall), fixed (1
-// unless the block is free), velocity (m/s),
+// unless the block is free), fallen (see is_fallen), velocity (m/s),
 // angular_velocity (rad/s), displacement of the centroid (m). Point data: velocity and
 // displacement of each vertex.
 void write_blocks_vtu(const Model& model, const State& state, const std::filesystem::path& file);
 
 // The sub-contacts as points (one vertex cell each), so cracks can be seen: point data
 // normal (a -> b), normal_stress_pa (tension positive), shear_stress_pa, opening_m
-// (positive gap), state (0 bonded, 1 elastic, 2 sliding, 3 open, 4 broken: lost its
+// (positive gap), slip_m (accumulated sliding), state (0 bonded, 1 elastic, 2 sliding, 3 open, 4 broken: lost its
 // bond, in contact), original (1: part of a joint in contact at the start), block_a,
 // block_b.
 void write_contacts_vtu(const State& state, const std::filesystem::path& file);

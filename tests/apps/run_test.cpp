@@ -1,0 +1,93 @@
+// `ishibashi run` end to end on a small model: the outputs load in VTK with the arrays
+// named in the docs, and a run stopped by a signal leaves valid files.
+#include <gtest/gtest.h>
+#include <vtkCellData.h>
+#include <vtkPointData.h>
+#include <vtkUnstructuredGrid.h>
+
+#include <cstdlib>
+#include <fstream>
+#include <sstream>
+
+#include "io/vtk_input.h"
+
+namespace ishibashi {
+namespace {
+
+const std::filesystem::path kRoot = ISHIBASHI_SOURCE_DIR;
+
+// A short scenario on model A with the Kobe record (absolute paths: written to /tmp).
+std::filesystem::path short_scenario(double duration_s) {
+  const auto f = std::filesystem::temp_directory_path() / "ishibashi_short.toml";
+  const auto kobe = kRoot / "data/ground_motions/kobe_1995_jma";
+  std::ofstream(f) << "[model]\nfile = \"" << (kRoot / "models/nishida_a.toml").string() << "\"\n"
+                   << "[run]\nsettle_max_s = 0.1\nduration_s = " << duration_s << "\noutput_interval_s = 0.05\n"
+                   << "[ground_motion]\nstart_s = 7.0\n"
+                   << "x = { file = \"" << (kobe / "RSN1106_KOBE_KJM090.AT2").string() << "\" }\n"
+                   << "y = { file = \"" << (kobe / "RSN1106_KOBE_KJM000.AT2").string() << "\" }\n"
+                   << "z = { file = \"" << (kobe / "RSN1106_KOBE_KJM-UP.AT2").string() << "\" }\n";
+  return f;
+}
+
+void expect_valid_outputs(const std::filesystem::path& out) {
+  const auto blocks = read_pvd(out / "blocks.pvd");
+  ASSERT_GE(blocks.size(), 2u);
+  for (const auto& e : blocks) {
+    vtkUnstructuredGrid* g = read_vtu(e.file);
+    EXPECT_EQ(g->GetNumberOfCells(), 166);
+    for (const char* name : {"displacement", "velocity", "part", "fixed", "fallen"}) EXPECT_NE(g->GetCellData()->GetArray(name), nullptr) << name;
+    g->Delete();
+  }
+  const auto contacts = read_pvd(out / "contacts.pvd");
+  ASSERT_EQ(contacts.size(), blocks.size());
+  vtkUnstructuredGrid* c = read_vtu(contacts.back().file);
+  EXPECT_GT(c->GetNumberOfPoints(), 1000);
+  for (const char* name : {"normal_stress_pa", "shear_stress_pa", "opening_m", "slip_m", "state"})
+    EXPECT_NE(c->GetPointData()->GetArray(name), nullptr) << name;
+  c->Delete();
+  std::ifstream history(out / "history.csv");
+  std::string header, line, last;
+  std::getline(history, header);
+  EXPECT_NE(header.find("block"), std::string::npos);  // the monitored crown unit
+  int rows = 0;
+  while (std::getline(history, line)) {
+    last = line;
+    ++rows;
+  }
+  EXPECT_EQ(rows, static_cast<int>(blocks.size()));
+  EXPECT_EQ(std::count(last.begin(), last.end(), ','), std::count(header.begin(), header.end(), ','));  // whole row
+  std::ifstream summary(out / "summary.json");
+  std::stringstream text;
+  text << summary.rdbuf();
+  EXPECT_NE(text.str().find("\"largest_crown_drop_m\""), std::string::npos);
+  EXPECT_EQ(text.str().back(), '\n');
+  EXPECT_TRUE(std::filesystem::exists(out / "scenario.toml"));
+  for (const auto& f : std::filesystem::directory_iterator(out))
+    EXPECT_EQ(f.path().string().find(".tmp"), std::string::npos) << f.path();
+}
+
+TEST(Run, ShortSeismicRunWritesOutputsVtkReads) {
+  const auto out = std::filesystem::temp_directory_path() / "ishibashi_run";
+  std::filesystem::remove_all(out);
+  const std::string cmd = std::string(ISHIBASHI_BINARY) + " run --quiet " + short_scenario(0.2).string() + " --out " + out.string();
+  ASSERT_EQ(std::system(cmd.c_str()), 0) << cmd;
+  expect_valid_outputs(out);
+}
+
+TEST(Run, InterruptedRunLeavesValidFiles) {
+  const auto out = std::filesystem::temp_directory_path() / "ishibashi_run_interrupted";
+  std::filesystem::remove_all(out);
+  // SIGINT after 6 s of a run that would take much longer.
+  const std::string cmd = "timeout -s INT 6 " + std::string(ISHIBASHI_BINARY) + " run --quiet " +
+                          short_scenario(20.0).string() + " --out " + out.string();
+  const int status = std::system(cmd.c_str());
+  EXPECT_NE(status, 0);  // it was stopped
+  expect_valid_outputs(out);
+  std::ifstream summary(out / "summary.json");
+  std::stringstream text;
+  text << summary.rdbuf();
+  EXPECT_NE(text.str().find("\"interrupted\": true"), std::string::npos) << text.str();
+}
+
+}  // namespace
+}  // namespace ishibashi

@@ -1,0 +1,99 @@
+// Ground-motion readers and preparation.
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <fstream>
+
+#include "io/ground_motion.h"
+
+namespace ishibashi {
+namespace {
+
+using ::testing::HasSubstr;
+
+const std::filesystem::path kKobe = std::filesystem::path(ISHIBASHI_SOURCE_DIR) / "data/ground_motions/kobe_1995_jma";
+
+TEST(GroundMotion, KobeRecordsHaveTheirPublishedSizeAndPeaks) {
+  const struct {
+    const char* file;
+    double peak_gal;
+  } expected[] = {{"RSN1106_KOBE_KJM000.AT2", 818}, {"RSN1106_KOBE_KJM090.AT2", 617}, {"RSN1106_KOBE_KJM-UP.AT2", 332}};
+  for (const auto& e : expected) {
+    const Record r = read_at2(kKobe / e.file);
+    EXPECT_EQ(r.accel_m_s2.size(), 7500u) << e.file;
+    EXPECT_DOUBLE_EQ(r.dt_s, 0.02);
+    EXPECT_NEAR(r.peak_m_s2() * 100.0, e.peak_gal, 1.0) << e.file;  // gal = cm/s^2
+  }
+}
+
+std::filesystem::path write(const std::string& name, const std::string& text) {
+  const auto f = std::filesystem::temp_directory_path() / name;
+  std::ofstream(f) << text;
+  return f;
+}
+
+std::string error_of(const std::function<void()>& f) {
+  try {
+    f();
+  } catch (const InputError& e) {
+    return e.what();
+  }
+  return "no error";
+}
+
+TEST(GroundMotion, MalformedFilesAreClearErrors) {
+  const std::string header = "PEER\nevent\nACCELERATION TIME SERIES IN UNITS OF G\n";
+  const auto mismatch = write("gm_count.AT2", header + "NPTS = 4, DT = .01 SEC\n 0.1 0.2 0.3\n");
+  EXPECT_THAT(error_of([&] { read_at2(mismatch); }), HasSubstr("NPTS = 4 but the file holds 3 values"));
+  const auto text = write("gm_text.AT2", header + "NPTS = 3, DT = .01 SEC\n 0.1 abc 0.3\n");
+  EXPECT_THAT(error_of([&] { read_at2(text); }), HasSubstr("gm_text.AT2:5: 'abc' is not a number"));
+  const auto headless = write("gm_header.AT2", "0.1 0.2\n0.3\n");
+  EXPECT_THAT(error_of([&] { read_at2(headless); }), HasSubstr("AT2 header is incomplete"));
+  const auto knet = write("gm.knet", "Origin Time 1995/01/17\n1 2 3\n");
+  EXPECT_THAT(error_of([&] { read_knet(knet); }), HasSubstr("not a K-NET"));
+  const auto uneven = write("gm.csv", "0.0, 0.1\n0.01, 0.2\n0.03, 0.1\n");
+  EXPECT_THAT(error_of([&] { read_columns(uneven, AccelerationUnit::gal); }), HasSubstr("not uniform"));
+}
+
+TEST(GroundMotion, KnetAndColumnsReadWithUnits) {
+  const auto knet = write("gm_ok.knet",
+                          "Origin Time       1995/01/17 05:46:00\nSampling Freq(Hz) 100Hz\n"
+                          "Scale Factor      7845(gal)/8223790\nMemo.\n 1000 -1000 3000\n");
+  const Record k = read_knet(knet);
+  EXPECT_DOUBLE_EQ(k.dt_s, 0.01);
+  // counts * 7845/8223790 gal, less the mean (1000 counts): +0, -2000, +2000 counts.
+  EXPECT_NEAR(k.accel_m_s2[2], 2000 * 7845.0 / 8223790 * 0.01, 1e-12);
+  const Record c = read_columns(write("gm_ok.csv", "# t, a\n0.0, 100\n0.5, -50\n"), AccelerationUnit::gal);
+  EXPECT_DOUBLE_EQ(c.dt_s, 0.5);
+  EXPECT_DOUBLE_EQ(c.accel_m_s2[1], -0.5);
+  const Record one = read_columns(write("gm_one.txt", "0.1\n0.2\n0.3\n"), AccelerationUnit::g, 0.02);
+  EXPECT_NEAR(one.accel_m_s2[2], 0.3 * 9.80665, 1e-12);
+}
+
+TEST(GroundMotion, ResampledAndIntegratedConsistently) {
+  // A 2 Hz sine of 1 m/s^2 sampled at 0.01 s, resampled to 1e-3 s: the velocity and
+  // displacement follow the closed-form integrals.
+  std::string text;
+  for (int i = 0; i <= 200; ++i) text += std::to_string(std::sin(2 * M_PI * 2.0 * i * 0.01)) + "\n";
+  GroundMotionSpec spec;
+  ComponentSpec cs;
+  cs.file = write("gm_sine.txt", text);
+  cs.format = "columns";
+  cs.unit = AccelerationUnit::m_s2;
+  cs.dt_s = 0.01;
+  spec.component[0] = cs;
+  spec.baseline_correction = false;
+  const GroundMotion g = prepare_ground_motion(spec, 1e-3);
+  EXPECT_EQ(g.accel_m_s2.size(), 2001u);
+  const double w = 2 * M_PI * 2.0;
+  for (std::size_t k : {250u, 1000u, 1730u}) {
+    const double t = k * 1e-3;
+    // Linear interpolation between samples 25 per period costs ~(w h)^2 / 8 = 0.2 %.
+    EXPECT_NEAR(g.velocity_m_s[k].x(), (1 - std::cos(w * t)) / w, 0.005 * (2 / w)) << t;
+    EXPECT_NEAR(g.displacement_m[k].x(), t / w - std::sin(w * t) / (w * w), 0.005 * (t / w)) << t;
+  }
+}
+
+}  // namespace
+}  // namespace ishibashi
