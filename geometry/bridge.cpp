@@ -290,9 +290,11 @@ std::vector<BridgeBlock> generate_bridge(const BridgeSpec& s) {
                                    Part::side_wall, 0, true});
     }
   if (s.ground_thickness_m > 0) {
-    const double length = 2 * (half_length + s.side_wall_width_m) + 2 * stone;
+    // Wide enough to catch what falls: the bridge's height beyond it on every side.
+    const double margin = std::max(2 * stone, height);
+    const double length = 2 * (half_length + s.side_wall_width_m + margin);
     blocks.push_back(BridgeBlock{make_box(Vec3(0, 0, -0.5 * s.ground_thickness_m),
-                                          Vec3(length, s.ring.width_m + 2 * stone, s.ground_thickness_m)),
+                                          Vec3(length, s.ring.width_m + 2 * margin, s.ground_thickness_m)),
                                  Part::ground, 0, true});
   }
   return blocks;
