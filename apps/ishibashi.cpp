@@ -6,6 +6,7 @@
 
 #include "apps/build_command.h"
 #include "apps/demo.h"
+#include "apps/modal_command.h"
 #include "apps/run_command.h"
 #include "io/model_file.h"
 #include "engine/model.h"
@@ -41,12 +42,19 @@ int main(int argc, char** argv) {
   run_cmd->add_flag("--profile", run.profile, "print the time spent in each stage of the step");
   run_cmd->add_flag("--quiet", run.quiet, "no progress bar");
 
+  ishibashi::ModalOptions modal;
+  CLI::App* modal_cmd = app.add_subcommand("modal", "Natural frequencies and mode shapes (modal analysis, joints held linear)");
+  modal_cmd->add_option("file", modal.file, "model or scenario file")->required();
+  modal_cmd->add_option("--modes", modal.modes, "number of modes")->check(CLI::Range(1, 500));
+  modal_cmd->add_option("--out", modal.out, "output folder (default: out/<name>_modal)");
+
   CLI11_PARSE(app, argc, argv);
   if (threads > 0) omp_set_num_threads(threads);
   try {
     if (*demo_cmd) return ishibashi::run_demo(demo);
     if (*build_cmd) return ishibashi::run_build(build);
     if (*run_cmd) return ishibashi::run_scenario(run);
+    if (*modal_cmd) return ishibashi::run_modal(modal);
   } catch (const ishibashi::InputError& e) {
     std::fprintf(stderr, "ishibashi: input error: %s\n", e.what());
     return 2;

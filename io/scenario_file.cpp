@@ -4,6 +4,15 @@
 
 namespace ishibashi {
 
+bool is_scenario_file(const std::filesystem::path& file) {
+  try {
+    const toml::table root = toml::parse_file(file.string());
+    return root.contains("run") || root.contains("ground_motion");
+  } catch (const toml::parse_error&) {
+    return false;  // reading it as a model file reports the error
+  }
+}
+
 Scenario read_scenario(const std::filesystem::path& file) {
   if (!std::filesystem::exists(file)) throw InputError(file.string() + ": no such file");
   toml::table root;

@@ -28,4 +28,7 @@ struct Scenario {
 
 Scenario read_scenario(const std::filesystem::path& file);
 
+// True when the file is a scenario (has [run] or [ground_motion]), false for a model file.
+bool is_scenario_file(const std::filesystem::path& file);
+
 }  // namespace ishibashi

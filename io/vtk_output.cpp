@@ -7,6 +7,7 @@
 #include <vtkNew.h>
 #include <vtkPointData.h>
 #include <vtkPoints.h>
+#include <vtkSmartPointer.h>
 #include <vtkUnsignedCharArray.h>
 #include <vtkUnstructuredGrid.h>
 #include <vtkXMLUnstructuredGridWriter.h>
@@ -41,6 +42,49 @@ void write_grid(vtkUnstructuredGrid* grid, const std::filesystem::path& file) {
 }
 
 }  // namespace
+
+void write_modes_vtu(const Model& m, const State& s, const Eigen::MatrixXd& shapes, const std::vector<int>& free_blocks,
+                     const std::filesystem::path& file) {
+  const vtkIdType nv = static_cast<vtkIdType>(m.vertex_local.size());
+  vtkNew<vtkPoints> points;
+  points->SetDataTypeToDouble();
+  points->SetNumberOfPoints(nv);
+  vtkNew<vtkUnstructuredGrid> grid;
+  std::vector<int> group(m.block_count, -1);
+  for (std::size_t g = 0; g < free_blocks.size(); ++g) group[free_blocks[g]] = static_cast<int>(g);
+  std::vector<vtkSmartPointer<vtkDoubleArray>> arrays;
+  for (int k = 0; k < shapes.cols(); ++k) {
+    arrays.push_back(vtkSmartPointer<vtkDoubleArray>::New());
+    arrays.back()->SetName(("mode_" + std::to_string(k + 1)).c_str());
+    arrays.back()->SetNumberOfComponents(3);
+    arrays.back()->SetNumberOfTuples(nv);
+  }
+  std::vector<vtkIdType> ids, face_stream;
+  for (int b = 0; b < m.block_count; ++b) {
+    const Mat3 r = s.orientation[b].toRotationMatrix();
+    ids.clear();
+    for (int v = m.vertex_begin[b]; v < m.vertex_begin[b + 1]; ++v) {
+      const Vec3 x = s.position[b] + r * m.vertex_local[v];
+      points->SetPoint(v, x.data());
+      for (int k = 0; k < shapes.cols(); ++k) {
+        Vec3 d = Vec3::Zero();
+        if (group[b] >= 0)
+          d = shapes.col(k).segment<3>(6 * group[b]) + Vec3(shapes.col(k).segment<3>(6 * group[b] + 3)).cross(x - s.position[b]);
+        arrays[k]->SetTuple(v, d.data());
+      }
+      ids.push_back(v);
+    }
+    face_stream.clear();
+    for (int f = m.face_begin[b]; f < m.face_begin[b + 1]; ++f) {
+      face_stream.push_back(m.face_vertex_begin[f + 1] - m.face_vertex_begin[f]);
+      for (int q = m.face_vertex_begin[f]; q < m.face_vertex_begin[f + 1]; ++q) face_stream.push_back(m.face_vertex[q]);
+    }
+    grid->InsertNextCell(VTK_POLYHEDRON, static_cast<vtkIdType>(ids.size()), ids.data(), m.face_count(b), face_stream.data());
+  }
+  grid->SetPoints(points);
+  for (auto& a : arrays) grid->GetPointData()->AddArray(a);
+  write_grid(grid, file);
+}
 
 bool is_fallen(const Model& m, const State& s, int b) {
   return m.motion[b] == Motion::free && m.initial_position[b].z() - s.position[b].z() > m.size_m[b];

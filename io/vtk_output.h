@@ -28,6 +28,11 @@ void write_blocks_vtu(const Model& model, const State& state, const std::filesys
 // block_b.
 void write_contacts_vtu(const State& state, const std::filesystem::path& file);
 
+// The blocks with one point array per mode, mode_1, mode_2, ...: each vertex's
+// displacement in that mode (mass-normalised), for ParaView's Warp By Vector / animation.
+void write_modes_vtu(const Model& model, const State& state, const Eigen::MatrixXd& shapes,
+                     const std::vector<int>& free_blocks, const std::filesystem::path& file);
+
 // A time series <name>.pvd + <name>_NNNNNN.vtu in one folder. The .pvd is rewritten
 // atomically after each frame, so a run stopped at any moment leaves a valid series.
 class VtkSeriesWriter {
