@@ -47,6 +47,8 @@ int main(int argc, char** argv) {
   modal_cmd->add_option("file", modal.file, "model or scenario file")->required();
   modal_cmd->add_option("--modes", modal.modes, "number of modes")->check(CLI::Range(1, 500));
   modal_cmd->add_option("--out", modal.out, "output folder (default: out/<name>_modal)");
+  modal_cmd->add_option("--impulse", modal.impulse_s, "also run impulse responses of this many seconds in x, y, z")
+      ->check(CLI::NonNegativeNumber);
 
   CLI11_PARSE(app, argc, argv);
   if (threads > 0) omp_set_num_threads(threads);

@@ -5,7 +5,9 @@
 #include <sstream>
 
 #include "apps/build_command.h"
+#include "engine/impulse.h"
 #include "engine/modal.h"
+#include "engine/spectrum.h"
 #include "engine/world.h"
 #include "io/atomic_file.h"
 #include "io/scenario_file.h"
@@ -38,6 +40,7 @@ int run_modal(const ModalOptions& o) {
               r.free_blocks.size(), world.state().contacts.size(), model.contact.subdivision);
   std::printf("mode  frequency (Hz)  effective mass x / y / z (of %.1f t)  dominant\n", r.total_mass_kg / 1000);
   const char* axis = "xyz";
+  const char* axis_name = axis;
   double first[3] = {0, 0, 0};
   for (std::size_t k = 0; k < r.frequency_hz.size(); ++k) {
     const Vec3& e = r.effective_mass_ratio[k];
@@ -49,6 +52,36 @@ int run_modal(const ModalOptions& o) {
   std::printf("first natural frequency (effective mass above 5 %%): x %.3f Hz, y %.3f Hz, z %.3f Hz (%.1f s)\n", first[0],
               first[1], first[2], seconds);
   write_text_atomically(out / "modes.csv", csv.str());
+
+  if (o.impulse_s > 0) {
+    // Impulse responses of the unit on top of the crown (MODEL.md 6.1), compared with the
+    // mode of largest effective mass in the same direction.
+    const Model linear = linear_joint_model(model);
+    int monitor = -1;
+    for (int b = 0; b < model.block_count; ++b)
+      if (model.motion[b] == Motion::free && model.block_tag[b].part == 1 &&
+          (monitor < 0 || model.initial_position[b].z() - 1e-3 * std::abs(model.initial_position[b].y()) >
+                              model.initial_position[monitor].z() - 1e-3 * std::abs(model.initial_position[monitor].y())))
+        monitor = b;
+    if (monitor < 0) monitor = r.free_blocks.front();
+    std::printf("impulse responses of %s, %.2f s each, joints linear, no damping:\n", model.block_label(monitor).c_str(), o.impulse_s);
+    std::printf("axis  first peak (Hz)  first mode above 5 %% eff. mass (Hz)  difference  largest eff. mass mode (Hz)\n");
+    for (int axis = 0; axis < 3; ++axis) {
+      const ImpulseResponse response = impulse_response(linear, axis, monitor, o.impulse_s);
+      const Spectrum spectrum = amplitude_spectrum(response.displacement_m, response.dt_s);
+      const double peak = first_peak_hz(spectrum);
+      std::size_t best = 0;
+      for (std::size_t k = 0; k < r.frequency_hz.size(); ++k)
+        if (r.effective_mass_ratio[k][axis] > r.effective_mass_ratio[best][axis]) best = k;
+      std::printf("   %c  %15.3f  %34.3f  %9.2f %%  %27.3f\n", axis_name[axis], peak, first[axis],
+                  100 * (peak - first[axis]) / first[axis], r.frequency_hz[best]);
+      std::ostringstream spec;
+      spec << "frequency_hz,amplitude_m\n";
+      for (std::size_t k = 0; k < spectrum.frequency_hz.size(); ++k)
+        spec << spectrum.frequency_hz[k] << "," << spectrum.amplitude[k] << "\n";
+      write_text_atomically(out / (std::string("spectrum_") + axis_name[axis] + ".csv"), spec.str());
+    }
+  }
   write_modes_vtu(model, world.state(), r.shapes, r.free_blocks, out / "modes.vtu");
   std::printf("wrote %s/modes.csv and modes.vtu (point arrays mode_1 ...: warp by vector in ParaView)\n", out.c_str());
   return 0;

@@ -9,6 +9,7 @@ struct ModalOptions {
   std::filesystem::path file;  // a model file, or a scenario file naming one
   std::filesystem::path out;   // empty: out/<name>_modal
   int modes = 12;
+  double impulse_s = 0.0;      // > 0: also impulse responses of this length in x, y, z
 };
 
 int run_modal(const ModalOptions& options);

@@ -1,0 +1,49 @@
+#include "engine/impulse.h"
+
+#include <cmath>
+
+#include "engine/world.h"
+
+namespace ishibashi {
+
+Model linear_joint_model(Model m) {
+  for (PairLaw& law : m.pair_law) {
+    law.tensile_pa = law.cohesion_pa = 1e30;
+    law.damping_normal = law.damping_shear = 0.0;
+  }
+  m.gravity_m_s2 = Vec3::Zero();
+  for (Motion& motion : m.motion)
+    if (motion == Motion::fixed) motion = Motion::prescribed;
+  return m;
+}
+
+ImpulseResponse impulse_response(const Model& model, int axis, int monitor, double duration_s, double dt_s,
+                                 double step_m, double rise_s) {
+  // Explicit integration shifts a frequency by about (omega dt)^2 / 24: a tenth of the
+  // stability limit (omega dt <= 0.2) keeps that below 0.2 % for the stiffest mode.
+  const double dt = dt_s > 0 ? dt_s : 0.1 * World(model, 1e-9).critical_time_step_s();
+  World w(model, dt);
+  State& s = w.state();
+  const Model& m = w.model();
+  ImpulseResponse r;
+  r.dt_s = dt;
+  const long steps = std::lround(duration_s / dt);
+  // A smooth ground step (half-sine velocity pulse): it excites the low modes without
+  // leaving the ground moving.
+  double ground = 0;
+  for (long k = 0; k < steps; ++k) {
+    const double t = (k + 0.5) * dt;
+    const double v = t < rise_s ? step_m * M_PI / (2 * rise_s) * std::sin(M_PI * t / rise_s) : 0.0;
+    for (int b = 0; b < m.block_count; ++b)
+      if (m.motion[b] == Motion::prescribed) {
+        s.velocity[b] = Vec3::Zero();
+        s.velocity[b][axis] = v;
+      }
+    w.step();
+    ground += v * dt;
+    r.displacement_m.push_back(s.position[monitor][axis] - m.initial_position[monitor][axis] - ground);
+  }
+  return r;
+}
+
+}  // namespace ishibashi

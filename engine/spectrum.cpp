@@ -1,0 +1,47 @@
+#include "engine/spectrum.h"
+
+#include <unsupported/Eigen/FFT>
+
+#include <algorithm>
+#include <cmath>
+#include <complex>
+
+namespace ishibashi {
+
+Spectrum amplitude_spectrum(const std::vector<double>& signal, double dt_s, int pad) {
+  const std::size_t n = signal.size();
+  std::size_t size = 1;
+  while (size < static_cast<std::size_t>(pad) * n) size <<= 1;
+  double mean = 0;
+  for (double v : signal) mean += v / static_cast<double>(n);
+  std::vector<double> x(size, 0.0);
+  for (std::size_t i = 0; i < n; ++i)
+    x[i] = (signal[i] - mean) * 0.5 * (1 - std::cos(2 * M_PI * i / std::max<std::size_t>(1, n - 1)));
+  Eigen::FFT<double> fft;
+  std::vector<std::complex<double>> out;
+  fft.fwd(out, x);
+  Spectrum s;
+  for (std::size_t k = 0; k <= size / 2; ++k) {
+    s.frequency_hz.push_back(k / (size * dt_s));
+    s.amplitude.push_back(std::abs(out[k]) * 2.0 / n);
+  }
+  return s;
+}
+
+double first_peak_hz(const Spectrum& s, double threshold, double min_hz) {
+  double largest = 0;
+  for (std::size_t k = 0; k < s.amplitude.size(); ++k)
+    if (s.frequency_hz[k] >= min_hz) largest = std::max(largest, s.amplitude[k]);
+  for (std::size_t k = 1; k + 1 < s.amplitude.size(); ++k) {
+    const double a = s.amplitude[k];
+    if (s.frequency_hz[k] < min_hz || a < threshold * largest) continue;
+    if (a < s.amplitude[k - 1] || a < s.amplitude[k + 1]) continue;
+    // Parabola through the three bins (on log amplitude: exact for a Gaussian-like peak).
+    const double l = std::log(s.amplitude[k - 1]), c = std::log(a), r = std::log(s.amplitude[k + 1]);
+    const double shift = 0.5 * (l - r) / (l - 2 * c + r);
+    return s.frequency_hz[k] + shift * s.resolution_hz();
+  }
+  return 0.0;
+}
+
+}  // namespace ishibashi
