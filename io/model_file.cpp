@@ -12,22 +12,7 @@
 namespace ishibashi {
 
 ModelFile read_model_file(const std::filesystem::path& file) {
-  if (!std::filesystem::exists(file)) throw InputError(file.string() + ": no such file");
-  toml::table root;
-  try {
-    root = toml::parse_file(file.string());
-  } catch (const toml::parse_error& e) {
-    std::ostringstream s;
-    s << file.string() << ":" << e.source().begin.line << ": " << e.description();
-    throw InputError(s.str());
-  }
-  for (const auto& [key, node] : root)
-    if (key != "model" && key != "ring" && key != "bridge" && key != "stone" && key != "soil" && key != "import") {
-      std::ostringstream s;
-      s << file.string() << ":" << node.source().begin.line << ": unknown table or key '" << key.str()
-        << "'; allowed: [model], [ring], [bridge], [stone], [soil], [import]";
-      throw InputError(s.str());
-    }
+  const toml::table root = parse_toml_file(file, {"model", "ring", "bridge", "stone", "soil", "import"});
 
   ModelFile m;
   m.name = file.stem().string();

@@ -14,22 +14,7 @@ bool is_scenario_file(const std::filesystem::path& file) {
 }
 
 Scenario read_scenario(const std::filesystem::path& file) {
-  if (!std::filesystem::exists(file)) throw InputError(file.string() + ": no such file");
-  toml::table root;
-  try {
-    root = toml::parse_file(file.string());
-  } catch (const toml::parse_error& e) {
-    std::ostringstream s;
-    s << file.string() << ":" << e.source().begin.line << ": " << e.description();
-    throw InputError(s.str());
-  }
-  for (const auto& [key, node] : root)
-    if (key != "model" && key != "run" && key != "ground_motion" && key != "monitor") {
-      std::ostringstream s;
-      s << file.string() << ":" << node.source().begin.line << ": unknown table or key '" << key.str()
-        << "'; allowed: [model], [run], [ground_motion], [monitor]";
-      throw InputError(s.str());
-    }
+  const toml::table root = parse_toml_file(file, {"model", "run", "ground_motion", "monitor"});
   Scenario sc;
   sc.file = file;
   const std::filesystem::path base = std::filesystem::absolute(file).parent_path();

@@ -128,4 +128,33 @@ class TableReader {
 };
 
 
+// Parses a TOML file whose top level may only hold the tables in `allowed`; errors name
+// the file and the line.
+inline toml::table parse_toml_file(const std::filesystem::path& file, std::initializer_list<const char*> allowed) {
+  if (!std::filesystem::exists(file)) throw InputError(file.string() + ": no such file");
+  toml::table root;
+  try {
+    root = toml::parse_file(file.string());
+  } catch (const toml::parse_error& e) {
+    std::ostringstream s;
+    s << file.string() << ":" << e.source().begin.line << ": " << e.description();
+    throw InputError(s.str());
+  }
+  for (const auto& [key, node] : root) {
+    bool known = false;
+    std::string list;
+    for (const char* a : allowed) {
+      known = known || key == a;
+      list += std::string(list.empty() ? "" : ", ") + "[" + a + "]";
+    }
+    if (!known) {
+      std::ostringstream s;
+      s << file.string() << ":" << node.source().begin.line << ": unknown table or key '" << key.str()
+        << "'; allowed: " << list;
+      throw InputError(s.str());
+    }
+  }
+  return root;
+}
+
 }  // namespace ishibashi
