@@ -52,7 +52,10 @@ TEST_P(Presets, CountVolumeAndValidation) {
 INSTANTIATE_TEST_SUITE_P(Nishida, Presets,
                          ::testing::Values(Preset{"nishida_a.toml", 165}, Preset{"nishida_b.toml", 1586},
                                            Preset{"nishida_c.toml", 1588}, Preset{"nishida_d.toml", 1448},
-                                           Preset{"nishida_e.toml", 1450}, Preset{"nishida_f.toml", 2043}));
+                                           Preset{"nishida_e.toml", 1450}, Preset{"nishida_f.toml", 2043}),
+                         [](const ::testing::TestParamInfo<Preset>& info) {
+                           return std::filesystem::path(info.param.file).stem().string();
+                         });
 
 TEST(Bridge, SoilBackfillHasStoneFaceWallsAndSoilInside) {
   BridgeSpec s;
