@@ -157,6 +157,7 @@ std::uint64_t make_key(int kind, int ref_face_local, int inc_face_local, std::ui
 // Output of one pair before it joins the sub-contact arrays.
 struct ManifoldPoint {
   Vec3 x;          // on the common plane
+  Vec3 incident;   // the matching point on the incident face (x + gap/2 n); face contacts
   double gap_m;
   double area_m2;
   std::uint64_t key;
@@ -254,7 +255,7 @@ void face_manifold(const Model& m, const State& s, int a, int b, const Axis& axi
     if (count == 0) kept[count++] = deepest;
     for (int k = 0; k < count; ++k) {
       const int i = kept[k];
-      out.push(ManifoldPoint{x[i] + 0.5 * gap[i] * n, gap[i], nominal / count,
+      out.push(ManifoldPoint{x[i] + 0.5 * gap[i] * n, x[i] + gap[i] * n, gap[i], nominal / count,
                              make_key(kind, ref_local, inc_local, poly.p[i].feature)});
     }
     return;
@@ -263,7 +264,7 @@ void face_manifold(const Model& m, const State& s, int a, int b, const Axis& axi
     // One point per polygon vertex with its tributary half of the two fan triangles.
     for (int i = 0; i < poly.n; ++i) {
       const double share = 0.5 * (fan[i] + fan[(i + poly.n - 1) % poly.n]);
-      out.push(ManifoldPoint{x[i] + 0.5 * gap[i] * n, gap[i], share,
+      out.push(ManifoldPoint{x[i] + 0.5 * gap[i] * n, x[i] + gap[i] * n, gap[i], share,
                              make_key(kind, ref_local, inc_local, poly.p[i].feature)});
     }
     return;
@@ -286,7 +287,7 @@ void face_manifold(const Model& m, const State& s, int a, int b, const Axis& axi
           const double cu = (3.0 * u + 1.0 + down) / (3.0 * level), cv = (3.0 * v + 1.0 + down) / (3.0 * level);
           const Vec3 y = centroid + cu * e1 + cv * e2;
           const double gy = gap_at(y);
-          out.push(ManifoldPoint{y + 0.5 * gy * n, gy, sub_area,
+          out.push(ManifoldPoint{y + 0.5 * gy * n, y + gy * n, gy, sub_area,
                                  make_key(kind, ref_local, inc_local, 0x40000000u | index++)});
         }
   }
@@ -304,11 +305,13 @@ void edge_manifold(const Model& m, const State& s, int a, int b, const Axis& axi
   out.lever_a_m = std::abs(axis.normal.dot(x - s.position[a]));
   out.lever_b_m = std::abs(axis.normal.dot(s.position[b] - x));
   const std::uint32_t feature = static_cast<std::uint32_t>((ea - m.edge_begin[a]) * 65536 + (eb - m.edge_begin[b]));
-  out.push(ManifoldPoint{x, axis.separation_m, m.point_contact_area_m2(a, b), make_key(2, 0, 0, feature)});
+  out.push(ManifoldPoint{x, x, axis.separation_m, m.point_contact_area_m2(a, b), make_key(2, 0, 0, feature)});
 }
 
-// Chooses the contact axis of a pair (with hysteresis) and builds its manifold.
-void pair_manifold(const Model& m, const State& s, Pair& pair, Manifold& out) {
+// Chooses the contact axis of a pair (with hysteresis) and builds its manifold. Returns
+// false instead when the pair has barely moved since its last axis search and already
+// has a face manifold: its points are then carried over (see update_contacts).
+bool pair_manifold(const Model& m, const State& s, Pair& pair, Manifold& out) {
   out.n = 0;
   const int a = pair.a, b = pair.b;
   const double tol = m.contact_tolerance_m(a, b);
@@ -317,13 +320,15 @@ void pair_manifold(const Model& m, const State& s, Pair& pair, Manifold& out) {
   const double travel = s.travel_m[a] + s.travel_m[b], turn = s.turn_rad[a] + s.turn_rad[b];
   const double moved = travel - pair.travel_at_search_m +
                        (turn - pair.turn_at_search_rad) * (m.radius_m[a] + m.radius_m[b]);
-  if (pair.axis_kind == -1 && pair.separation_m - moved > tol) return;  // still apart
+  if (pair.axis_kind == -1 && pair.separation_m - moved > tol) return true;  // still apart
   if ((pair.axis_kind == 0 || pair.axis_kind == 1) && moved < 0.05 * tol) {
-    // Barely moved: the last face axis still holds (a resting joint is decided once).
+    // Barely moved: the last face axis still holds (a resting joint is decided once),
+    // and within a twentieth of the tolerance the clipped features cannot change.
+    if (pair.sub_count > 0) return false;
     const int f = pair.axis_feature;
     const Axis cached{0.0, pair.axis_kind, f, pair.axis_kind == 0 ? s.face_normal_world[f] : Vec3(-s.face_normal_world[f])};
     face_manifold(m, s, a, b, cached, out);
-    return;
+    return true;
   }
   pair.travel_at_search_m = travel;
   pair.turn_at_search_rad = turn;
@@ -333,13 +338,13 @@ void pair_manifold(const Model& m, const State& s, Pair& pair, Manifold& out) {
   };
 
   const double centre_gap = (s.position[a] - s.position[b]).norm() - m.radius_m[a] - m.radius_m[b];
-  if (centre_gap > tol) return apart(centre_gap);
+  if (centre_gap > tol) return apart(centre_gap), true;
   const Axis face_a = best_face_axis(m, s, a, b, 0);
-  if (face_a.separation_m > tol) return apart(face_a.separation_m);
+  if (face_a.separation_m > tol) return apart(face_a.separation_m), true;
   const Axis face_b = best_face_axis(m, s, b, a, 1);
-  if (face_b.separation_m > tol) return apart(face_b.separation_m);
+  if (face_b.separation_m > tol) return apart(face_b.separation_m), true;
   const Axis edge = best_edge_axis(m, s, a, b);
-  if (edge.separation_m > tol) return apart(edge.separation_m);
+  if (edge.separation_m > tol) return apart(edge.separation_m), true;
 
   // Prefer a face of a over one of b, and last step's face over both, unless clearly
   // worse: exactly touching faces tie, and a flip would change every key.
@@ -358,6 +363,47 @@ void pair_manifold(const Model& m, const State& s, Pair& pair, Manifold& out) {
     edge_manifold(m, s, a, b, chosen, out);
   else
     face_manifold(m, s, a, b, chosen, out);
+  return true;
+}
+
+// Carries a barely moved face contact's sub-contacts over, with their geometry updated
+// from the current poses: the incident point rides on its block, the reference face
+// gives the normal and the gap. Keys, areas, springs and bond stay.
+void reuse_manifold(const Model& m, const State& s, const SubContacts& old, const Pair& pair, int pair_index,
+                    SubContacts& out) {
+  const bool ref_is_a = pair.axis_kind == 0;
+  const int ref = ref_is_a ? pair.a : pair.b, inc = ref_is_a ? pair.b : pair.a;
+  const int f = pair.axis_feature;
+  const Vec3& n = s.face_normal_world[f];
+  const double d = s.face_offset_world[f];
+  const Mat3 r = s.orientation[inc].toRotationMatrix();
+  const double lever_ref = std::abs(d - n.dot(s.position[ref])), lever_inc = std::abs(n.dot(s.position[inc]) - d);
+  const std::size_t first = out.size();
+  out.resize(first + pair.sub_count);
+  for (int q = 0; q < pair.sub_count; ++q) {
+    const int i = pair.sub_begin + q;
+    const std::size_t j = first + q;
+    const Vec3 incident = s.position[inc] + r * old.incident_local[i];
+    const double gap = n.dot(incident) - d;
+    out.pair[j] = pair_index;
+    out.block_a[j] = pair.a;
+    out.block_b[j] = pair.b;
+    out.key[j] = old.key[i];
+    out.point[j] = incident - 0.5 * gap * n;
+    out.normal[j] = ref_is_a ? n : Vec3(-n);
+    out.gap_m[j] = gap;
+    out.gap_change_m[j] = gap - old.gap_m[i];
+    out.area_m2[j] = old.area_m2[i];
+    out.lever_a_m[j] = ref_is_a ? lever_ref : lever_inc;
+    out.lever_b_m[j] = ref_is_a ? lever_inc : lever_ref;
+    out.normal_spring_n[j] = old.normal_spring_n[i];
+    out.shear_spring_n[j] = old.shear_spring_n[i];
+    out.force_n[j] = Vec3::Zero();
+    out.damping_force_n[j] = old.damping_force_n[i];
+    out.slip_m[j] = old.slip_m[i];
+    out.incident_local[j] = old.incident_local[i];
+    out.flags[j] = old.flags[i] & ~SubContactFlag::fresh;
+  }
 }
 
 }  // namespace
@@ -376,9 +422,15 @@ void update_contacts(const Model& m, State& s, bool first_detection) {
     for (std::ptrdiff_t pi = begin; pi < end; ++pi) {
       Pair& pair = s.pairs[pi];
       const int old_begin = pair.sub_begin, old_end = pair.sub_begin + pair.sub_count;
-      pair_manifold(m, s, pair, manifold);
+      if (!pair_manifold(m, s, pair, manifold)) {
+        reuse_manifold(m, s, old, pair, static_cast<int>(pi), out);
+        pair.sub_begin = static_cast<int>(out.size()) - pair.sub_count;  // within the chunk; offset below
+        continue;
+      }
       pair.sub_begin = static_cast<int>(out.size());  // within the chunk; offset below
       pair.sub_count = manifold.n;
+      const int incident_block = pair.axis_kind == 1 ? pair.a : pair.b;
+      const Mat3 to_incident = s.orientation[incident_block].toRotationMatrix().transpose();
       const PairLaw& law = m.law(m.material[pair.a], m.material[pair.b]);
       const bool bondable = first_detection && (law.tensile_pa > 0 || law.cohesion_pa > 0);
       const double reach = 1e-2 * std::min(m.size_m[pair.a], m.size_m[pair.b]);
@@ -398,6 +450,7 @@ void update_contacts(const Model& m, State& s, bool first_detection) {
         out.lever_a_m[j] = manifold.lever_a_m;
         out.lever_b_m[j] = manifold.lever_b_m;
         out.force_n[j] = Vec3::Zero();
+        out.incident_local[j] = to_incident * (p.incident - s.position[incident_block]);
         // A key seen last step keeps its springs and bond. Failing that, the nearest old
         // point of the pair within `reach` passes them on: where corners lie exactly on
         // each other's edges (aligned masonry joints), a vertex and a pair of cuts swap

@@ -21,6 +21,7 @@ void SubContacts::resize(std::size_t n) {
   force_n.resize(n);
   damping_force_n.resize(n);
   slip_m.resize(n);
+  incident_local.resize(n);
   flags.resize(n);
 }
 
@@ -42,6 +43,7 @@ void SubContacts::copy_from(const SubContacts& s, std::size_t at) {
   copy(s.force_n, force_n);
   copy(s.damping_force_n, damping_force_n);
   copy(s.slip_m, slip_m);
+  copy(s.incident_local, incident_local);
   copy(s.flags, flags);
 }
 

@@ -37,6 +37,8 @@ struct SubContacts {
   std::vector<Vec3> force_n;             // total force on b (springs + dashpots)
   std::vector<Vec3> damping_force_n;     // dashpot part of force_n (for the energy balance)
   std::vector<double> slip_m;            // accumulated sliding (plastic shear displacement)
+  std::vector<Vec3> incident_local;      // face contacts: the point on the incident face, in
+                                         // the incident block's principal frame (for reuse)
   std::vector<std::uint8_t> flags;       // SubContactFlag bits
 
   std::size_t size() const { return key.size(); }
