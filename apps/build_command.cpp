@@ -5,6 +5,7 @@
 #include <cstdio>
 #include <map>
 
+#include "engine/mass_properties.h"
 #include "geometry/block_files.h"
 #include "geometry/bridge.h"
 #include "geometry/validate.h"
@@ -63,30 +64,22 @@ int run_build(const BuildOptions& o) {
 
   // Validation (CGAL): every block sound, no overlaps, every block on a shared face.
   const ValidationReport report = validate(blocks);
-  double ground_volume = 0;
+  double ground_volume = 0;  // our fixed slab is not part of the design outline
   for (const BridgeBlock& b : blocks)
-    if (b.part == Part::ground)
-      for (const auto& f : {b.shape}) {
-        Vec3 lo = f.vertices[0], hi = lo;
-        for (const Vec3& v : f.vertices) {
-          lo = lo.cwiseMin(v);
-          hi = hi.cwiseMax(v);
-        }
-        ground_volume += (hi - lo).prod();
-      }
+    if (b.part == Part::ground) ground_volume += polyhedron_mass_properties(b.shape.vertices, b.shape.faces).volume_m3;
   const double built = report.volume_m3 - ground_volume;
   const double design = file.imported() ? built : design_volume_m3(file.bridge);
   const double volume_error = std::abs(built - design) / design;
 
-  // Imported blocks reach the engine with coplanar triangles merged into one face each
-  // (a face is a contact plane); only once validation has shown them convex.
-  if (file.imported() && report.ok())
-    for (BridgeBlock& b : blocks) b.shape = merged_faces(b.shape);
   if (!report.ok()) {
     for (const std::string& e : report.errors) std::printf("  error: %s\n", e.c_str());
     std::printf("validation failed: %zu errors\n", report.errors.size());
     return 3;
   }
+  // Imported blocks reach the engine with coplanar triangles merged into one face each
+  // (a face is a contact plane); only once validation has shown them convex.
+  if (file.imported())
+    for (BridgeBlock& b : blocks) b.shape = merged_faces(b.shape);
   const Model model = compile_bridge(file.bridge, blocks);
   std::map<std::string, std::pair<int, int>> by_part;  // free, fixed
   double mass = 0;

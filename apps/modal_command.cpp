@@ -8,6 +8,7 @@
 #include "engine/impulse.h"
 #include "engine/modal.h"
 #include "engine/spectrum.h"
+#include "geometry/bridge.h"
 #include "engine/world.h"
 #include "io/atomic_file.h"
 #include "io/scenario_file.h"
@@ -57,12 +58,7 @@ int run_modal(const ModalOptions& o) {
     // Impulse responses of the unit on top of the crown (MODEL.md 6.1), compared with the
     // mode of largest effective mass in the same direction.
     const Model linear = linear_joint_model(model);
-    int monitor = -1;
-    for (int b = 0; b < model.block_count; ++b)
-      if (model.motion[b] == Motion::free && model.block_tag[b].part == 1 &&
-          (monitor < 0 || model.initial_position[b].z() - 1e-3 * std::abs(model.initial_position[b].y()) >
-                              model.initial_position[monitor].z() - 1e-3 * std::abs(model.initial_position[monitor].y())))
-        monitor = b;
+    int monitor = crown_unit(model);
     if (monitor < 0) monitor = r.free_blocks.front();
     std::printf("impulse responses of %s, %.2f s each, joints linear, no damping:\n", model.block_label(monitor).c_str(), o.impulse_s);
     std::printf("axis  first peak (Hz)  first mode above 5 %% eff. mass (Hz)  difference  largest eff. mass mode (Hz)\n");

@@ -23,19 +23,6 @@ extern "C" void on_interrupt(int) { interrupted = 1; }
 
 using Clock = std::chrono::steady_clock;
 
-// The unit on top of the arch crown: the free ring block highest up, nearest the middle
-// of the width (what the study monitors).
-int crown_block(const Model& m) {
-  int best = -1;
-  for (int b = 0; b < m.block_count; ++b) {
-    if (m.motion[b] != Motion::free || m.block_tag[b].part != static_cast<int>(Part::ring)) continue;
-    const Vec3& x = m.initial_position[b];
-    if (best < 0 || x.z() - 1e-3 * std::abs(x.y()) > m.initial_position[best].z() - 1e-3 * std::abs(m.initial_position[best].y()))
-      best = b;
-  }
-  return best;
-}
-
 struct Counts {
   int broken = 0;   // sub-contacts that lost their bond
   int cracked = 0;  // original sub-contacts broken or open by more than `opening_m`
@@ -83,7 +70,7 @@ int run_scenario(const RunOptions& o) {
   const Model& m = world.model();
   State& s = world.state();
   std::vector<int> monitors = sc.monitor_blocks;
-  if (monitors.empty() && crown_block(m) >= 0) monitors.push_back(crown_block(m));
+  if (monitors.empty() && crown_unit(m) >= 0) monitors.push_back(crown_unit(m));
   for (int b : monitors)
     if (b < 0 || b >= m.block_count) throw InputError(o.scenario.string() + ": [monitor] block " + std::to_string(b) + " does not exist");
   int original_total = 0;

@@ -3,7 +3,7 @@
 #include <cmath>
 #include <sstream>
 
-#include "geometry/demo_scenes.h"
+#include "geometry/materials.h"
 
 namespace ishibashi {
 namespace {

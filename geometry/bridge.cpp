@@ -9,7 +9,7 @@
 #include <cmath>
 #include <list>
 
-#include "geometry/demo_scenes.h"
+#include "geometry/materials.h"
 
 namespace ishibashi {
 namespace {
@@ -121,17 +121,16 @@ const char* part_name(Part p) {
   return "?";
 }
 
-Material nishida_soil() {
-  Material m;
-  m.name = "soil";
-  m.density_kg_m3 = 1.8e3;
-  m.young_pa = 1.9e8;
-  m.poisson = 0.3;
-  m.friction_deg = 30.0;
-  m.damping_normal = 1.0;
-  m.damping_shear = 1.0;
-  return m;
+int crown_unit(const Model& m) {
+  int best = -1;
+  auto height = [&](int b) { return m.initial_position[b].z() - 1e-3 * std::abs(m.initial_position[b].y()); };
+  for (int b = 0; b < m.block_count; ++b)
+    if (m.motion[b] == Motion::free && m.block_tag[b].part == static_cast<int>(Part::ring) &&
+        (best < 0 || height(b) > height(best)))
+      best = b;
+  return best;
 }
+
 
 // x of each span's centre: springers a pier width apart, the whole centred on x = 0.
 static std::vector<double> span_centres(const BridgeSpec& s, const RingGeometry& g) {

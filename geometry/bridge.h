@@ -11,6 +11,7 @@
 
 #include "engine/model.h"
 #include "geometry/arch_ring.h"
+#include "geometry/materials.h"
 #include "geometry/shapes.h"
 
 namespace ishibashi {
@@ -51,6 +52,8 @@ double design_volume_m3(const BridgeSpec& spec);
 // The blocks as an engine Model (stone, soil materials; mortar on stone-stone joints).
 Model compile_bridge(const BridgeSpec& spec, const std::vector<BridgeBlock>& blocks);
 
-Material nishida_soil();
+// The unit on top of the arch crown, which the study monitors: the free ring block
+// highest up, nearest the middle of the width; -1 when the model has no free ring block.
+int crown_unit(const Model& model);
 
 }  // namespace ishibashi

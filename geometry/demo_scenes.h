@@ -2,6 +2,7 @@
 // demo command, the determinism test and the benchmarks.
 #pragma once
 #include "engine/model.h"
+#include "geometry/materials.h"
 
 namespace ishibashi {
 
@@ -15,9 +16,6 @@ struct WallSpec {
   Material stone;               // defaults to the Nishida stone (MODEL.md section 4)
   int subdivision = 1;
 };
-
-// The Nishida stone of MODEL.md section 4 (dry joints, critical damping).
-Material nishida_stone();
 
 // Block 0 is the base; the stones follow course by course from the bottom.
 Model make_wall_model(const WallSpec& spec);

@@ -4,7 +4,7 @@
 
 #include "io/toml_reader.h"
 
-#include "geometry/demo_scenes.h"
+#include "geometry/materials.h"
 
 #include <set>
 #include <sstream>

@@ -41,6 +41,17 @@ void write_grid(vtkUnstructuredGrid* grid, const std::filesystem::path& file) {
   });
 }
 
+// One polyhedron cell for block b; the points hold every block's vertices by global index.
+void insert_block_cell(vtkUnstructuredGrid* grid, const Model& m, int b) {
+  std::vector<vtkIdType> ids, face_stream;
+  for (int v = m.vertex_begin[b]; v < m.vertex_begin[b + 1]; ++v) ids.push_back(v);
+  for (int f = m.face_begin[b]; f < m.face_begin[b + 1]; ++f) {
+    face_stream.push_back(m.face_vertex_begin[f + 1] - m.face_vertex_begin[f]);
+    for (int k = m.face_vertex_begin[f]; k < m.face_vertex_begin[f + 1]; ++k) face_stream.push_back(m.face_vertex[k]);
+  }
+  grid->InsertNextCell(VTK_POLYHEDRON, static_cast<vtkIdType>(ids.size()), ids.data(), m.face_count(b), face_stream.data());
+}
+
 }  // namespace
 
 void write_modes_vtu(const Model& m, const State& s, const Eigen::MatrixXd& shapes, const std::vector<int>& free_blocks,
@@ -59,10 +70,8 @@ void write_modes_vtu(const Model& m, const State& s, const Eigen::MatrixXd& shap
     arrays.back()->SetNumberOfComponents(3);
     arrays.back()->SetNumberOfTuples(nv);
   }
-  std::vector<vtkIdType> ids, face_stream;
   for (int b = 0; b < m.block_count; ++b) {
     const Mat3 r = s.orientation[b].toRotationMatrix();
-    ids.clear();
     for (int v = m.vertex_begin[b]; v < m.vertex_begin[b + 1]; ++v) {
       const Vec3 x = s.position[b] + r * m.vertex_local[v];
       points->SetPoint(v, x.data());
@@ -72,14 +81,8 @@ void write_modes_vtu(const Model& m, const State& s, const Eigen::MatrixXd& shap
           d = shapes.col(k).segment<3>(6 * group[b]) + Vec3(shapes.col(k).segment<3>(6 * group[b] + 3)).cross(x - s.position[b]);
         arrays[k]->SetTuple(v, d.data());
       }
-      ids.push_back(v);
     }
-    face_stream.clear();
-    for (int f = m.face_begin[b]; f < m.face_begin[b + 1]; ++f) {
-      face_stream.push_back(m.face_vertex_begin[f + 1] - m.face_vertex_begin[f]);
-      for (int q = m.face_vertex_begin[f]; q < m.face_vertex_begin[f + 1]; ++q) face_stream.push_back(m.face_vertex[q]);
-    }
-    grid->InsertNextCell(VTK_POLYHEDRON, static_cast<vtkIdType>(ids.size()), ids.data(), m.face_count(b), face_stream.data());
+    insert_block_cell(grid, m, b);
   }
   grid->SetPoints(points);
   for (auto& a : arrays) grid->GetPointData()->AddArray(a);
@@ -112,11 +115,9 @@ void write_blocks_vtu(const Model& m, const State& s, const std::filesystem::pat
 
   vtkNew<vtkUnstructuredGrid> grid;
   grid->Allocate(nb);
-  std::vector<vtkIdType> ids, face_stream;
   for (int b = 0; b < nb; ++b) {
     const Mat3 r = s.orientation[b].toRotationMatrix();
     const Mat3 r0 = m.initial_orientation[b].toRotationMatrix();
-    ids.clear();
     for (int v = m.vertex_begin[b]; v < m.vertex_begin[b + 1]; ++v) {
       const Vec3 x = s.position[b] + r * m.vertex_local[v];
       const Vec3 x0 = m.initial_position[b] + r0 * m.vertex_local[v];
@@ -125,15 +126,8 @@ void write_blocks_vtu(const Model& m, const State& s, const std::filesystem::pat
       point_velocity->SetTuple(v, vel.data());
       const Vec3 d = x - x0;
       point_displacement->SetTuple(v, d.data());
-      ids.push_back(v);
     }
-    face_stream.clear();
-    for (int f = m.face_begin[b]; f < m.face_begin[b + 1]; ++f) {
-      face_stream.push_back(m.face_vertex_begin[f + 1] - m.face_vertex_begin[f]);
-      for (int k = m.face_vertex_begin[f]; k < m.face_vertex_begin[f + 1]; ++k) face_stream.push_back(m.face_vertex[k]);
-    }
-    grid->InsertNextCell(VTK_POLYHEDRON, static_cast<vtkIdType>(ids.size()), ids.data(), m.face_count(b),
-                         face_stream.data());
+    insert_block_cell(grid, m, b);
     block_id->InsertNextValue(b);
     material->InsertNextValue(m.material[b]);
     part->InsertNextValue(m.block_tag[b].part);
