@@ -113,6 +113,7 @@ bool update_pairs(const Model& m, State& s) {
   std::swap(s.pairs, s.pair_scratch);
   s.position_at_rebuild = s.position;
   s.pairs_valid = true;
+  s.pairs_changed = true;
   return true;
 }
 

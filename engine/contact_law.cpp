@@ -51,7 +51,8 @@ double apply_contact_law(const Model& m, State& s, double dt) {
       // Dashpot work over a step is F . (v_before + v_after) / 2 dt, the form in which
       // semi-implicit Euler balances kinetic energy: last step's half is added now.
       e.damping -= 0.5 * dt * c.damping_force_n[i].dot(v_rel);
-      const SpringConstants k = spring_constants(m, c, i);
+      const SpringConstants k{c.normal_stiffness_n_m[i], c.shear_stiffness_n_m[i], c.normal_damping_n_s_m[i],
+                              c.shear_damping_n_s_m[i]};
       const PairLaw& law = m.law(m.material[a], m.material[b]);
       const double area = c.area_m2[i];
       std::uint8_t flags = c.flags[i] & (SubContactFlag::bonded | SubContactFlag::broken | SubContactFlag::original);
@@ -68,12 +69,20 @@ double apply_contact_law(const Model& m, State& s, double dt) {
       else
         en = std::min(0.0, c.normal_spring_n[i] + k.kn * (std::min(gap, 0.0) - std::min(gap_before, 0.0)));
       // Shear spring: turn last step's force into the current contact plane, keep its
-      // magnitude (es_old), then add the increment from the tangential displacement.
+      // magnitude, then add the increment from the tangential displacement. The plane
+      // turns little in a step: when the out-of-plane part is tiny, the rescale is
+      // 1 + x/2 (x = its squared share), exact to 3x^2/8, with no square root.
       Vec3 es = c.shear_spring_n[i];
-      const double es_old = es.norm();
-      es -= es.dot(n) * n;
-      const double es_in_plane = es.norm();
-      if (es_in_plane > 0) es *= es_old / es_in_plane;
+      const double es_old2 = es.squaredNorm();
+      const double along = es.dot(n), along2 = along * along;
+      if (along2 > 0) {
+        es -= along * n;
+        const double in_plane2 = es_old2 - along2;
+        if (along2 < 1e-6 * es_old2)
+          es *= 1.0 + 0.5 * along2 / es_old2;
+        else if (in_plane2 > 0)
+          es *= std::sqrt(es_old2 / in_plane2);
+      }
       es -= k.ks * dt * vs;
 
       if (flags & SubContactFlag::bonded) {
@@ -90,7 +99,7 @@ double apply_contact_law(const Model& m, State& s, double dt) {
         if (c.flags[i] & SubContactFlag::bonded)
           e.bond += 0.5 * en * en / k.kn + 0.5 * es.squaredNorm() / k.ks;
         else
-          e.friction += 0.5 * es_old * es_old / k.ks;
+          e.friction += 0.5 * es_old2 / k.ks;
         en = 0;
         es = Vec3::Zero();
         flags |= SubContactFlag::open;
@@ -98,8 +107,9 @@ double apply_contact_law(const Model& m, State& s, double dt) {
         Vec3 shear_damping = -k.cs * vs;
         if (!bonded) {
           const double limit = -en * law.tan_friction;
-          const double es_norm = es.norm();
-          if (es_norm > limit) {
+          const double es_norm2 = es.squaredNorm();
+          if (es_norm2 > limit * limit) {
+            const double es_norm = std::sqrt(es_norm2), es_old = std::sqrt(es_old2);
             // Dissipated by slip: the stored spring energy above the new limit (when the
             // normal force dropped), plus force x plastic slip of this step's increment.
             const double stored = std::max(std::min(es_old, es_norm), limit);

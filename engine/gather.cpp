@@ -6,12 +6,13 @@
 
 namespace ishibashi {
 
-double gather_forces(const Model& m, State& s) {
+namespace {
+
+// Counting sort of (sub-contact, side) entries by block; entry 2i is side a, 2i+1 side b.
+void build_gather_index(const Model& m, State& s) {
   const SubContacts& c = s.contacts;
   const int nb = m.block_count;
   const int n = static_cast<int>(c.size());
-
-  // Counting sort of (sub-contact, side) entries by block; entry 2i is side a, 2i+1 side b.
   s.block_contact_begin.assign(nb + 1, 0);
   for (int i = 0; i < n; ++i) {
     ++s.block_contact_begin[c.block_a[i] + 1];
@@ -24,6 +25,16 @@ double gather_forces(const Model& m, State& s) {
     s.block_contact[s.block_contact_cursor[c.block_a[i]]++] = 2 * i;
     s.block_contact[s.block_contact_cursor[c.block_b[i]]++] = 2 * i + 1;
   }
+  s.gather_index_valid = true;
+}
+
+}  // namespace
+
+double gather_forces(const Model& m, State& s) {
+  const SubContacts& c = s.contacts;
+  const int nb = m.block_count;
+  // The index changes only when the narrowphase regroups the sub-contacts.
+  if (!s.gather_index_valid) build_gather_index(m, s);
 
   parallel_for(nb, [&](std::ptrdiff_t b) {
     Vec3 f = Vec3::Zero(), t = Vec3::Zero();

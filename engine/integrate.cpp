@@ -13,8 +13,6 @@ void integrate(const Model& m, State& s, double dt) {
   parallel_for(m.block_count, [&](std::ptrdiff_t b) {
     if (m.motion[b] == Motion::fixed) return;
     if (m.motion[b] == Motion::prescribed) {  // kinematic: velocities come from the driver
-      s.travel_m[b] += s.velocity[b].norm() * dt;
-      s.turn_rad[b] += s.angular_velocity[b].norm() * dt;
       s.position[b] += s.velocity[b] * dt;
       s.orientation[b] = (quat_from_rotation_vector(s.angular_velocity[b] * dt) * s.orientation[b]).normalized();
       return;
@@ -28,9 +26,6 @@ void integrate(const Model& m, State& s, double dt) {
     const Vec3 moment = r.transpose() * s.torque[b];
     w += (moment - w.cross(inertia.cwiseProduct(w))).cwiseQuotient(inertia) * dt;
     s.angular_velocity[b] = r * w;
-    // Path bounds of this step's motion, for the narrowphase's reuse of its axis search.
-    s.travel_m[b] += s.velocity[b].norm() * dt;
-    s.turn_rad[b] += w.norm() * dt;
     s.orientation[b] = (s.orientation[b] * quat_from_rotation_vector(w * dt)).normalized();
   });
 

@@ -308,30 +308,49 @@ void edge_manifold(const Model& m, const State& s, int a, int b, const Axis& axi
   out.push(ManifoldPoint{x, x, axis.separation_m, m.point_contact_area_m2(a, b), make_key(2, 0, 0, feature)});
 }
 
+// Whether any point of block b can have moved relative to block a by `limit_m` or more
+// since the pair's last axis search. b's centroid moved by |offset - offset_at_search|
+// in a's frame, and a turn by angle t moves a point at distance r by the chord
+// 2 sin(t/2) r. Also returns the current relative pose, to be stored when the search is
+// redone. Most pairs are decided without a square root (u + v <= sqrt(2 (u^2 + v^2))).
+bool moved_at_least(const Model& m, const State& s, const Pair& pair, double limit_m, Vec3& offset, Quat& relative) {
+  const Quat to_a = s.orientation[pair.a].conjugate();
+  offset = to_a * (s.position[pair.b] - s.position[pair.a]);
+  relative = to_a * s.orientation[pair.b];
+  if (limit_m <= 0) return true;
+  const double shift2 = (offset - pair.offset_at_search).squaredNorm();
+  const double chord2 = 4.0 * (pair.relative_at_search.conjugate() * relative).vec().squaredNorm() *
+                        m.radius_m[pair.b] * m.radius_m[pair.b];
+  if (2.0 * (shift2 + chord2) < limit_m * limit_m) return false;
+  return std::sqrt(shift2) + std::sqrt(chord2) >= limit_m;
+}
+
 // Chooses the contact axis of a pair (with hysteresis) and builds its manifold. Returns
-// false instead when the pair has barely moved since its last axis search and already
-// has a face manifold: its points are then carried over (see update_contacts).
+// false instead when the pair needs no new manifold: it is still apart, or it has barely
+// moved since its last axis search and has a face manifold, whose sub-contacts are then
+// updated in place (update_in_place).
 bool pair_manifold(const Model& m, const State& s, Pair& pair, Manifold& out) {
   out.n = 0;
   const int a = pair.a, b = pair.b;
   const double tol = m.contact_tolerance_m(a, b);
-  // How far any point of one block can have moved relative to the other since the last
-  // axis search: translations plus rotations times the reach of the pair.
-  const double travel = s.travel_m[a] + s.travel_m[b], turn = s.turn_rad[a] + s.turn_rad[b];
-  const double moved = travel - pair.travel_at_search_m +
-                       (turn - pair.turn_at_search_rad) * (m.radius_m[a] + m.radius_m[b]);
-  if (pair.axis_kind == -1 && pair.separation_m - moved > tol) return true;  // still apart
-  if ((pair.axis_kind == 0 || pair.axis_kind == 1) && moved < 0.05 * tol) {
-    // Barely moved: the last face axis still holds (a resting joint is decided once),
-    // and within a twentieth of the tolerance the clipped features cannot change.
+  Vec3 offset;
+  Quat relative;
+  const bool face_axis = pair.axis_kind == 0 || pair.axis_kind == 1;
+  // Still apart: b cannot have closed the gap (separation beyond the tolerance).
+  // Barely moved: within a twentieth of the tolerance the clipped features cannot change.
+  const double limit = pair.axis_kind == -1 ? pair.separation_m - tol : face_axis ? 0.05 * tol : 0.0;
+  const bool moved = moved_at_least(m, s, pair, limit, offset, relative);
+  if (pair.axis_kind == -1 && !moved) return false;
+  if (face_axis && !moved) {
+    // The last face axis still holds (a resting joint is decided once).
     if (pair.sub_count > 0) return false;
     const int f = pair.axis_feature;
     const Axis cached{0.0, pair.axis_kind, f, pair.axis_kind == 0 ? s.face_normal_world[f] : Vec3(-s.face_normal_world[f])};
     face_manifold(m, s, a, b, cached, out);
     return true;
   }
-  pair.travel_at_search_m = travel;
-  pair.turn_at_search_rad = turn;
+  pair.offset_at_search = offset;
+  pair.relative_at_search = relative;
   auto apart = [&](double separation) {
     pair.axis_kind = -1;
     pair.separation_m = separation;
@@ -366,143 +385,167 @@ bool pair_manifold(const Model& m, const State& s, Pair& pair, Manifold& out) {
   return true;
 }
 
-// Carries a barely moved face contact's sub-contacts over, with their geometry updated
-// from the current poses: the incident point rides on its block, the reference face
-// gives the normal and the gap. Keys, areas, springs and bond stay.
-void reuse_manifold(const Model& m, const State& s, const SubContacts& old, const Pair& pair, int pair_index,
-                    SubContacts& out) {
+// A barely moved face contact keeps its sub-contacts (keys, areas, levers, springs,
+// bond) and only their geometry follows the current poses: the incident point rides on
+// its block, the reference face gives the normal and the gap.
+void update_in_place(State& s, const Pair& pair) {
+  SubContacts& c = s.contacts;
   const bool ref_is_a = pair.axis_kind == 0;
-  const int ref = ref_is_a ? pair.a : pair.b, inc = ref_is_a ? pair.b : pair.a;
+  const int inc = ref_is_a ? pair.b : pair.a;
   const int f = pair.axis_feature;
-  const Vec3& n = s.face_normal_world[f];
+  const Vec3 n = s.face_normal_world[f];
+  const Vec3 normal = ref_is_a ? n : Vec3(-n);
   const double d = s.face_offset_world[f];
   const Mat3 r = s.orientation[inc].toRotationMatrix();
-  const double lever_ref = std::abs(d - n.dot(s.position[ref])), lever_inc = std::abs(n.dot(s.position[inc]) - d);
-  const std::size_t first = out.size();
-  out.resize(first + pair.sub_count);
-  for (int q = 0; q < pair.sub_count; ++q) {
-    const int i = pair.sub_begin + q;
-    const std::size_t j = first + q;
-    const Vec3 incident = s.position[inc] + r * old.incident_local[i];
+  const Vec3 x = s.position[inc];
+  for (int i = pair.sub_begin; i < pair.sub_begin + pair.sub_count; ++i) {
+    const Vec3 incident = x + r * c.incident_local[i];
     const double gap = n.dot(incident) - d;
-    out.pair[j] = pair_index;
+    c.point[i] = incident - 0.5 * gap * n;
+    c.normal[i] = normal;
+    c.gap_change_m[i] = gap - c.gap_m[i];
+    c.gap_m[i] = gap;
+  }
+}
+
+// Appends the new manifold of a pair to `out`, each point with the history (springs,
+// bond, slip) of its match among the pair's current sub-contacts.
+void append_rebuilt(const Model& m, const State& s, const Pair& pair, const Manifold& manifold, bool first_detection,
+                    SubContacts& out) {
+  const SubContacts& old = s.contacts;
+  const int old_begin = pair.sub_begin, old_end = pair.sub_begin + pair.sub_count;
+  const int incident_block = pair.axis_kind == 1 ? pair.a : pair.b;
+  const Mat3 to_incident = s.orientation[incident_block].toRotationMatrix().transpose();
+  const PairLaw& law = m.law(m.material[pair.a], m.material[pair.b]);
+  const bool bondable = first_detection && (law.tensile_pa > 0 || law.cohesion_pa > 0);
+  const double reach = 1e-2 * std::min(m.size_m[pair.a], m.size_m[pair.b]);
+  const std::size_t first = out.size();
+  out.resize(first + manifold.n);
+  for (int i = 0; i < manifold.n; ++i) {
+    const ManifoldPoint& p = manifold.p[i];
+    const std::size_t j = first + i;
     out.block_a[j] = pair.a;
     out.block_b[j] = pair.b;
-    out.key[j] = old.key[i];
-    out.point[j] = incident - 0.5 * gap * n;
-    out.normal[j] = ref_is_a ? n : Vec3(-n);
-    out.gap_m[j] = gap;
-    out.gap_change_m[j] = gap - old.gap_m[i];
-    out.area_m2[j] = old.area_m2[i];
-    out.lever_a_m[j] = ref_is_a ? lever_ref : lever_inc;
-    out.lever_b_m[j] = ref_is_a ? lever_inc : lever_ref;
-    out.normal_spring_n[j] = old.normal_spring_n[i];
-    out.shear_spring_n[j] = old.shear_spring_n[i];
+    out.key[j] = p.key;
+    out.point[j] = p.x;
+    out.normal[j] = manifold.normal;
+    out.gap_m[j] = p.gap_m;
+    out.area_m2[j] = p.area_m2;
+    out.lever_a_m[j] = manifold.lever_a_m;
+    out.lever_b_m[j] = manifold.lever_b_m;
+    const SpringConstants k = spring_constants(m, out, j);
+    out.normal_stiffness_n_m[j] = k.kn;
+    out.shear_stiffness_n_m[j] = k.ks;
+    out.normal_damping_n_s_m[j] = k.cn;
+    out.shear_damping_n_s_m[j] = k.cs;
     out.force_n[j] = Vec3::Zero();
-    out.damping_force_n[j] = old.damping_force_n[i];
-    out.slip_m[j] = old.slip_m[i];
-    out.incident_local[j] = old.incident_local[i];
-    out.flags[j] = old.flags[i] & ~SubContactFlag::fresh;
+    out.incident_local[j] = to_incident * (p.incident - s.position[incident_block]);
+    // A key seen last step keeps its springs and bond. Failing that, the nearest old
+    // point of the pair within `reach` passes them on: where corners lie exactly on
+    // each other's edges (aligned masonry joints), a vertex and a pair of cuts swap
+    // back and forth under round-off-sized motions, and the joint must not forget.
+    // Springs pass on as stresses (scaled by the area ratio).
+    int found = -1;
+    for (int q = old_begin; q < old_end; ++q)
+      if (old.key[q] == p.key) {
+        found = q;
+        break;
+      }
+    if (found < 0) {
+      double best = reach * reach;
+      for (int q = old_begin; q < old_end; ++q) {
+        const double d2 = (old.point[q] - p.x).squaredNorm();
+        if (d2 < best) {
+          best = d2;
+          found = q;
+        }
+      }
+    }
+    if (found >= 0) {
+      const double ratio = p.area_m2 / old.area_m2[found];
+      out.normal_spring_n[j] = old.normal_spring_n[found] * ratio;
+      out.shear_spring_n[j] = old.shear_spring_n[found] * ratio;
+      out.flags[j] = old.flags[found];
+      out.damping_force_n[j] = old.damping_force_n[found] * ratio;
+      out.gap_change_m[j] = p.gap_m - old.gap_m[found];
+      out.slip_m[j] = old.slip_m[found];
+    } else {
+      out.normal_spring_n[j] = 0.0;
+      out.shear_spring_n[j] = Vec3::Zero();
+      out.flags[j] = SubContactFlag::fresh | (bondable ? SubContactFlag::bonded : 0) |
+                     (first_detection ? SubContactFlag::original : 0);
+      out.damping_force_n[j] = Vec3::Zero();
+      out.gap_change_m[j] = 0.0;
+      out.slip_m[j] = 0.0;
+    }
   }
 }
 
 }  // namespace
 
+// Most pairs of a masonry structure barely move relative to each other from one step to
+// the next: their sub-contacts are updated where they lie, and only pairs whose manifold
+// is rebuilt go through per-chunk buffers. The arrays are regrouped only when a pair
+// gains or loses sub-contacts or the pair list changed.
 void update_contacts(const Model& m, State& s, bool first_detection) {
-  std::swap(s.contacts, s.previous_contacts);
-  const SubContacts& old = s.previous_contacts;
   const int np = static_cast<int>(s.pairs.size());
   const int chunks = thread_count();
   s.chunk_contacts.resize(chunks);
-
+  s.chunk_regroup.assign(chunks, 0);
   parallel_chunks(np, chunks, [&](std::ptrdiff_t begin, std::ptrdiff_t end, int k) {
     SubContacts& out = s.chunk_contacts[k];
     out.clear();
     thread_local Manifold manifold;  // large; one per thread, reused
     for (std::ptrdiff_t pi = begin; pi < end; ++pi) {
       Pair& pair = s.pairs[pi];
-      const int old_begin = pair.sub_begin, old_end = pair.sub_begin + pair.sub_count;
+      pair.rebuilt_count = -1;
       if (!pair_manifold(m, s, pair, manifold)) {
-        reuse_manifold(m, s, old, pair, static_cast<int>(pi), out);
-        pair.sub_begin = static_cast<int>(out.size()) - pair.sub_count;  // within the chunk; offset below
+        if (pair.sub_count > 0) update_in_place(s, pair);
         continue;
       }
-      pair.sub_begin = static_cast<int>(out.size());  // within the chunk; offset below
-      pair.sub_count = manifold.n;
-      const int incident_block = pair.axis_kind == 1 ? pair.a : pair.b;
-      const Mat3 to_incident = s.orientation[incident_block].toRotationMatrix().transpose();
-      const PairLaw& law = m.law(m.material[pair.a], m.material[pair.b]);
-      const bool bondable = first_detection && (law.tensile_pa > 0 || law.cohesion_pa > 0);
-      const double reach = 1e-2 * std::min(m.size_m[pair.a], m.size_m[pair.b]);
-      const std::size_t first = out.size();
-      out.resize(first + manifold.n);
-      for (int i = 0; i < manifold.n; ++i) {
-        const ManifoldPoint& p = manifold.p[i];
-        const std::size_t j = first + i;
-        out.pair[j] = static_cast<int>(pi);
-        out.block_a[j] = pair.a;
-        out.block_b[j] = pair.b;
-        out.key[j] = p.key;
-        out.point[j] = p.x;
-        out.normal[j] = manifold.normal;
-        out.gap_m[j] = p.gap_m;
-        out.area_m2[j] = p.area_m2;
-        out.lever_a_m[j] = manifold.lever_a_m;
-        out.lever_b_m[j] = manifold.lever_b_m;
-        out.force_n[j] = Vec3::Zero();
-        out.incident_local[j] = to_incident * (p.incident - s.position[incident_block]);
-        // A key seen last step keeps its springs and bond. Failing that, the nearest old
-        // point of the pair within `reach` passes them on: where corners lie exactly on
-        // each other's edges (aligned masonry joints), a vertex and a pair of cuts swap
-        // back and forth under round-off-sized motions, and the joint must not forget.
-        // Springs pass on as stresses (scaled by the area ratio).
-        int found = -1;
-        for (int q = old_begin; q < old_end; ++q)
-          if (old.key[q] == p.key) {
-            found = q;
-            break;
-          }
-        if (found < 0) {
-          double best = reach * reach;
-          for (int q = old_begin; q < old_end; ++q) {
-            const double d2 = (old.point[q] - p.x).squaredNorm();
-            if (d2 < best) {
-              best = d2;
-              found = q;
-            }
-          }
-        }
-        if (found >= 0) {
-          const double ratio = p.area_m2 / old.area_m2[found];
-          out.normal_spring_n[j] = old.normal_spring_n[found] * ratio;
-          out.shear_spring_n[j] = old.shear_spring_n[found] * ratio;
-          out.flags[j] = old.flags[found];
-          out.damping_force_n[j] = old.damping_force_n[found] * ratio;
-          out.gap_change_m[j] = p.gap_m - old.gap_m[found];
-          out.slip_m[j] = old.slip_m[found];
-        } else {
-          out.normal_spring_n[j] = 0.0;
-          out.shear_spring_n[j] = Vec3::Zero();
-          out.flags[j] = SubContactFlag::fresh | (bondable ? SubContactFlag::bonded : 0) |
-                         (first_detection ? SubContactFlag::original : 0);
-          out.damping_force_n[j] = Vec3::Zero();
-          out.gap_change_m[j] = 0.0;
-          out.slip_m[j] = 0.0;
-        }
-      }
+      pair.rebuilt_begin = static_cast<int>(out.size());
+      pair.rebuilt_count = manifold.n;
+      if (manifold.n != pair.sub_count) s.chunk_regroup[k] = 1;
+      append_rebuilt(m, s, pair, manifold, first_detection, out);
     }
   });
+  bool regrouping = s.pairs_changed;
+  for (std::uint8_t r : s.chunk_regroup) regrouping |= r != 0;
+  s.pairs_changed = false;
 
-  std::size_t total = 0;
-  for (const SubContacts& c : s.chunk_contacts) total += c.size();
-  s.contacts.resize(total);
-  std::size_t offset = 0;
-  for (int k = 0; k < chunks; ++k) {
-    s.contacts.copy_from(s.chunk_contacts[k], offset);
-    const std::ptrdiff_t begin = np * k / chunks, end = np * (k + 1) / chunks;
-    for (std::ptrdiff_t pi = begin; pi < end; ++pi) s.pairs[pi].sub_begin += static_cast<int>(offset);
-    offset += s.chunk_contacts[k].size();
+  if (!regrouping) {  // same layout: rebuilt pairs overwrite their own ranges
+    parallel_chunks(np, chunks, [&](std::ptrdiff_t begin, std::ptrdiff_t end, int k) {
+      for (std::ptrdiff_t pi = begin; pi < end; ++pi) {
+        const Pair& pair = s.pairs[pi];
+        if (pair.rebuilt_count > 0)
+          s.contacts.copy_range(s.chunk_contacts[k], pair.rebuilt_begin, pair.rebuilt_count, pair.sub_begin);
+      }
+    });
+    return;
   }
+  s.pair_scratch_begin.resize(np);
+  int total = 0;
+  for (int pi = 0; pi < np; ++pi) {
+    const Pair& pair = s.pairs[pi];
+    s.pair_scratch_begin[pi] = total;
+    total += pair.rebuilt_count >= 0 ? pair.rebuilt_count : pair.sub_count;
+  }
+  s.next_contacts.resize(total);
+  parallel_chunks(np, chunks, [&](std::ptrdiff_t begin, std::ptrdiff_t end, int k) {
+    for (std::ptrdiff_t pi = begin; pi < end; ++pi) {
+      Pair& pair = s.pairs[pi];
+      const int at = s.pair_scratch_begin[pi];
+      if (pair.rebuilt_count >= 0) {
+        s.next_contacts.copy_range(s.chunk_contacts[k], pair.rebuilt_begin, pair.rebuilt_count, at);
+        pair.sub_count = pair.rebuilt_count;
+      } else {
+        s.next_contacts.copy_range(s.contacts, pair.sub_begin, pair.sub_count, at);
+      }
+      pair.sub_begin = at;
+    }
+  });
+  std::swap(s.contacts, s.next_contacts);
+  s.gather_index_valid = false;
 }
 
 }  // namespace ishibashi

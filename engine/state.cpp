@@ -1,11 +1,12 @@
 #include "engine/state.h"
 
+#include <algorithm>
+
 namespace ishibashi {
 
 void SubContacts::clear() { resize(0); }
 
 void SubContacts::resize(std::size_t n) {
-  pair.resize(n);
   block_a.resize(n);
   block_b.resize(n);
   key.resize(n);
@@ -16,6 +17,10 @@ void SubContacts::resize(std::size_t n) {
   area_m2.resize(n);
   lever_a_m.resize(n);
   lever_b_m.resize(n);
+  normal_stiffness_n_m.resize(n);
+  shear_stiffness_n_m.resize(n);
+  normal_damping_n_s_m.resize(n);
+  shear_damping_n_s_m.resize(n);
   normal_spring_n.resize(n);
   shear_spring_n.resize(n);
   force_n.resize(n);
@@ -25,9 +30,8 @@ void SubContacts::resize(std::size_t n) {
   flags.resize(n);
 }
 
-void SubContacts::copy_from(const SubContacts& s, std::size_t at) {
-  auto copy = [&](const auto& from, auto& to) { std::copy(from.begin(), from.end(), to.begin() + at); };
-  copy(s.pair, pair);
+void SubContacts::copy_range(const SubContacts& s, std::size_t from, std::size_t count, std::size_t to) {
+  auto copy = [&](const auto& src, auto& dst) { std::copy_n(src.begin() + from, count, dst.begin() + to); };
   copy(s.block_a, block_a);
   copy(s.block_b, block_b);
   copy(s.key, key);
@@ -38,6 +42,10 @@ void SubContacts::copy_from(const SubContacts& s, std::size_t at) {
   copy(s.area_m2, area_m2);
   copy(s.lever_a_m, lever_a_m);
   copy(s.lever_b_m, lever_b_m);
+  copy(s.normal_stiffness_n_m, normal_stiffness_n_m);
+  copy(s.shear_stiffness_n_m, shear_stiffness_n_m);
+  copy(s.normal_damping_n_s_m, normal_damping_n_s_m);
+  copy(s.shear_damping_n_s_m, shear_damping_n_s_m);
   copy(s.normal_spring_n, normal_spring_n);
   copy(s.shear_spring_n, shear_spring_n);
   copy(s.force_n, force_n);
@@ -57,8 +65,6 @@ State make_initial_state(const Model& model) {
   s.applied_force.assign(nb, Vec3::Zero());
   s.applied_torque.assign(nb, Vec3::Zero());
   s.force.assign(nb, Vec3::Zero());
-  s.travel_m.assign(nb, 0.0);
-  s.turn_rad.assign(nb, 0.0);
   s.torque.assign(nb, Vec3::Zero());
   s.vertex_world.resize(model.vertex_local.size());
   s.face_normal_world.resize(model.face_normal_local.size());

@@ -23,7 +23,6 @@ enum SubContactFlag : std::uint8_t {
 // Sub-contacts, sorted by (pair, key). The normal points from block_a to block_b and the
 // force is the one that block_a exerts on block_b (block_b exerts -force on block_a).
 struct SubContacts {
-  std::vector<int> pair;                 // index into the pair list
   std::vector<int> block_a, block_b;
   std::vector<std::uint64_t> key;        // stable feature key within the pair
   std::vector<Vec3> point;               // m, world, on the common plane
@@ -31,7 +30,11 @@ struct SubContacts {
   std::vector<double> gap_m;             // signed normal gap, > 0 open, < 0 overlap
   std::vector<double> gap_change_m;      // gap_m minus last step's gap of the same sub-contact
   std::vector<double> area_m2;           // share S_i of the contact area
-  std::vector<double> lever_a_m, lever_b_m;  // l_A, l_B: centroid to contact plane
+  std::vector<double> lever_a_m, lever_b_m;  // l_A, l_B: centroid to contact plane, when built
+  // Spring and dashpot constants (spring_constants() of the geometry when the sub-contact
+  // was built; they hold while it is carried over, as area and levers then do).
+  std::vector<double> normal_stiffness_n_m, shear_stiffness_n_m;      // K_n, K_s
+  std::vector<double> normal_damping_n_s_m, shear_damping_n_s_m;      // C_n, C_s
   std::vector<double> normal_spring_n;   // e_n, tension positive
   std::vector<Vec3> shear_spring_n;      // e_s, force on b, in the contact plane
   std::vector<Vec3> force_n;             // total force on b (springs + dashpots)
@@ -44,8 +47,9 @@ struct SubContacts {
   std::size_t size() const { return key.size(); }
   void clear();
   void resize(std::size_t n);
-  // Copies all of `src` into this, starting at index `at` (this must be large enough).
-  void copy_from(const SubContacts& src, std::size_t at);
+  // Copies `count` sub-contacts of `src` from index `from` to this at index `to` (this
+  // must be large enough).
+  void copy_range(const SubContacts& src, std::size_t from, std::size_t count, std::size_t to);
 };
 
 // One broadphase candidate pair, a < b, with what the narrowphase remembers of it.
@@ -55,12 +59,17 @@ struct Pair {
   // kind 0 = face of a, 1 = face of b, 2 = edge-edge, -1 = none yet.
   int axis_kind = -1;
   int axis_feature = -1;
-  // Separation found by the last full axis search (m) and the blocks' travel then
-  // (State::travel_m, turn_rad sums): while the blocks cannot have closed the distance,
-  // or have barely moved, the search is skipped.
+  // Separation found by the last full axis search (m) and the relative pose then: b's
+  // centroid in a's principal frame (m) and the rotation from b's frame to a's. While b
+  // cannot have closed the distance relative to a, or has barely moved relative to a,
+  // the search is skipped (a bridge shaken as a whole keeps its contacts as they are).
   double separation_m = -1.0;
-  double travel_at_search_m = 0.0, turn_at_search_rad = 0.0;
+  Vec3 offset_at_search = Vec3::Zero();
+  Quat relative_at_search = Quat::Identity();
   int sub_begin = 0, sub_count = 0;  // this pair's range in State::contacts
+  // This step's narrowphase: -1 when the pair's sub-contacts were updated in place,
+  // else the number of rebuilt ones, at `rebuilt_begin` in its chunk's buffer.
+  int rebuilt_begin = 0, rebuilt_count = -1;
 };
 
 struct Energy {
@@ -97,8 +106,6 @@ struct State {
   std::vector<Vec3> applied_force;       // external loads set by the driver, N
   std::vector<Vec3> applied_torque;      // N m
   std::vector<Vec3> force, torque;       // resultant of contacts + applied loads (no gravity)
-  std::vector<double> travel_m;          // path length of the centroid since the start (nb)
-  std::vector<double> turn_rad;          // accumulated rotation angle since the start (nb)
 
   // ---- world-frame geometry of the current pose ----
   std::vector<Vec3> vertex_world;        // (nv)
@@ -108,12 +115,17 @@ struct State {
 
   // ---- contacts ----
   std::vector<Pair> pairs;               // sorted by (a, b)
-  SubContacts contacts;                  // current sub-contacts
-  SubContacts previous_contacts;         // last step's, read while matching keys
-  std::vector<SubContacts> chunk_contacts;  // per-chunk narrowphase output
-  std::vector<int> block_contact_begin;  // (nb+1) gather index
-  std::vector<int> block_contact;        // 2 i for side a of sub-contact i, 2 i + 1 for side b
-  std::vector<int> block_contact_cursor;
+  SubContacts contacts;                  // current sub-contacts, grouped by pair in pair order
+  SubContacts next_contacts;             // where the narrowphase regroups them when pairs
+                                         // gain or lose sub-contacts
+  std::vector<SubContacts> chunk_contacts;  // per-chunk output of re-clipped pairs
+  std::vector<std::uint8_t> chunk_regroup; // per chunk: a pair's sub-contact count changed
+  std::vector<int> pair_scratch_begin;   // (np) regrouping: each pair's new range start
+  bool pairs_changed = true;             // the pair list changed since the last narrowphase
+  std::vector<int> block_contact_begin;  // (nb+1) gather index, rebuilt when the contacts'
+  std::vector<int> block_contact;        // layout changes; entry 2 i: side a of sub-contact
+  std::vector<int> block_contact_cursor; // i, 2 i + 1: side b
+  bool gather_index_valid = false;
 
   // ---- broadphase ----
   std::vector<Vec3> position_at_rebuild; // (nb)

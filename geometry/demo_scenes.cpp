@@ -21,8 +21,13 @@ Model make_wall_model(const WallSpec& w) {
       for (int k = 0; k < count; ++k) {
         const Vec3 c((k + 0.5 + (odd ? 0.5 : 0.0)) * s, (leaf + 0.5) * s, (course + 0.5) * s);
         const Polyhedron p = make_box(c, Vec3(s, s, s));
-        builder.add_block(p.vertices, p.faces, stone, Motion::free,
-                          "c" + std::to_string(course) + "-l" + std::to_string(leaf) + "-s" + std::to_string(k));
+        std::string label = "c";  // appended, not chained with +: GCC 12 warns (-Wrestrict) on the chain
+        label += std::to_string(course);
+        label += "-l";
+        label += std::to_string(leaf);
+        label += "-s";
+        label += std::to_string(k);
+        builder.add_block(p.vertices, p.faces, stone, Motion::free, label);
       }
   }
   builder.contact_settings().subdivision = w.subdivision;

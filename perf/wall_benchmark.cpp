@@ -19,6 +19,7 @@ int main(int argc, char** argv) {
   const long steps = argc > 1 ? std::atol(argv[1]) : 5000;
   const int courses = argc > 2 ? std::atoi(argv[2]) : 26;
   const int stones = argc > 3 ? std::atoi(argv[3]) : 30;
+  const int max_threads = argc > 4 ? std::atoi(argv[4]) : omp_get_num_procs();
   WallSpec spec;
   spec.courses = courses;
   spec.stones_per_course = stones;
@@ -33,7 +34,6 @@ int main(int argc, char** argv) {
   std::printf("threads,blocks,pairs,subcontacts,steps,seconds,steps_per_s,ns_per_subcontact_step,"
               "pose_s,broadphase_s,narrowphase_s,contact_law_s,gather_s,integrate_s,rebuilds\n");
   double one_thread = 0;
-  const int max_threads = omp_get_num_procs();
   for (int threads = 1; threads <= max_threads; threads *= 2) {
     omp_set_num_threads(threads);
     World world(model, 4e-5);

@@ -40,8 +40,13 @@ void expect_valid_outputs(const std::filesystem::path& out) {
   }
   const auto contacts = read_pvd(out / "contacts.pvd");
   ASSERT_EQ(contacts.size(), blocks.size());
+  // At the start all 1,808 sub-contacts of the ring; later the frames may have fewer (how
+  // many depends on how far the run got before it was stopped).
+  vtkUnstructuredGrid* first = read_vtu(contacts.front().file);
+  EXPECT_GT(first->GetNumberOfPoints(), 1000);
+  first->Delete();
   vtkUnstructuredGrid* c = read_vtu(contacts.back().file);
-  EXPECT_GT(c->GetNumberOfPoints(), 1000);
+  EXPECT_GT(c->GetNumberOfPoints(), 0);
   for (const char* name : {"normal_stress_pa", "shear_stress_pa", "opening_m", "slip_m", "state"})
     EXPECT_NE(c->GetPointData()->GetArray(name), nullptr) << name;
   c->Delete();
