@@ -41,6 +41,10 @@ int main(int argc, char** argv) {
   run_cmd->add_option("--out", run.out, "output folder (default: out/<scenario name>)");
   run_cmd->add_flag("--profile", run.profile, "print the time spent in each stage of the step");
   run_cmd->add_flag("--quiet", run.quiet, "no progress bar");
+  run_cmd->add_option("--duration", run.duration_s, "seconds of shaking, replacing the scenario's duration_s (0: whole record)")
+      ->check(CLI::NonNegativeNumber);
+  run_cmd->add_option("--threads", run.threads, "threads, replacing the scenario's threads (0: all cores)")
+      ->check(CLI::NonNegativeNumber);
 
   ishibashi::ModalOptions modal;
   CLI::App* modal_cmd = app.add_subcommand("modal", "Natural frequencies and mode shapes (modal analysis, joints held linear)");

@@ -53,7 +53,9 @@ Counts count(const Model& m, const State& s, double opening_m, int original_tota
 
 int run_scenario(const RunOptions& o) {
   const auto wall0 = Clock::now();
-  const Scenario sc = read_scenario(o.scenario);
+  Scenario sc = read_scenario(o.scenario);
+  if (o.duration_s >= 0) sc.duration_s = sc.ground_motion.duration_s = o.duration_s;
+  if (o.threads >= 0) sc.threads = o.threads;
   if (sc.threads > 0) omp_set_num_threads(sc.threads);
   const std::filesystem::path out = o.out.empty() ? std::filesystem::path("out") / o.scenario.stem() : o.out;
   std::filesystem::create_directories(out);

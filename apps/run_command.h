@@ -10,6 +10,8 @@ struct RunOptions {
   std::filesystem::path out;  // empty: out/<scenario name>
   bool profile = false;       // print the per-stage time table at the end
   bool quiet = false;         // no progress bar
+  double duration_s = -1;     // >= 0: replaces the scenario's [run] duration_s (0: whole record)
+  int threads = -1;           // >= 0: replaces the scenario's [run] threads (0: all cores)
 };
 
 // Returns the exit code: 0 done, 130 interrupted (outputs valid up to that moment).

@@ -37,101 +37,121 @@ struct EnergyParts {
 
 double apply_contact_law(const Model& m, State& s, double dt) {
   SubContacts& c = s.contacts;
+  const std::ptrdiff_t np = static_cast<std::ptrdiff_t>(s.pairs.size());
+  s.pair_force_n.resize(np);
+  s.pair_torque_nm.resize(np);
   std::array<EnergyParts, kChunks> parts{};
-  parallel_chunks(static_cast<std::ptrdiff_t>(c.size()), kChunks, [&](std::ptrdiff_t begin, std::ptrdiff_t end, int k) {
+  // Pair by pair: what the sub-contacts of a pair share (blocks, velocities, law) is
+  // loaded once, and their resultant is summed here so that the gather works on pairs.
+  parallel_chunks(np, kChunks, [&](std::ptrdiff_t begin, std::ptrdiff_t end, int k) {
     EnergyParts e;
-    for (std::ptrdiff_t i = begin; i < end; ++i) {
-      const int a = c.block_a[i], b = c.block_b[i];
-      const Vec3& p = c.point[i];
-      const Vec3& n = c.normal[i];
-      const Vec3 v_rel = s.velocity[b] + s.angular_velocity[b].cross(p - s.position[b]) - s.velocity[a] -
-                         s.angular_velocity[a].cross(p - s.position[a]);
-      const double vn = v_rel.dot(n);
-      const Vec3 vs = v_rel - vn * n;
-      // Dashpot work over a step is F . (v_before + v_after) / 2 dt, the form in which
-      // semi-implicit Euler balances kinetic energy: last step's half is added now.
-      e.damping -= 0.5 * dt * c.damping_force_n[i].dot(v_rel);
-      const SpringConstants k{c.normal_stiffness_n_m[i], c.shear_stiffness_n_m[i], c.normal_damping_n_s_m[i],
-                              c.shear_damping_n_s_m[i]};
+    for (std::ptrdiff_t pi = begin; pi < end; ++pi) {
+      const Pair& pair = s.pairs[pi];
+      if (pair.sub_count == 0) {
+        s.pair_force_n[pi] = s.pair_torque_nm[pi] = Vec3::Zero();
+        continue;
+      }
+      const int a = pair.a, b = pair.b;
+      // Relative velocity at r = p - x_a: v_b + w_b x (r - d) - v_a - w_a x r, d = x_b - x_a.
+      const Vec3 xa = s.position[a];
+      const Vec3 v0 = s.velocity[b] - s.velocity[a] - s.angular_velocity[b].cross(s.position[b] - xa);
+      const Vec3 w_rel = s.angular_velocity[b] - s.angular_velocity[a];
       const PairLaw& law = m.law(m.material[a], m.material[b]);
-      const double area = c.area_m2[i];
-      std::uint8_t flags = c.flags[i] & (SubContactFlag::bonded | SubContactFlag::broken | SubContactFlag::original);
+      Vec3 pair_force = Vec3::Zero(), pair_torque = Vec3::Zero();
+      for (int i = pair.sub_begin; i < pair.sub_begin + pair.sub_count; ++i) {
+        const Vec3 r = c.point[i] - xa;
+        const Vec3& n = c.normal[i];
+        const Vec3 v_rel = v0 + w_rel.cross(r);
+        const double vn = v_rel.dot(n);
+        const Vec3 vs = v_rel - vn * n;
+        // Dashpot work over a step is F . (v_before + v_after) / 2 dt, the form in which
+        // semi-implicit Euler balances kinetic energy: last step's half is added now.
+        e.damping -= 0.5 * dt * c.damping_force_n[i].dot(v_rel);
+        const SpringConstants k{c.normal_stiffness_n_m[i], c.shear_stiffness_n_m[i], c.normal_damping_n_s_m[i],
+                                c.shear_damping_n_s_m[i]};
+        const double area = c.area_m2[i];
+        std::uint8_t flags = c.flags[i] & (SubContactFlag::bonded | SubContactFlag::broken | SubContactFlag::original);
 
-      // Normal spring, incremental: e_n += K_n dn, dn = change of the gap (tension
-      // positive). A dry joint only counts the part of dn spent in overlap, so it takes
-      // up load exactly when the gap closes. A new sub-contact starts from its overlap.
-      const double gap = c.gap_m[i], gap_before = gap - c.gap_change_m[i];
-      double en;
-      if (c.flags[i] & SubContactFlag::fresh)
-        en = k.kn * ((flags & SubContactFlag::bonded) ? gap : std::min(gap, 0.0));
-      else if (flags & SubContactFlag::bonded)
-        en = c.normal_spring_n[i] + k.kn * c.gap_change_m[i];
-      else
-        en = std::min(0.0, c.normal_spring_n[i] + k.kn * (std::min(gap, 0.0) - std::min(gap_before, 0.0)));
-      // Shear spring: turn last step's force into the current contact plane, keep its
-      // magnitude, then add the increment from the tangential displacement. The plane
-      // turns little in a step: when the out-of-plane part is tiny, the rescale is
-      // 1 + x/2 (x = its squared share), exact to 3x^2/8, with no square root.
-      Vec3 es = c.shear_spring_n[i];
-      const double es_old2 = es.squaredNorm();
-      const double along = es.dot(n), along2 = along * along;
-      if (along2 > 0) {
-        es -= along * n;
-        const double in_plane2 = es_old2 - along2;
-        if (along2 < 1e-6 * es_old2)
-          es *= 1.0 + 0.5 * along2 / es_old2;
-        else if (in_plane2 > 0)
-          es *= std::sqrt(es_old2 / in_plane2);
-      }
-      es -= k.ks * dt * vs;
-
-      if (flags & SubContactFlag::bonded) {
-        const double sigma = en / area, tau = es.norm() / area;
-        const bool tension_failure = sigma - law.tensile_pa >= 0;
-        const bool shear_failure = tau + sigma * law.tan_friction - law.cohesion_pa >= 0;
-        if (tension_failure || shear_failure) flags = (flags & SubContactFlag::original) | SubContactFlag::broken;
-      }
-      const bool bonded = flags & SubContactFlag::bonded;
-      Vec3 force = Vec3::Zero(), damping_force = Vec3::Zero();
-      if (!bonded && (en >= 0 || gap >= 0)) {
-        // Open: no spring, no dashpot. A bond that broke just now releases its springs'
-        // energy; a dry joint's shear spring slips free (a dry gap stores nothing).
-        if (c.flags[i] & SubContactFlag::bonded)
-          e.bond += 0.5 * en * en / k.kn + 0.5 * es.squaredNorm() / k.ks;
+        // Normal spring, incremental: e_n += K_n dn, dn = change of the gap (tension
+        // positive). A dry joint only counts the part of dn spent in overlap, so it takes
+        // up load exactly when the gap closes. A new sub-contact starts from its overlap.
+        const double gap = c.gap_m[i], gap_before = gap - c.gap_change_m[i];
+        double en;
+        if (c.flags[i] & SubContactFlag::fresh)
+          en = k.kn * ((flags & SubContactFlag::bonded) ? gap : std::min(gap, 0.0));
+        else if (flags & SubContactFlag::bonded)
+          en = c.normal_spring_n[i] + k.kn * c.gap_change_m[i];
         else
-          e.friction += 0.5 * es_old2 / k.ks;
-        en = 0;
-        es = Vec3::Zero();
-        flags |= SubContactFlag::open;
-      } else {
-        Vec3 shear_damping = -k.cs * vs;
-        if (!bonded) {
-          const double limit = -en * law.tan_friction;
-          const double es_norm2 = es.squaredNorm();
-          if (es_norm2 > limit * limit) {
-            const double es_norm = std::sqrt(es_norm2), es_old = std::sqrt(es_old2);
-            // Dissipated by slip: the stored spring energy above the new limit (when the
-            // normal force dropped), plus force x plastic slip of this step's increment.
-            const double stored = std::max(std::min(es_old, es_norm), limit);
-            e.friction += 0.5 * (stored * stored - limit * limit) / k.ks + limit * (es_norm - stored) / k.ks;
-            c.slip_m[i] += (es_norm - limit) / k.ks;
-            es *= limit / es_norm;
-            shear_damping = Vec3::Zero();
-            flags |= SubContactFlag::sliding;
-          }
+          en = std::min(0.0, c.normal_spring_n[i] + k.kn * (std::min(gap, 0.0) - std::min(gap_before, 0.0)));
+        // Shear spring: turn last step's force into the current contact plane, keep its
+        // magnitude, then add the increment from the tangential displacement. The plane
+        // turns little in a step: when the out-of-plane part is tiny, the rescale is
+        // 1 + x/2 (x = its squared share), exact to 3x^2/8, with no square root.
+        Vec3 es = c.shear_spring_n[i];
+        const double es_old2 = es.squaredNorm();
+        const double along = es.dot(n), along2 = along * along;
+        if (along2 > 0) {
+          es -= along * n;
+          const double in_plane2 = es_old2 - along2;
+          if (along2 < 1e-6 * es_old2)
+            es *= 1.0 + 0.5 * along2 / es_old2;
+          else if (in_plane2 > 0)
+            es *= std::sqrt(es_old2 / in_plane2);
         }
-        double fn = en + k.cn * vn;
-        if (!bonded && fn > 0) fn = 0;  // a dashpot must not pull a dry joint
-        damping_force = -(fn - en) * n + shear_damping;
-        e.damping -= 0.5 * dt * damping_force.dot(v_rel);
-        force = -fn * n + es + shear_damping;
-        e.elastic += 0.5 * en * en / k.kn + 0.5 * es.squaredNorm() / k.ks;
+        es -= k.ks * dt * vs;
+
+        if (flags & SubContactFlag::bonded) {
+          const double sigma = en / area, tau = es.norm() / area;
+          const bool tension_failure = sigma - law.tensile_pa >= 0;
+          const bool shear_failure = tau + sigma * law.tan_friction - law.cohesion_pa >= 0;
+          if (tension_failure || shear_failure) flags = (flags & SubContactFlag::original) | SubContactFlag::broken;
+        }
+        const bool bonded = flags & SubContactFlag::bonded;
+        Vec3 force = Vec3::Zero(), damping_force = Vec3::Zero();
+        if (!bonded && (en >= 0 || gap >= 0)) {
+          // Open: no spring, no dashpot. A bond that broke just now releases its springs'
+          // energy; a dry joint's shear spring slips free (a dry gap stores nothing).
+          if (c.flags[i] & SubContactFlag::bonded)
+            e.bond += 0.5 * en * en / k.kn + 0.5 * es.squaredNorm() / k.ks;
+          else
+            e.friction += 0.5 * es_old2 / k.ks;
+          en = 0;
+          es = Vec3::Zero();
+          flags |= SubContactFlag::open;
+        } else {
+          Vec3 shear_damping = -k.cs * vs;
+          if (!bonded) {
+            const double limit = -en * law.tan_friction;
+            const double es_norm2 = es.squaredNorm();
+            if (es_norm2 > limit * limit) {
+              const double es_norm = std::sqrt(es_norm2), es_old = std::sqrt(es_old2);
+              // Dissipated by slip: the stored spring energy above the new limit (when the
+              // normal force dropped), plus force x plastic slip of this step's increment.
+              const double stored = std::max(std::min(es_old, es_norm), limit);
+              e.friction += 0.5 * (stored * stored - limit * limit) / k.ks + limit * (es_norm - stored) / k.ks;
+              c.slip_m[i] += (es_norm - limit) / k.ks;
+              es *= limit / es_norm;
+              shear_damping = Vec3::Zero();
+              flags |= SubContactFlag::sliding;
+            }
+          }
+          double fn = en + k.cn * vn;
+          if (!bonded && fn > 0) fn = 0;  // a dashpot must not pull a dry joint
+          damping_force = -(fn - en) * n + shear_damping;
+          e.damping -= 0.5 * dt * damping_force.dot(v_rel);
+          force = -fn * n + es + shear_damping;
+          e.elastic += 0.5 * en * en / k.kn + 0.5 * es.squaredNorm() / k.ks;
+        }
+        c.normal_spring_n[i] = en;
+        c.shear_spring_n[i] = es;
+        c.force_n[i] = force;
+        c.damping_force_n[i] = damping_force;
+        c.flags[i] = flags;
+        pair_force += force;
+        pair_torque += r.cross(force);
       }
-      c.normal_spring_n[i] = en;
-      c.shear_spring_n[i] = es;
-      c.force_n[i] = force;
-      c.damping_force_n[i] = damping_force;
-      c.flags[i] = flags;
+      s.pair_force_n[pi] = pair_force;
+      s.pair_torque_nm[pi] = pair_torque;
     }
     parts[k] = e;
   });

@@ -1,29 +1,28 @@
-// Force gather: each block sums the forces of its own sub-contacts, found through a
-// block -> sub-contact index, so no two threads write the same block (no atomics, and
-// the summation order, hence the result, is the same for any thread count).
+// Force gather: each block sums the resultants of its own pairs (summed per pair by the
+// contact law), found through a block -> pair index, so no two threads write the same
+// block (no atomics, and the summation order, hence the result, is the same for any
+// thread count).
 #include "engine/parallel.h"
 #include "engine/pipeline.h"
 
 namespace ishibashi {
-
 namespace {
 
-// Counting sort of (sub-contact, side) entries by block; entry 2i is side a, 2i+1 side b.
+// Counting sort of (pair, side) entries by block; entry 2p is side a, 2p+1 side b.
 void build_gather_index(const Model& m, State& s) {
-  const SubContacts& c = s.contacts;
   const int nb = m.block_count;
-  const int n = static_cast<int>(c.size());
-  s.block_contact_begin.assign(nb + 1, 0);
-  for (int i = 0; i < n; ++i) {
-    ++s.block_contact_begin[c.block_a[i] + 1];
-    ++s.block_contact_begin[c.block_b[i] + 1];
+  const int np = static_cast<int>(s.pairs.size());
+  s.block_pair_begin.assign(nb + 1, 0);
+  for (const Pair& p : s.pairs) {
+    ++s.block_pair_begin[p.a + 1];
+    ++s.block_pair_begin[p.b + 1];
   }
-  for (int b = 0; b < nb; ++b) s.block_contact_begin[b + 1] += s.block_contact_begin[b];
-  s.block_contact.resize(2 * static_cast<std::size_t>(n));
-  s.block_contact_cursor.assign(s.block_contact_begin.begin(), s.block_contact_begin.end() - 1);
-  for (int i = 0; i < n; ++i) {
-    s.block_contact[s.block_contact_cursor[c.block_a[i]]++] = 2 * i;
-    s.block_contact[s.block_contact_cursor[c.block_b[i]]++] = 2 * i + 1;
+  for (int b = 0; b < nb; ++b) s.block_pair_begin[b + 1] += s.block_pair_begin[b];
+  s.block_pair.resize(2 * static_cast<std::size_t>(np));
+  s.block_pair_cursor.assign(s.block_pair_begin.begin(), s.block_pair_begin.end() - 1);
+  for (int p = 0; p < np; ++p) {
+    s.block_pair[s.block_pair_cursor[s.pairs[p].a]++] = 2 * p;
+    s.block_pair[s.block_pair_cursor[s.pairs[p].b]++] = 2 * p + 1;
   }
   s.gather_index_valid = true;
 }
@@ -31,19 +30,23 @@ void build_gather_index(const Model& m, State& s) {
 }  // namespace
 
 double gather_forces(const Model& m, State& s) {
-  const SubContacts& c = s.contacts;
   const int nb = m.block_count;
-  // The index changes only when the narrowphase regroups the sub-contacts.
-  if (!s.gather_index_valid) build_gather_index(m, s);
+  if (!s.gather_index_valid) build_gather_index(m, s);  // only when the pair list changed
 
   parallel_for(nb, [&](std::ptrdiff_t b) {
     Vec3 f = Vec3::Zero(), t = Vec3::Zero();
-    for (int q = s.block_contact_begin[b]; q < s.block_contact_begin[b + 1]; ++q) {
-      const int entry = s.block_contact[q];
-      const int i = entry >> 1;
-      const Vec3 fi = (entry & 1) ? c.force_n[i] : Vec3(-c.force_n[i]);
-      f += fi;
-      t += (c.point[i] - s.position[b]).cross(fi);
+    for (int q = s.block_pair_begin[b]; q < s.block_pair_begin[b + 1]; ++q) {
+      const int entry = s.block_pair[q];
+      const int p = entry >> 1;
+      const Vec3& force = s.pair_force_n[p];  // on b; about a's centroid:
+      const Vec3& torque = s.pair_torque_nm[p];
+      if (entry & 1) {  // moved to b's centroid: T - (x_b - x_a) x F
+        f += force;
+        t += torque - (s.position[b] - s.position[s.pairs[p].a]).cross(force);
+      } else {
+        f -= force;
+        t -= torque;
+      }
     }
     s.force[b] = f + s.applied_force[b];
     s.torque[b] = t + s.applied_torque[b];

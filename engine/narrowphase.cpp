@@ -314,13 +314,14 @@ void edge_manifold(const Model& m, const State& s, int a, int b, const Axis& axi
 // 2 sin(t/2) r. Also returns the current relative pose, to be stored when the search is
 // redone. Most pairs are decided without a square root (u + v <= sqrt(2 (u^2 + v^2))).
 bool moved_at_least(const Model& m, const State& s, const Pair& pair, double limit_m, Vec3& offset, Quat& relative) {
-  const Quat to_a = s.orientation[pair.a].conjugate();
-  offset = to_a * (s.position[pair.b] - s.position[pair.a]);
-  relative = to_a * s.orientation[pair.b];
+  offset = s.rotation[pair.a].transpose() * (s.position[pair.b] - s.position[pair.a]);
+  relative = s.orientation[pair.a].conjugate() * s.orientation[pair.b];
   if (limit_m <= 0) return true;
   const double shift2 = (offset - pair.offset_at_search).squaredNorm();
-  const double chord2 = 4.0 * (pair.relative_at_search.conjugate() * relative).vec().squaredNorm() *
-                        m.radius_m[pair.b] * m.radius_m[pair.b];
+  // sin^2(t/2) = 1 - c^2, c the scalar part of the turn q0* q, i.e. the 4-d dot q0 . q.
+  const double cos_half_turn = pair.relative_at_search.coeffs().dot(relative.coeffs());
+  const double sin2_half_turn = std::max(0.0, 1.0 - cos_half_turn * cos_half_turn);
+  const double chord2 = 4.0 * sin2_half_turn * m.radius_m[pair.b] * m.radius_m[pair.b];
   if (2.0 * (shift2 + chord2) < limit_m * limit_m) return false;
   return std::sqrt(shift2) + std::sqrt(chord2) >= limit_m;
 }
@@ -396,7 +397,7 @@ void update_in_place(State& s, const Pair& pair) {
   const Vec3 n = s.face_normal_world[f];
   const Vec3 normal = ref_is_a ? n : Vec3(-n);
   const double d = s.face_offset_world[f];
-  const Mat3 r = s.orientation[inc].toRotationMatrix();
+  const Mat3& r = s.rotation[inc];
   const Vec3 x = s.position[inc];
   for (int i = pair.sub_begin; i < pair.sub_begin + pair.sub_count; ++i) {
     const Vec3 incident = x + r * c.incident_local[i];
@@ -415,7 +416,7 @@ void append_rebuilt(const Model& m, const State& s, const Pair& pair, const Mani
   const SubContacts& old = s.contacts;
   const int old_begin = pair.sub_begin, old_end = pair.sub_begin + pair.sub_count;
   const int incident_block = pair.axis_kind == 1 ? pair.a : pair.b;
-  const Mat3 to_incident = s.orientation[incident_block].toRotationMatrix().transpose();
+  const Mat3 to_incident = s.rotation[incident_block].transpose();
   const PairLaw& law = m.law(m.material[pair.a], m.material[pair.b]);
   const bool bondable = first_detection && (law.tensile_pa > 0 || law.cohesion_pa > 0);
   const double reach = 1e-2 * std::min(m.size_m[pair.a], m.size_m[pair.b]);
@@ -545,7 +546,6 @@ void update_contacts(const Model& m, State& s, bool first_detection) {
     }
   });
   std::swap(s.contacts, s.next_contacts);
-  s.gather_index_valid = false;
 }
 
 }  // namespace ishibashi

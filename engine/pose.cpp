@@ -5,7 +5,7 @@ namespace ishibashi {
 
 void update_pose(const Model& m, State& s) {
   parallel_for(m.block_count, [&](std::ptrdiff_t b) {
-    const Mat3 r = s.orientation[b].toRotationMatrix();
+    const Mat3 r = s.rotation[b] = s.orientation[b].toRotationMatrix();
     const Vec3& x = s.position[b];
     for (int v = m.vertex_begin[b]; v < m.vertex_begin[b + 1]; ++v) s.vertex_world[v] = x + r * m.vertex_local[v];
     for (int f = m.face_begin[b]; f < m.face_begin[b + 1]; ++f) {

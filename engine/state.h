@@ -108,6 +108,7 @@ struct State {
   std::vector<Vec3> force, torque;       // resultant of contacts + applied loads (no gravity)
 
   // ---- world-frame geometry of the current pose ----
+  std::vector<Mat3> rotation;            // (nb) principal frame -> world
   std::vector<Vec3> vertex_world;        // (nv)
   std::vector<Vec3> face_normal_world;   // (nf)
   std::vector<double> face_offset_world; // (nf)
@@ -122,9 +123,11 @@ struct State {
   std::vector<std::uint8_t> chunk_regroup; // per chunk: a pair's sub-contact count changed
   std::vector<int> pair_scratch_begin;   // (np) regrouping: each pair's new range start
   bool pairs_changed = true;             // the pair list changed since the last narrowphase
-  std::vector<int> block_contact_begin;  // (nb+1) gather index, rebuilt when the contacts'
-  std::vector<int> block_contact;        // layout changes; entry 2 i: side a of sub-contact
-  std::vector<int> block_contact_cursor; // i, 2 i + 1: side b
+  std::vector<Vec3> pair_force_n;        // (np) resultant force of a pair's sub-contacts on b
+  std::vector<Vec3> pair_torque_nm;      // (np) its moment about a's centroid
+  std::vector<int> block_pair_begin;     // (nb+1) gather index, rebuilt with the pair list:
+  std::vector<int> block_pair;           // entry 2 p is side a of pair p, 2 p + 1 side b
+  std::vector<int> block_pair_cursor;
   bool gather_index_valid = false;
 
   // ---- broadphase ----

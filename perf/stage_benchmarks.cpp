@@ -1,10 +1,17 @@
 // Micro-benchmarks of each pipeline stage on a settled masonry wall (two leaves of
-// running bond): broadphase rebuild, narrowphase, contact law, force gather, integration.
+// running bond): pose, broadphase rebuild, narrowphase (carried over and re-clipped),
+// contact law, force gather, integration; and the narrowphase of one pair in each
+// contact configuration (face-face, edge-face, vertex-face, edge-edge), re-searched and
+// re-clipped on every iteration (each includes one OpenMP region, about 1 us).
 #include <benchmark/benchmark.h>
+
+#include <cmath>
 
 #include "engine/pipeline.h"
 #include "engine/world.h"
 #include "geometry/demo_scenes.h"
+#include "geometry/materials.h"
+#include "geometry/shapes.h"
 
 using namespace ishibashi;
 
@@ -17,11 +24,19 @@ World& wall() {
     spec.stones_per_course = 20;
     spec.leaves = 2;
     spec.base_motion = Motion::fixed;
+    spec.stone = nishida_stone();
+    spec.stone.damping_normal = spec.stone.damping_shear = 0.1;  // stable at 4e-5 s, as in wall_benchmark
     auto* w = new World(make_wall_model(spec), 4e-5);
     w->run(20);
     return w;
   }();
   return *world;
+}
+
+// Makes every pair redo its axis search and clipping on the next narrowphase, as after
+// a large relative motion: its remembered relative pose is turned half a turn.
+void forget_search(State& s) {
+  for (Pair& p : s.pairs) p.relative_at_search = Quat(0, 1, 0, 0);
 }
 
 void BM_Pose(benchmark::State& st) {
@@ -41,12 +56,84 @@ void BM_BroadphaseRebuild(benchmark::State& st) {
 }
 BENCHMARK(BM_BroadphaseRebuild);
 
-void BM_Narrowphase(benchmark::State& st) {
+// The common case in a standing structure: every joint barely moved, updated in place.
+void BM_NarrowphaseCarriedOver(benchmark::State& st) {
   World& w = wall();
   for (auto _ : st) update_contacts(w.model(), w.state(), false);
-  st.SetItemsProcessed(st.iterations() * w.state().pairs.size());
+  st.SetItemsProcessed(st.iterations() * w.state().contacts.size());
+  st.counters["pairs"] = static_cast<double>(w.state().pairs.size());
 }
-BENCHMARK(BM_Narrowphase);
+BENCHMARK(BM_NarrowphaseCarriedOver);
+
+// Every pair re-searched and re-clipped, as in a collapse.
+void BM_NarrowphaseReclipped(benchmark::State& st) {
+  World& w = wall();
+  for (auto _ : st) {
+    st.PauseTiming();
+    forget_search(w.state());
+    st.ResumeTiming();
+    update_contacts(w.model(), w.state(), false);
+  }
+  st.SetItemsProcessed(st.iterations() * w.state().contacts.size());
+}
+BENCHMARK(BM_NarrowphaseReclipped);
+
+// One fixed unit cube (top at z = 0) and `top` above it.
+struct PairScene {
+  Model model;
+  State state;
+};
+PairScene pair_scene(const Polyhedron& top, const Polyhedron& bottom = make_box(Vec3(0, 0, -0.5), Vec3(1, 1, 1))) {
+  ModelBuilder b;
+  const int mat = b.add_material(nishida_stone());
+  b.add_block(bottom.vertices, bottom.faces, mat, Motion::fixed);
+  b.add_block(top.vertices, top.faces, mat);
+  PairScene scene{b.build(), {}};
+  scene.state = make_initial_state(scene.model);
+  update_pose(scene.model, scene.state);
+  update_pairs(scene.model, scene.state);
+  update_contacts(scene.model, scene.state, true);
+  return scene;
+}
+
+void run_pair(benchmark::State& st, PairScene scene) {
+  for (auto _ : st) {
+    forget_search(scene.state);
+    update_contacts(scene.model, scene.state, false);
+  }
+  st.counters["subcontacts"] = static_cast<double>(scene.state.contacts.size());
+}
+
+void BM_PairFaceFace(benchmark::State& st) {  // a cube turned 45 degrees, one corner past the edge: 5 points
+  const Polyhedron top = transformed(make_box(Vec3::Zero(), Vec3(0.6, 0.6, 0.6)),
+                                     Eigen::AngleAxisd(M_PI / 4, Vec3::UnitZ()).toRotationMatrix(), Vec3(0.1, 0, 0.3));
+  run_pair(st, pair_scene(top));
+}
+BENCHMARK(BM_PairFaceFace);
+
+void BM_PairEdgeFace(benchmark::State& st) {
+  const Polyhedron top = transformed(make_box(Vec3::Zero(), Vec3(0.6, 0.4, 0.4)),
+                                     Eigen::AngleAxisd(M_PI / 4, Vec3::UnitX()).toRotationMatrix(),
+                                     Vec3(0, 0, 0.2 * std::sqrt(2.0)));
+  run_pair(st, pair_scene(top));
+}
+BENCHMARK(BM_PairEdgeFace);
+
+void BM_PairVertexFace(benchmark::State& st) {
+  const Mat3 r = Quat::FromTwoVectors(Vec3(-1, -1, -1).normalized(), -Vec3::UnitZ()).toRotationMatrix();
+  run_pair(st, pair_scene(transformed(make_box(Vec3::Zero(), Vec3(0.4, 0.4, 0.4)), r, Vec3(0, 0, 0.2 * std::sqrt(3.0)))));
+}
+BENCHMARK(BM_PairVertexFace);
+
+void BM_PairEdgeEdge(benchmark::State& st) {  // two bars on edge, crossing at right angles
+  const double h = 0.1 * std::sqrt(2.0);
+  const Polyhedron lower = transformed(make_box(Vec3::Zero(), Vec3(2, 0.2, 0.2)),
+                                       Eigen::AngleAxisd(M_PI / 4, Vec3::UnitX()).toRotationMatrix(), Vec3(0, 0, -h));
+  const Polyhedron upper = transformed(make_box(Vec3::Zero(), Vec3(0.2, 2, 0.2)),
+                                       Eigen::AngleAxisd(M_PI / 4, Vec3::UnitY()).toRotationMatrix(), Vec3(0, 0, h - 1e-5));
+  run_pair(st, pair_scene(upper, lower));
+}
+BENCHMARK(BM_PairEdgeEdge);
 
 void BM_ContactLaw(benchmark::State& st) {
   World& w = wall();
@@ -58,7 +145,7 @@ BENCHMARK(BM_ContactLaw);
 void BM_Gather(benchmark::State& st) {
   World& w = wall();
   for (auto _ : st) benchmark::DoNotOptimize(gather_forces(w.model(), w.state()));
-  st.SetItemsProcessed(st.iterations() * w.state().contacts.size());
+  st.SetItemsProcessed(st.iterations() * w.state().pairs.size());
 }
 BENCHMARK(BM_Gather);
 
