@@ -20,19 +20,19 @@ std::uint32_t cell_hash(std::int64_t i, std::int64_t j, std::int64_t k, std::uin
 
 }  // namespace
 
-// Boxes are the bounding spheres' cubes inflated by half the margin each. Being
-// rotation-invariant, they stay valid until a block has translated by half the margin.
-bool boxes_overlap(const Model& m, const State& s, int a, int b) {
+// Bounding spheres about the centroids, inflated by half the margin each. Being
+// rotation-invariant, they stay valid until a block has translated by half the margin;
+// tighter than their cubes, they leave out the diagonal neighbours of masonry courses.
+bool spheres_overlap(const Model& m, const State& s, int a, int b) {
   const double reach = m.radius_m[a] + m.radius_m[b] + m.margin_m;
-  const Vec3 d = (s.position[a] - s.position[b]).cwiseAbs();
-  return d.x() < reach && d.y() < reach && d.z() < reach;
+  return (s.position[a] - s.position[b]).squaredNorm() < reach * reach;
 }
 
 std::vector<Pair> brute_force_pairs(const Model& m, const State& s) {
   std::vector<Pair> out;
   for (int a = 0; a < m.block_count; ++a)
     for (int b = a + 1; b < m.block_count; ++b)
-      if (!both_immobile(m, a, b) && boxes_overlap(m, s, a, b)) out.push_back(Pair{a, b});
+      if (!both_immobile(m, a, b) && spheres_overlap(m, s, a, b)) out.push_back(Pair{a, b});
   return out;
 }
 
@@ -46,7 +46,8 @@ bool update_pairs(const Model& m, State& s) {
   }
 
   // Hashed uniform grid: one bucket per occupied cell (collisions only add candidates),
-  // cell edge = the largest inflated box, so overlapping boxes lie in adjacent cells.
+  // cell edge = the largest inflated sphere's diameter, so overlapping spheres lie in
+  // adjacent cells.
   double max_radius = 0.0;
   for (double r : m.radius_m) max_radius = std::max(max_radius, r);
   const double cell = 2.0 * max_radius + m.margin_m;
@@ -90,7 +91,7 @@ bool update_pairs(const Model& m, State& s) {
             const std::uint32_t h = cell_hash(c.x() + di, c.y() + dj, c.z() + dk, mask);
             for (int q = s.cell_start[h]; q < s.cell_start[h + 1]; ++q) {
               const int b = s.cell_block[q];
-              if (b > a && !both_immobile(m, a, b) && boxes_overlap(m, s, a, b)) cand.push_back(b);
+              if (b > a && !both_immobile(m, a, b) && spheres_overlap(m, s, a, b)) cand.push_back(b);
             }
           }
       std::sort(cand.begin(), cand.end());

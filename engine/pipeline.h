@@ -13,9 +13,9 @@ void update_pose(const Model& model, State& state);
 // than half the margin since the last rebuild; keeps each surviving pair's memory.
 // Returns true when it rebuilt.
 bool update_pairs(const Model& model, State& state);
-// The margin-inflated bounding boxes of blocks a and b overlap (the broadphase's test).
-bool boxes_overlap(const Model& model, const State& state, int a, int b);
-// Brute-force oracle of the broadphase: all pairs a < b whose inflated boxes overlap.
+// The margin-inflated bounding spheres of blocks a and b overlap (the broadphase's test).
+bool spheres_overlap(const Model& model, const State& state, int a, int b);
+// Brute-force oracle of the broadphase: all pairs a < b whose inflated spheres overlap.
 std::vector<Pair> brute_force_pairs(const Model& model, const State& state);
 
 // narrowphase.cpp: sub-contacts of every candidate pair, with the history (springs, bond)
