@@ -20,13 +20,10 @@ for threads in 1 2; do
   log="$work/log_$threads.txt"
   "$exe" run "$work/scenario.toml" --out "$work/out_$threads" --duration "$shaking" --threads "$threads" \
     --quiet --profile > "$log"
-  python3 - "$log" "$work/out_$threads/summary.json" "$threads" "$shaking" <<'PY'
-import json, re, sys
-log, summary, threads, shaking = open(sys.argv[1]).read(), json.load(open(sys.argv[2])), sys.argv[3], float(sys.argv[4])
-blocks, subcontacts = re.search(r"(\d+) blocks, (\d+) sub-contacts", log).groups()
-rate = summary["steps"] / summary["wall_time_s"]
-minutes = 10.0 / summary["dt_s"] / rate / 60
-print(f'{threads},{blocks},{subcontacts},{summary["dt_s"]:.4g},{summary["steps"]},{summary["wall_time_s"]:.1f},{rate:.0f},{shaking},{minutes:.1f}')
-PY
+  field() { sed -n "s/.*\"$1\": \([0-9.e+-]*\).*/\1/p" "$work/out_$threads/summary.json"; }
+  counts=$(sed -n 's/.*: \([0-9]*\) blocks, \([0-9]*\) sub-contacts.*/\1,\2/p' "$log")
+  awk -v t="$threads" -v c="$counts" -v dt="$(field dt_s)" -v steps="$(field steps)" -v wall="$(field wall_time_s)" \
+    -v shaking="$shaking" 'BEGIN { rate = steps / wall;
+      printf "%s,%s,%.4g,%d,%.1f,%.0f,%s,%.1f\n", t, c, dt, steps, wall, rate, shaking, 10 / dt / rate / 60 }'
   sed -n '/^stage/,/^steps/p' "$log" | sed 's/^/# /'
 done
