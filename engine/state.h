@@ -20,8 +20,9 @@ enum SubContactFlag : std::uint8_t {
   original = 32, // part of a joint in contact at the start (may carry a bond)
 };
 
-// Sub-contacts, sorted by (pair, key). The normal points from block_a to block_b and the
-// force is the one that block_a exerts on block_b (block_b exerts -force on block_a).
+// Sub-contacts, grouped by pair in pair order (Pair::sub_begin, sub_count). The normal
+// points from block_a to block_b and the force is the one that block_a exerts on block_b
+// (block_b exerts -force on block_a).
 struct SubContacts {
   std::vector<int> block_a, block_b;
   std::vector<std::uint64_t> key;        // stable feature key within the pair
