@@ -506,15 +506,16 @@ void update_contacts(const Model& m, State& s, bool first_detection) {
       }
       pair.rebuilt_begin = static_cast<int>(out.size());
       pair.rebuilt_count = manifold.n;
-      if (manifold.n != pair.sub_count) s.chunk_regroup[k] = 1;
+      s.chunk_regroup[k] = std::max<std::uint8_t>(s.chunk_regroup[k], manifold.n != pair.sub_count ? 2 : manifold.n > 0);
       append_rebuilt(m, s, pair, manifold, first_detection, out);
     }
   });
-  bool regrouping = s.pairs_changed;
-  for (std::uint8_t r : s.chunk_regroup) regrouping |= r != 0;
+  std::uint8_t change = s.pairs_changed ? 2 : 0;  // 0 none, 1 same layout, 2 regroup
+  for (std::uint8_t r : s.chunk_regroup) change = std::max(change, r);
   s.pairs_changed = false;
+  if (change == 0) return;  // every pair updated in place (or still apart)
 
-  if (!regrouping) {  // same layout: rebuilt pairs overwrite their own ranges
+  if (change == 1) {  // same layout: rebuilt pairs overwrite their own ranges
     parallel_chunks(np, chunks, [&](std::ptrdiff_t begin, std::ptrdiff_t end, int k) {
       for (std::ptrdiff_t pi = begin; pi < end; ++pi) {
         const Pair& pair = s.pairs[pi];
