@@ -192,7 +192,8 @@ int run_scenario(const RunOptions& o) {
     for (const auto& [name, t] : {std::pair{"pose", p.pose_s}, {"broadphase", p.broadphase_s}, {"narrowphase", p.narrowphase_s},
                                   {"contact law", p.contact_law_s}, {"gather", p.gather_s}, {"integrate", p.integrate_s}})
       std::printf("%-12s %8.2f  %5.1f %%\n", name, t, 100 * t / total);
-    std::printf("steps %ld, broadphase rebuilds %ld, %.1f steps/s\n", s.step, p.broadphase_rebuilds, s.step / total);
+    std::printf("steps %ld, broadphase rebuilds %ld, contact regroups %ld, %.1f steps/s\n", s.step, p.broadphase_rebuilds,
+                p.contact_regroups, s.step / total);
   }
   std::printf("outputs in %s: blocks.pvd, contacts.pvd (open in ParaView), history.csv, summary.json\n", out.c_str());
   return interrupted ? 130 : 0;

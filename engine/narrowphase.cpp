@@ -525,6 +525,7 @@ void update_contacts(const Model& m, State& s, bool first_detection) {
     });
     return;
   }
+  ++s.profile.contact_regroups;
   s.pair_scratch_begin.resize(np);
   int total = 0;
   for (int pi = 0; pi < np; ++pi) {

@@ -93,6 +93,7 @@ struct Energy {
 struct Profile {  // seconds spent in each stage since the start
   double pose_s = 0, broadphase_s = 0, narrowphase_s = 0, contact_law_s = 0, gather_s = 0, integrate_s = 0;
   long broadphase_rebuilds = 0;
+  long contact_regroups = 0;  // steps whose sub-contact arrays were regrouped (a count changed)
 };
 
 struct State {
