@@ -40,9 +40,6 @@ double apply_contact_law(const Model& m, State& s, double dt) {
   const std::ptrdiff_t np = static_cast<std::ptrdiff_t>(s.pairs.size());
   s.pair_force_n.resize(np);
   s.pair_torque_nm.resize(np);
-  s.pair_damping_tt.resize(np);
-  s.pair_damping_tr.resize(np);
-  s.pair_damping_rr.resize(np);
   std::array<EnergyParts, kChunks> parts{};
   // Pair by pair: what the sub-contacts of a pair share (blocks, velocities, law) is
   // loaded once, and their resultant is summed here so that the gather works on pairs.
@@ -50,10 +47,8 @@ double apply_contact_law(const Model& m, State& s, double dt) {
     EnergyParts e;
     for (std::ptrdiff_t pi = begin; pi < end; ++pi) {
       const Pair& pair = s.pairs[pi];
-      Mat3 damping_tt = Mat3::Zero(), damping_tr = Mat3::Zero(), damping_rr = Mat3::Zero();
       if (pair.sub_count == 0) {
         s.pair_force_n[pi] = s.pair_torque_nm[pi] = Vec3::Zero();
-        s.pair_damping_tt[pi] = s.pair_damping_tr[pi] = s.pair_damping_rr[pi] = Mat3::Zero();
         continue;
       }
       const int a = pair.a, b = pair.b;
@@ -141,17 +136,8 @@ double apply_contact_law(const Model& m, State& s, double dt) {
             }
           }
           double fn = en + k.cn * vn;
-          const bool normal_dashpot = bonded || fn <= 0;
-          if (!normal_dashpot) fn = 0;  // a dashpot must not pull a dry joint
+          if (!bonded && fn > 0) fn = 0;  // a dashpot must not pull a dry joint
           damping_force = -(fn - en) * n + shear_damping;
-          // The active dashpots, C = c_s I + (c_n - c_s) n n^T, for the implicit part of
-          // the integration (see integrate.cpp).
-          const double cn = normal_dashpot ? k.cn : 0.0, cs = (flags & SubContactFlag::sliding) ? 0.0 : k.cs;
-          const Mat3 dashpot = cs * Mat3::Identity() + (cn - cs) * n * n.transpose();
-          const Mat3 arm = skew(r);
-          damping_tt += dashpot;
-          damping_tr -= dashpot * arm;
-          damping_rr -= arm * dashpot * arm;
           e.damping -= 0.5 * dt * damping_force.dot(v_rel);
           force = -fn * n + es + shear_damping;
           e.elastic += 0.5 * en * en / k.kn + 0.5 * es.squaredNorm() / k.ks;
@@ -166,9 +152,6 @@ double apply_contact_law(const Model& m, State& s, double dt) {
       }
       s.pair_force_n[pi] = pair_force;
       s.pair_torque_nm[pi] = pair_torque;
-      s.pair_damping_tt[pi] = damping_tt;
-      s.pair_damping_tr[pi] = damping_tr;
-      s.pair_damping_rr[pi] = damping_rr;
     }
     parts[k] = e;
   });

@@ -35,34 +35,21 @@ double gather_forces(const Model& m, State& s) {
 
   parallel_for(nb, [&](std::ptrdiff_t b) {
     Vec3 f = Vec3::Zero(), t = Vec3::Zero();
-    Mat3 tt = Mat3::Zero(), tr = Mat3::Zero(), rr = Mat3::Zero();
     for (int q = s.block_pair_begin[b]; q < s.block_pair_begin[b + 1]; ++q) {
       const int entry = s.block_pair[q];
       const int p = entry >> 1;
       const Vec3& force = s.pair_force_n[p];  // on b; about a's centroid:
       const Vec3& torque = s.pair_torque_nm[p];
-      const Mat3& a_tt = s.pair_damping_tt[p];
-      const Mat3& a_tr = s.pair_damping_tr[p];
-      const Mat3& a_rr = s.pair_damping_rr[p];
-      tt += a_tt;
-      if (entry & 1) {  // moved to b's centroid (d = x_b - x_a): T - d x F, and r -> r - d
-        const Vec3 d = s.position[b] - s.position[s.pairs[p].a];
-        const Mat3 dx = skew(d);
+      if (entry & 1) {  // moved to b's centroid: T - (x_b - x_a) x F
         f += force;
-        t += torque - d.cross(force);
-        tr += a_tr + a_tt * dx;
-        rr += a_rr + a_tr.transpose() * dx - dx * a_tr - dx * a_tt * dx;
+        t += torque - (s.position[b] - s.position[s.pairs[p].a]).cross(force);
       } else {
         f -= force;
         t -= torque;
-        tr += a_tr;
-        rr += a_rr;
       }
     }
     s.force[b] = f + s.applied_force[b];
     s.torque[b] = t + s.applied_torque[b];
-    Mat6& damping = s.block_damping[b];
-    damping << tt, tr, tr.transpose(), rr;
   });
 
   // Power the prescribed blocks put in: minus the power of the contact forces on them.

@@ -8,15 +8,6 @@ namespace ishibashi {
 using Vec3 = Eigen::Vector3d;
 using Mat3 = Eigen::Matrix3d;
 using Quat = Eigen::Quaterniond;
-using Vec6 = Eigen::Matrix<double, 6, 1>;
-using Mat6 = Eigen::Matrix<double, 6, 6>;
-
-// [r]x: the matrix of the cross product, skew(r) v = r x v.
-inline Mat3 skew(const Vec3& r) {
-  Mat3 m;
-  m << 0, -r.z(), r.y(), r.z(), 0, -r.x(), -r.y(), r.x(), 0;
-  return m;
-}
 
 // Quaternion of a rotation by the vector `rotation_rad` (axis * angle).
 inline Quat quat_from_rotation_vector(const Vec3& rotation_rad) {

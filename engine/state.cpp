@@ -67,8 +67,6 @@ State make_initial_state(const Model& model) {
   s.force.assign(nb, Vec3::Zero());
   s.torque.assign(nb, Vec3::Zero());
   s.rotation.resize(nb);
-  s.block_damping.assign(nb, Mat6::Zero());
-  s.block_damping_work_j.assign(nb, 0.0);
   s.vertex_world.resize(model.vertex_local.size());
   s.face_normal_world.resize(model.face_normal_local.size());
   s.face_offset_world.resize(model.face_offset_local.size());

@@ -127,11 +127,6 @@ struct State {
   bool pairs_changed = true;             // the pair list changed since the last narrowphase
   std::vector<Vec3> pair_force_n;        // (np) resultant force of a pair's sub-contacts on b
   std::vector<Vec3> pair_torque_nm;      // (np) its moment about a's centroid
-  // (np) the pair's active dashpots as seen by block a, sum of J^T C J with J = [I, -[r]x],
-  // r from a's centroid (N s/m, N s, N m s): translation, coupling, rotation blocks.
-  std::vector<Mat3> pair_damping_tt, pair_damping_tr, pair_damping_rr;
-  std::vector<Mat6> block_damping;       // (nb) each block's own dashpot matrix (world frame)
-  std::vector<double> block_damping_work_j;  // (nb) this step's work of its implicit part
   std::vector<int> block_pair_begin;     // (nb+1) gather index, rebuilt with the pair list:
   std::vector<int> block_pair;           // entry 2 p is side a of pair p, 2 p + 1 side b
   std::vector<int> block_pair_cursor;

@@ -44,12 +44,12 @@ World::World(Model model, double dt_s) : model_(std::move(model)), state_(make_i
 
 double World::critical_time_step_s(int* block) const {
   // Per free block and per degree of freedom (3 translations, 3 rotations about the
-  // principal axes), the diagonal stiffness of its sub-contacts against fixed
-  // neighbours: omega_j^2 = K_jj / M_jj, and dt < 2 / omega (Cundall's rule). Rotation
-  // matters: corner sub-contacts make rocking stiffer than bouncing. The dashpots do not
-  // lower the limit: a block's own dashpots are integrated implicitly (integrate.cpp).
+  // principal axes), the diagonal stiffness and damping of its sub-contacts against
+  // fixed neighbours: omega_j^2 = K_jj / M_jj. Rotation matters: corner sub-contacts make
+  // rocking stiffer than bouncing.
   const int nb = model_.block_count;
-  std::vector<Vec6> stiffness(nb, Vec6::Zero());
+  using Vec6 = Eigen::Matrix<double, 6, 1>;
+  std::vector<Vec6> stiffness(nb, Vec6::Zero()), damping(nb, Vec6::Zero());
   const SubContacts& c = state_.contacts;
   for (std::size_t i = 0; i < c.size(); ++i) {
     const SpringConstants k = spring_constants(model_, c, i);
@@ -59,14 +59,15 @@ double World::critical_time_step_s(int* block) const {
       if (model_.motion[b] != Motion::free) continue;
       const Mat3 to_body = state_.orientation[b].toRotationMatrix().transpose();
       const Vec3 r = c.point[i] - state_.position[b];
-      auto add = [&](const Vec3& dir, double kk) {
+      auto add = [&](const Vec3& dir, double kk, double cc) {
         Vec6 j;
         j << dir, to_body * r.cross(dir);
         stiffness[b] += kk * j.cwiseAbs2();
+        damping[b] += cc * j.cwiseAbs2();
       };
-      add(n, k.kn);
-      add(t1, k.ks);
-      add(t2, k.ks);
+      add(n, k.kn, k.cn);
+      add(t1, k.ks, k.cs);
+      add(t2, k.ks, k.cs);
     }
   }
   double best = INFINITY;
@@ -76,7 +77,9 @@ double World::critical_time_step_s(int* block) const {
     mass << Vec3::Constant(model_.mass_kg[b]), model_.inertia_kg_m2[b];
     for (int j = 0; j < 6; ++j) {
       if (stiffness[b][j] <= 0) continue;
-      const double limit = 2.0 / std::sqrt(stiffness[b][j] / mass[j]);
+      const double omega = std::sqrt(stiffness[b][j] / mass[j]);
+      const double zeta = damping[b][j] / (2.0 * std::sqrt(stiffness[b][j] * mass[j]));
+      const double limit = 2.0 / omega * (std::sqrt(1.0 + zeta * zeta) - zeta);
       if (limit < best) {
         best = limit;
         if (block) *block = b;

@@ -2,9 +2,7 @@
 // tipping on an incline, the vertical natural frequency, bonded joint strength.
 #include <gtest/gtest.h>
 
-#include <algorithm>
 #include <cmath>
-#include <vector>
 
 #include "engine/world.h"
 #include "scenes.h"
@@ -110,68 +108,6 @@ TEST(Vibration, VerticalFrequencyMatchesSpringClosedForm) {
   }
   const double measured = 10.0 / (crossings.back() - crossings.front());
   EXPECT_NEAR(measured, expected, 0.01 * expected);
-}
-
-// A cube on a bonded joint over a base of its own thickness: m_eq = rho (l_A + l_B) S is
-// the cube's mass, so the vertical damping ratio is the joint's h. Returns the vertical
-// displacement history (m) after an initial downward velocity, sampled every step.
-// dt <= 0: 0.8 of the engine's stability limit.
-std::vector<double> vertical_free_vibration(double h, double dt, double duration) {
-  const double a = 0.64;
-  ModelBuilder b = test::block_on_base(Vec3(a, a, a), test::stone(h, 33.23, 1e9));
-  b.set_gravity(Vec3::Zero());
-  const Model m = b.build();
-  if (dt <= 0) dt = 0.8 * World(m, 1e-9).critical_time_step_s();
-  World w(m, dt);
-  State& s = w.state();
-  s.velocity[1] = Vec3(0, 0, -1e-3);
-  const double z0 = s.position[1].z();
-  std::vector<double> z;
-  while (s.time_s < duration) {
-    w.step();
-    z.push_back(s.position[1].z() - z0);
-  }
-  return z;
-}
-
-TEST(Vibration, DampingRatioFromLogarithmicDecrementIsTheJointsH) {
-  // Light damping, h = 0.05: successive troughs shrink by exp(2 pi zeta / sqrt(1 - zeta^2)).
-  const std::vector<double> z = vertical_free_vibration(0.05, 1e-6, 0.01);
-  std::vector<double> troughs;
-  for (std::size_t i = 1; i + 1 < z.size(); ++i)
-    if (z[i] < z[i - 1] && z[i] <= z[i + 1]) troughs.push_back(-z[i]);
-  ASSERT_GE(troughs.size(), 6u);
-  const double decrement = std::log(troughs[0] / troughs[5]) / 5;
-  const double zeta = decrement / std::sqrt(4 * kPi * kPi + decrement * decrement);
-  EXPECT_NEAR(zeta, 0.05, 0.01 * 0.05);
-}
-
-TEST(Vibration, CriticallyDampedJointPeaksAtOneOverOmega) {
-  // h = 1: z(t) = -v0 t exp(-omega t), deepest at t = 1/omega with depth v0 / (e omega).
-  const double a = 0.64, dt = 1e-7;
-  const double omega = std::sqrt(test::joint_normal_stiffness(a * a, a / 2, a / 2, kE) / (kRho * a * a * a));
-  const std::vector<double> z = vertical_free_vibration(1.0, dt, 3.0 / omega);
-  const auto deepest = std::min_element(z.begin(), z.end());
-  EXPECT_NEAR(-*deepest, 1e-3 / (std::exp(1.0) * omega), 0.005 * 1e-3 / (std::exp(1.0) * omega));
-  EXPECT_NEAR((deepest - z.begin() + 1) * dt, 1.0 / omega, 0.01 / omega);
-  const double at_three = -1e-3 * 3.0 / omega * std::exp(-3.0);  // creeping back, no overshoot
-  EXPECT_NEAR(z.back(), at_three, 0.01 * std::abs(at_three));
-}
-
-TEST(Vibration, CriticalDashpotsStayStableAtTheUndampedLimit) {
-  // The block's own dashpots are implicit: with h = 1 the step may go up to Cundall's
-  // undamped 2 sqrt(m / K) per degree of freedom (the limit the engine now applies);
-  // explicit dashpots of ratio 1 would diverge above 0.83 / omega.
-  const double a = 0.64;
-  const double omega = std::sqrt(test::joint_normal_stiffness(a * a, a / 2, a / 2, kE) / (kRho * a * a * a));
-  const std::vector<double> z = vertical_free_vibration(1.0, 0.0, 100 / omega);
-  ASSERT_GT(z.size(), 10u);
-  const double dt = 100 / omega / z.size();
-  EXPECT_GT(omega * dt, 0.83);  // beyond the explicit dashpot's limit
-  double largest = 0;
-  for (double x : z) largest = std::max(largest, std::abs(x));
-  EXPECT_LT(largest, 1e-3 * dt * 1.0001);        // never beyond the first step's travel
-  EXPECT_LT(std::abs(z.back()), 1e-6 * largest);  // and it dies out
 }
 
 // Loads the block on a bonded joint with a force ramped from 0 to 1.2 x `capacity` over
