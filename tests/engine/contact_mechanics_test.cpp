@@ -2,7 +2,9 @@
 // tipping on an incline, the vertical natural frequency, bonded joint strength.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
+#include <vector>
 
 #include "engine/world.h"
 #include "scenes.h"
@@ -108,6 +110,49 @@ TEST(Vibration, VerticalFrequencyMatchesSpringClosedForm) {
   }
   const double measured = 10.0 / (crossings.back() - crossings.front());
   EXPECT_NEAR(measured, expected, 0.01 * expected);
+}
+
+// A cube on a bonded joint over a base of its own thickness: m_eq = rho (l_A + l_B) S is
+// the cube's mass, so the vertical damping ratio is the joint's h. Returns the vertical
+// displacement history (m) after an initial downward velocity, sampled every step.
+std::vector<double> vertical_free_vibration(double h, double dt, double duration) {
+  const double a = 0.64;
+  ModelBuilder b = test::block_on_base(Vec3(a, a, a), test::stone(h, 33.23, 1e9));
+  b.set_gravity(Vec3::Zero());
+  World w(b.build(), dt);
+  State& s = w.state();
+  s.velocity[1] = Vec3(0, 0, -1e-3);
+  const double z0 = s.position[1].z();
+  std::vector<double> z;
+  while (s.time_s < duration) {
+    w.step();
+    z.push_back(s.position[1].z() - z0);
+  }
+  return z;
+}
+
+TEST(Vibration, DampingRatioFromLogarithmicDecrementIsTheJointsH) {
+  // Light damping, h = 0.05: successive troughs shrink by exp(2 pi zeta / sqrt(1 - zeta^2)).
+  const std::vector<double> z = vertical_free_vibration(0.05, 1e-6, 0.01);
+  std::vector<double> troughs;
+  for (std::size_t i = 1; i + 1 < z.size(); ++i)
+    if (z[i] < z[i - 1] && z[i] <= z[i + 1]) troughs.push_back(-z[i]);
+  ASSERT_GE(troughs.size(), 6u);
+  const double decrement = std::log(troughs[0] / troughs[5]) / 5;
+  const double zeta = decrement / std::sqrt(4 * kPi * kPi + decrement * decrement);
+  EXPECT_NEAR(zeta, 0.05, 0.01 * 0.05);
+}
+
+TEST(Vibration, CriticallyDampedJointPeaksAtOneOverOmega) {
+  // h = 1: z(t) = -v0 t exp(-omega t), deepest at t = 1/omega with depth v0 / (e omega).
+  const double a = 0.64, dt = 1e-7;
+  const double omega = std::sqrt(test::joint_normal_stiffness(a * a, a / 2, a / 2, kE) / (kRho * a * a * a));
+  const std::vector<double> z = vertical_free_vibration(1.0, dt, 3.0 / omega);
+  const auto deepest = std::min_element(z.begin(), z.end());
+  EXPECT_NEAR(-*deepest, 1e-3 / (std::exp(1.0) * omega), 0.005 * 1e-3 / (std::exp(1.0) * omega));
+  EXPECT_NEAR((deepest - z.begin() + 1) * dt, 1.0 / omega, 0.01 / omega);
+  const double at_three = -1e-3 * 3.0 / omega * std::exp(-3.0);  // creeping back, no overshoot
+  EXPECT_NEAR(z.back(), at_three, 0.01 * std::abs(at_three));
 }
 
 // Loads the block on a bonded joint with a force ramped from 0 to 1.2 x `capacity` over
