@@ -8,14 +8,13 @@
 
 namespace ishibashi {
 
-SpringConstants spring_constants(const Model& m, const SubContacts& c, std::size_t i) {
-  const Material& ma = m.materials[m.material[c.block_a[i]]];
-  const Material& mb = m.materials[m.material[c.block_b[i]]];
-  const PairLaw& law = m.law(m.material[c.block_a[i]], m.material[c.block_b[i]]);
-  const double floor = 1e-6 * std::min(m.size_m[c.block_a[i]], m.size_m[c.block_b[i]]);
-  const double la = std::max(c.lever_a_m[i], floor), lb = std::max(c.lever_b_m[i], floor);
+SpringConstants spring_constants(const Model& m, int a, int b, double lever_a_m, double lever_b_m, double area) {
+  const Material& ma = m.materials[m.material[a]];
+  const Material& mb = m.materials[m.material[b]];
+  const PairLaw& law = m.law(m.material[a], m.material[b]);
+  const double floor = 1e-6 * std::min(m.size_m[a], m.size_m[b]);
+  const double la = std::max(lever_a_m, floor), lb = std::max(lever_b_m, floor);
   const double ga = ma.young_pa / (2.0 * (1.0 + ma.poisson)), gb = mb.young_pa / (2.0 * (1.0 + mb.poisson));
-  const double area = c.area_m2[i];
   SpringConstants k;
   k.kn = area / (la / ma.young_pa + lb / mb.young_pa);
   k.ks = area / (la / ga + lb / gb);
@@ -67,8 +66,7 @@ double apply_contact_law(const Model& m, State& s, double dt) {
         // Dashpot work over a step is F . (v_before + v_after) / 2 dt, the form in which
         // semi-implicit Euler balances kinetic energy: last step's half is added now.
         e.damping -= 0.5 * dt * c.damping_force_n[i].dot(v_rel);
-        const SpringConstants k{c.normal_stiffness_n_m[i], c.shear_stiffness_n_m[i], c.normal_damping_n_s_m[i],
-                                c.shear_damping_n_s_m[i]};
+        const SpringConstants k = c.constants(i);
         const double area = c.area_m2[i];
         std::uint8_t flags = c.flags[i] & (SubContactFlag::bonded | SubContactFlag::broken | SubContactFlag::original);
 

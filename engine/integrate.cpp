@@ -20,7 +20,7 @@ void integrate(const Model& m, State& s, double dt) {
     s.velocity[b] += (s.force[b] / m.mass_kg[b] + m.gravity_m_s2) * dt;
     s.position[b] += s.velocity[b] * dt;
 
-    const Mat3 r = s.orientation[b].toRotationMatrix();
+    const Mat3& r = s.rotation[b];  // from the pose stage of this step
     const Vec3& inertia = m.inertia_kg_m2[b];
     Vec3 w = r.transpose() * s.angular_velocity[b];
     const Vec3 moment = r.transpose() * s.torque[b];

@@ -47,7 +47,7 @@ ModalResult modal_analysis(const Model& m, const State& s, int modes) {
   std::vector<Eigen::Triplet<double>> triplets;
   const SubContacts& c = s.contacts;
   for (std::size_t i = 0; i < c.size(); ++i) {
-    const SpringConstants k = spring_constants(m, c, i);
+    const SpringConstants k = c.constants(i);
     const Vec3& n_dir = c.normal[i];
     const Vec3 t1 = n_dir.unitOrthogonal(), t2 = n_dir.cross(t1);
     for (const auto& [d, stiffness] : {std::pair{n_dir, k.kn}, {t1, k.ks}, {t2, k.ks}}) {

@@ -432,9 +432,7 @@ void append_rebuilt(const Model& m, const State& s, const Pair& pair, const Mani
     out.normal[j] = manifold.normal;
     out.gap_m[j] = p.gap_m;
     out.area_m2[j] = p.area_m2;
-    out.lever_a_m[j] = manifold.lever_a_m;
-    out.lever_b_m[j] = manifold.lever_b_m;
-    const SpringConstants k = spring_constants(m, out, j);
+    const SpringConstants k = spring_constants(m, pair.a, pair.b, manifold.lever_a_m, manifold.lever_b_m, p.area_m2);
     out.normal_stiffness_n_m[j] = k.kn;
     out.shear_stiffness_n_m[j] = k.ks;
     out.normal_damping_n_s_m[j] = k.cn;
@@ -506,7 +504,8 @@ void update_contacts(const Model& m, State& s, bool first_detection) {
       }
       pair.rebuilt_begin = static_cast<int>(out.size());
       pair.rebuilt_count = manifold.n;
-      s.chunk_regroup[k] = std::max<std::uint8_t>(s.chunk_regroup[k], manifold.n != pair.sub_count ? 2 : manifold.n > 0);
+      const std::uint8_t change = manifold.n != pair.sub_count ? 2 : manifold.n > 0 ? 1 : 0;
+      s.chunk_regroup[k] = std::max(s.chunk_regroup[k], change);
       append_rebuilt(m, s, pair, manifold, first_detection, out);
     }
   });

@@ -23,14 +23,12 @@ std::vector<Pair> brute_force_pairs(const Model& model, const State& state);
 // contact, the only ones that may carry a bond.
 void update_contacts(const Model& model, State& state, bool first_detection);
 
-// contact_law.cpp: spring and dashpot constants of sub-contact i (MODEL.md section 3):
+// contact_law.cpp: spring and dashpot constants (MODEL.md section 3) of a sub-contact
+// of area S_i between blocks a and b, whose centroids lie l_A, l_B from the contact plane:
 // K_n = S_i / (l_A/E_A + l_B/E_B), K_s likewise with G, C = 2 h sqrt(m_eq K),
-// m_eq = (rho_A l_A + rho_B l_B) S_i.
-struct SpringConstants {
-  double kn, ks;  // N/m
-  double cn, cs;  // N s/m
-};
-SpringConstants spring_constants(const Model& model, const SubContacts& contacts, std::size_t i);
+// m_eq = (rho_A l_A + rho_B l_B) S_i. The narrowphase stores them with each sub-contact
+// (SubContacts::constants).
+SpringConstants spring_constants(const Model& model, int a, int b, double lever_a_m, double lever_b_m, double area_m2);
 
 // contact_law.cpp: spring, dashpot and failure update of every sub-contact over dt;
 // accumulates dissipated energy and returns the elastic energy now stored (J).
@@ -40,7 +38,8 @@ double apply_contact_law(const Model& model, State& state, double dt_s);
 // Returns the power that prescribed blocks put into the system (W).
 double gather_forces(const Model& model, State& state);
 
-// integrate.cpp: semi-implicit Euler with Euler's rotation equations in the principal frame.
+// integrate.cpp: semi-implicit Euler with Euler's rotation equations in the principal frame;
+// reads State::rotation, so update_pose must have run on the current orientations.
 // Throws ModelError naming the block when its state becomes NaN or infinite.
 void integrate(const Model& model, State& state, double dt_s);
 

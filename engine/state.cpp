@@ -15,8 +15,6 @@ void SubContacts::resize(std::size_t n) {
   gap_m.resize(n);
   gap_change_m.resize(n);
   area_m2.resize(n);
-  lever_a_m.resize(n);
-  lever_b_m.resize(n);
   normal_stiffness_n_m.resize(n);
   shear_stiffness_n_m.resize(n);
   normal_damping_n_s_m.resize(n);
@@ -40,8 +38,6 @@ void SubContacts::copy_range(const SubContacts& s, std::size_t from, std::size_t
   copy(s.gap_m, gap_m);
   copy(s.gap_change_m, gap_change_m);
   copy(s.area_m2, area_m2);
-  copy(s.lever_a_m, lever_a_m);
-  copy(s.lever_b_m, lever_b_m);
   copy(s.normal_stiffness_n_m, normal_stiffness_n_m);
   copy(s.shear_stiffness_n_m, shear_stiffness_n_m);
   copy(s.normal_damping_n_s_m, normal_damping_n_s_m);

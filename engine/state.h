@@ -10,6 +10,11 @@
 
 namespace ishibashi {
 
+struct SpringConstants {
+  double kn, ks;  // N/m
+  double cn, cs;  // N s/m
+};
+
 // Bits of SubContacts::flags.
 enum SubContactFlag : std::uint8_t {
   bonded = 1,    // carries tension and cohesion (mortar), not yet failed
@@ -31,9 +36,9 @@ struct SubContacts {
   std::vector<double> gap_m;             // signed normal gap, > 0 open, < 0 overlap
   std::vector<double> gap_change_m;      // gap_m minus last step's gap of the same sub-contact
   std::vector<double> area_m2;           // share S_i of the contact area
-  std::vector<double> lever_a_m, lever_b_m;  // l_A, l_B: centroid to contact plane, when built
-  // Spring and dashpot constants (spring_constants() of the geometry when the sub-contact
-  // was built; they hold while it is carried over, as area and levers then do).
+  // Spring and dashpot constants (spring_constants() of the area and of the centroids'
+  // distances to the contact plane when the sub-contact was built; they hold while it is
+  // carried over, as its area does).
   std::vector<double> normal_stiffness_n_m, shear_stiffness_n_m;      // K_n, K_s
   std::vector<double> normal_damping_n_s_m, shear_damping_n_s_m;      // C_n, C_s
   std::vector<double> normal_spring_n;   // e_n, tension positive
@@ -46,6 +51,9 @@ struct SubContacts {
   std::vector<std::uint8_t> flags;       // SubContactFlag bits
 
   std::size_t size() const { return key.size(); }
+  SpringConstants constants(std::size_t i) const {
+    return {normal_stiffness_n_m[i], shear_stiffness_n_m[i], normal_damping_n_s_m[i], shear_damping_n_s_m[i]};
+  }
   void clear();
   void resize(std::size_t n);
   // Copies `count` sub-contacts of `src` from index `from` to this at index `to` (this

@@ -52,7 +52,7 @@ double World::critical_time_step_s(int* block) const {
   std::vector<Vec6> stiffness(nb, Vec6::Zero()), damping(nb, Vec6::Zero());
   const SubContacts& c = state_.contacts;
   for (std::size_t i = 0; i < c.size(); ++i) {
-    const SpringConstants k = spring_constants(model_, c, i);
+    const SpringConstants k = c.constants(i);
     const Vec3& n = c.normal[i];
     const Vec3 t1 = n.unitOrthogonal(), t2 = n.cross(t1);
     for (int b : {c.block_a[i], c.block_b[i]}) {

@@ -1,6 +1,8 @@
 // Whole-run benchmark: a wall of 1,534 cubes of 0.64 m in two leaves of running bond
 // (30 and 29 stones per course alternately, 26 courses) on a fixed base under gravity,
-// all joints closed, dt = 4e-5 s, Nishida stone with damping ratio 0.1. Prints one CSV row per thread count:
+// all joints closed, dt = 4e-5 s, Nishida stone with damping ratio 0.1.
+// Usage: wall_benchmark [steps [courses stones_per_course [max_threads]]] (any wall size:
+// the scaling runs). Prints one CSV row per thread count 1, 2, 4, ... up to max_threads:
 // threads,blocks,pairs,subcontacts,steps,seconds,steps_per_s,ns_per_subcontact_step,
 // then the per-stage times and the peak memory.
 #include <omp.h>
