@@ -142,7 +142,6 @@ double apply_contact_law(const Model& m, State& s, double dt) {
         }
         c.normal_spring_n[i] = en;
         c.shear_spring_n[i] = es;
-        c.force_n[i] = force;
         c.damping_force_n[i] = damping_force;
         c.flags[i] = flags;
         pair_force += force;

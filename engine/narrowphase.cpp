@@ -437,7 +437,6 @@ void append_rebuilt(const Model& m, const State& s, const Pair& pair, const Mani
     out.shear_stiffness_n_m[j] = k.ks;
     out.normal_damping_n_s_m[j] = k.cn;
     out.shear_damping_n_s_m[j] = k.cs;
-    out.force_n[j] = Vec3::Zero();
     out.incident_local[j] = to_incident * (p.incident - s.position[incident_block]);
     // A key seen last step keeps its springs and bond. Failing that, the nearest old
     // point of the pair within `reach` passes them on: where corners lie exactly on

@@ -21,7 +21,6 @@ void SubContacts::resize(std::size_t n) {
   shear_damping_n_s_m.resize(n);
   normal_spring_n.resize(n);
   shear_spring_n.resize(n);
-  force_n.resize(n);
   damping_force_n.resize(n);
   slip_m.resize(n);
   incident_local.resize(n);
@@ -44,7 +43,6 @@ void SubContacts::copy_range(const SubContacts& s, std::size_t from, std::size_t
   copy(s.shear_damping_n_s_m, shear_damping_n_s_m);
   copy(s.normal_spring_n, normal_spring_n);
   copy(s.shear_spring_n, shear_spring_n);
-  copy(s.force_n, force_n);
   copy(s.damping_force_n, damping_force_n);
   copy(s.slip_m, slip_m);
   copy(s.incident_local, incident_local);

@@ -43,14 +43,16 @@ struct SubContacts {
   std::vector<double> normal_damping_n_s_m, shear_damping_n_s_m;      // C_n, C_s
   std::vector<double> normal_spring_n;   // e_n, tension positive
   std::vector<Vec3> shear_spring_n;      // e_s, force on b, in the contact plane
-  std::vector<Vec3> force_n;             // total force on b (springs + dashpots)
-  std::vector<Vec3> damping_force_n;     // dashpot part of force_n (for the energy balance)
+  std::vector<Vec3> damping_force_n;     // dashpot part of the force on b (for the energy balance)
   std::vector<double> slip_m;            // accumulated sliding (plastic shear displacement)
   std::vector<Vec3> incident_local;      // face contacts: the point on the incident face, in
                                          // the incident block's principal frame (for reuse)
   std::vector<std::uint8_t> flags;       // SubContactFlag bits
 
   std::size_t size() const { return key.size(); }
+  // Total force on b (springs + dashpots) of the last contact law, N: derived rather
+  // than stored, as the law's memory traffic is much of its cost.
+  Vec3 force(std::size_t i) const { return shear_spring_n[i] - normal_spring_n[i] * normal[i] + damping_force_n[i]; }
   SpringConstants constants(std::size_t i) const {
     return {normal_stiffness_n_m[i], shear_stiffness_n_m[i], normal_damping_n_s_m[i], shear_damping_n_s_m[i]};
   }

@@ -31,8 +31,8 @@ TEST(Resting, CubeOnBaseCarriesItsWeightEquallyAndSettlesByMgOverKn) {
   ASSERT_EQ(s.contacts.size(), 4u);
   double total = 0;
   for (std::size_t i = 0; i < 4; ++i) {
-    total += s.contacts.force_n[i].z();
-    EXPECT_NEAR(s.contacts.force_n[i].z(), mg / 4, 1e-3 * mg / 4) << "corner " << i;
+    total += s.contacts.force(i).z();
+    EXPECT_NEAR(s.contacts.force(i).z(), mg / 4, 1e-3 * mg / 4) << "corner " << i;
   }
   EXPECT_NEAR(total, mg, 1e-3 * mg);
   const double settlement = a / 2 - s.position[1].z();
@@ -190,7 +190,7 @@ TEST(Bond, TensionHoldsUpToTensileStrengthTimesArea) {
   const double v1 = s.velocity[1].z();
   w.run(2000);
   EXPECT_NEAR((s.velocity[1].z() - v1) / (2000 * w.dt_s()), pull / mass, 0.01 * pull / mass);
-  for (std::size_t i = 0; i < s.contacts.size(); ++i) EXPECT_EQ(s.contacts.force_n[i].norm(), 0.0);
+  for (std::size_t i = 0; i < s.contacts.size(); ++i) EXPECT_EQ(s.contacts.force(i).norm(), 0.0);
 }
 
 TEST(Bond, ShearHoldsUpToCohesionPlusFriction) {
