@@ -412,7 +412,7 @@ void update_in_place(State& s, const Pair& pair) {
 // Appends the new manifold of a pair to `out`, each point with the history (springs,
 // bond, slip) of its match among the pair's current sub-contacts.
 void append_rebuilt(const Model& m, const State& s, const Pair& pair, const Manifold& manifold, bool first_detection,
-                    SubContacts& out) {
+                    double dt_s, SubContacts& out) {
   const SubContacts& old = s.contacts;
   const int old_begin = pair.sub_begin, old_end = pair.sub_begin + pair.sub_count;
   const int incident_block = pair.axis_kind == 1 ? pair.a : pair.b;
@@ -465,7 +465,11 @@ void append_rebuilt(const Model& m, const State& s, const Pair& pair, const Mani
       out.shear_spring_n[j] = old.shear_spring_n[found] * ratio;
       out.flags[j] = old.flags[found];
       out.damping_force_n[j] = old.damping_force_n[found] * ratio;
-      out.gap_change_m[j] = p.gap_m - old.gap_m[found];
+      // The joint's own motion over the last step, not the jump from the old point's gap
+      // to the new one's (a new point is not a displacement of the joint).
+      const Vec3 va = s.velocity[pair.a] + s.angular_velocity[pair.a].cross(p.x - s.position[pair.a]);
+      const Vec3 vb = s.velocity[pair.b] + s.angular_velocity[pair.b].cross(p.x - s.position[pair.b]);
+      out.gap_change_m[j] = dt_s * (vb - va).dot(manifold.normal);
       out.slip_m[j] = old.slip_m[found];
     } else {
       out.normal_spring_n[j] = 0.0;
@@ -477,6 +481,24 @@ void append_rebuilt(const Model& m, const State& s, const Pair& pair, const Mani
       out.slip_m[j] = 0.0;
     }
   }
+  // A new manifold must not store more spring energy than the old one did: a corner
+  // contact (small area, soft) that turns into a face contact (large area, stiff) would
+  // otherwise pass on stresses that the stiffer springs turn into energy from nothing,
+  // and the stones would pop apart. Capped, the re-clip stores at most what it found.
+  auto stored = [](const SubContacts& c, std::size_t i) {
+    return 0.5 * c.normal_spring_n[i] * c.normal_spring_n[i] / c.normal_stiffness_n_m[i] +
+           0.5 * c.shear_spring_n[i].squaredNorm() / c.shear_stiffness_n_m[i];
+  };
+  double before = 0, after = 0;
+  for (int q = old_begin; q < old_end; ++q) before += stored(old, q);
+  for (std::size_t j = first; j < out.size(); ++j) after += stored(out, j);
+  if (after > 0 && before > 0) {
+    const double scale = std::sqrt(before / after);
+    for (std::size_t j = first; j < out.size(); ++j) {
+      out.normal_spring_n[j] *= scale;
+      out.shear_spring_n[j] *= scale;
+    }
+  }
 }
 
 }  // namespace
@@ -485,7 +507,7 @@ void append_rebuilt(const Model& m, const State& s, const Pair& pair, const Mani
 // the next: their sub-contacts are updated where they lie, and only pairs whose manifold
 // is rebuilt go through per-chunk buffers. The arrays are regrouped only when a pair
 // gains or loses sub-contacts or the pair list changed.
-void update_contacts(const Model& m, State& s, bool first_detection) {
+void update_contacts(const Model& m, State& s, bool first_detection, double dt_s) {
   const int np = static_cast<int>(s.pairs.size());
   const int chunks = thread_count();
   s.chunk_contacts.resize(chunks);
@@ -505,7 +527,7 @@ void update_contacts(const Model& m, State& s, bool first_detection) {
       pair.rebuilt_count = manifold.n;
       const std::uint8_t change = manifold.n != pair.sub_count ? 2 : manifold.n > 0 ? 1 : 0;
       s.chunk_regroup[k] = std::max(s.chunk_regroup[k], change);
-      append_rebuilt(m, s, pair, manifold, first_detection, out);
+      append_rebuilt(m, s, pair, manifold, first_detection, dt_s, out);
     }
   });
   std::uint8_t change = s.pairs_changed ? 2 : 0;  // 0 none, 1 same layout, 2 regroup

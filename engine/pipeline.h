@@ -20,8 +20,9 @@ std::vector<Pair> brute_force_pairs(const Model& model, const State& state);
 
 // narrowphase.cpp: sub-contacts of every candidate pair, with the history (springs, bond)
 // of each key that already existed. `first_detection` marks the joints originally in
-// contact, the only ones that may carry a bond.
-void update_contacts(const Model& model, State& state, bool first_detection);
+// contact, the only ones that may carry a bond. dt_s: the step that led to the current
+// pose (s), for how far re-clipped points moved.
+void update_contacts(const Model& model, State& state, bool first_detection, double dt_s);
 
 // contact_law.cpp: spring and dashpot constants (MODEL.md section 3) of a sub-contact
 // of area S_i between blocks a and b, whose centroids lie l_A, l_B from the contact plane:

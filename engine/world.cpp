@@ -19,7 +19,7 @@ World::World(Model model, double dt_s) : model_(std::move(model)), state_(make_i
   if (!(dt_s > 0) || !std::isfinite(dt_s)) throw ModelError("the time step dt must be a positive number of seconds");
   update_pose(model_, state_);
   update_pairs(model_, state_);
-  update_contacts(model_, state_, /*first_detection=*/true);
+  update_contacts(model_, state_, /*first_detection=*/true, dt_s);
 
   const SubContacts& c = state_.contacts;
   for (std::size_t i = 0; i < c.size(); ++i) {
@@ -103,7 +103,7 @@ void World::step() {
   p.broadphase_s += seconds_since(t0);
 
   t0 = Clock::now();
-  update_contacts(m, s, /*first_detection=*/false);
+  update_contacts(m, s, /*first_detection=*/false, dt_s_);
   p.narrowphase_s += seconds_since(t0);
 
   t0 = Clock::now();

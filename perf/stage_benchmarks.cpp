@@ -59,7 +59,7 @@ BENCHMARK(BM_BroadphaseRebuild);
 // The common case in a standing structure: every joint barely moved, updated in place.
 void BM_NarrowphaseCarriedOver(benchmark::State& st) {
   World& w = wall();
-  for (auto _ : st) update_contacts(w.model(), w.state(), false);
+  for (auto _ : st) update_contacts(w.model(), w.state(), false, w.dt_s());
   st.SetItemsProcessed(st.iterations() * w.state().contacts.size());
   st.counters["pairs"] = static_cast<double>(w.state().pairs.size());
 }
@@ -72,7 +72,7 @@ void BM_NarrowphaseReclipped(benchmark::State& st) {
     st.PauseTiming();
     forget_search(w.state());
     st.ResumeTiming();
-    update_contacts(w.model(), w.state(), false);
+    update_contacts(w.model(), w.state(), false, w.dt_s());
   }
   st.SetItemsProcessed(st.iterations() * w.state().contacts.size());
 }
@@ -92,14 +92,14 @@ PairScene pair_scene(const Polyhedron& top, const Polyhedron& bottom = make_box(
   scene.state = make_initial_state(scene.model);
   update_pose(scene.model, scene.state);
   update_pairs(scene.model, scene.state);
-  update_contacts(scene.model, scene.state, true);
+  update_contacts(scene.model, scene.state, true, 1e-5);
   return scene;
 }
 
 void run_pair(benchmark::State& st, PairScene scene) {
   for (auto _ : st) {
     forget_search(scene.state);
-    update_contacts(scene.model, scene.state, false);
+    update_contacts(scene.model, scene.state, false, 1e-5);
   }
   st.counters["subcontacts"] = static_cast<double>(scene.state.contacts.size());
 }

@@ -21,7 +21,7 @@ State contacts_of(const Polyhedron& top, int subdivision = 1, Model* model_out =
   State s = make_initial_state(m);
   update_pose(m, s);
   update_pairs(m, s);
-  update_contacts(m, s, true);
+  update_contacts(m, s, true, 1e-5);
   if (model_out) *model_out = m;
   return s;
 }
@@ -115,7 +115,7 @@ TEST(Narrowphase, EdgeOnEdge) {
   State s = make_initial_state(m);
   update_pose(m, s);
   update_pairs(m, s);
-  update_contacts(m, s, true);
+  update_contacts(m, s, true, 1e-5);
   ASSERT_EQ(s.contacts.size(), 1u);
   EXPECT_NEAR((s.contacts.point[0] - Vec3(0, 0, -0.5e-5)).norm(), 0.0, 1e-9);  // midway
   EXPECT_NEAR(s.contacts.normal[0].z(), 1.0, 1e-9);
@@ -137,7 +137,7 @@ TEST(Narrowphase, KeysPersistWhileSliding) {
   const std::vector<std::uint64_t> before = s.contacts.key;
   s.position[1] += Vec3(0.05, 0.02, 0);
   update_pose(m, s);
-  update_contacts(m, s, false);
+  update_contacts(m, s, false, 1e-5);
   EXPECT_EQ(s.contacts.key, before);
 }
 
