@@ -70,33 +70,39 @@ double apply_contact_law(const Model& m, State& s, double dt) {
         const double area = c.area_m2[i];
         std::uint8_t flags = c.flags[i] & (SubContactFlag::bonded | SubContactFlag::broken | SubContactFlag::original);
 
-        // Normal spring, incremental: e_n += K_n dn, dn = change of the gap (tension
-        // positive). A dry joint only counts the part of dn spent in overlap, so it takes
-        // up load exactly when the gap closes. A new sub-contact starts from its overlap.
+        // Springs as stretches u (m), e = K u, K fixed for the sub-contact's life: the
+        // energy K u^2 / 2 then needs no division. Normal spring, incremental: u_n += dn,
+        // dn = change of the gap (tension positive). A dry joint only counts the part of
+        // dn spent in overlap, so it takes up load exactly when the gap closes. A new
+        // sub-contact starts from its overlap.
         const double gap = c.gap_m[i], gap_before = gap - c.gap_change_m[i];
-        double en;
+        double un;
         if (c.flags[i] & SubContactFlag::fresh)
-          en = k.kn * ((flags & SubContactFlag::bonded) ? gap : std::min(gap, 0.0));
+          un = (flags & SubContactFlag::bonded) ? gap : std::min(gap, 0.0);
         else if (flags & SubContactFlag::bonded)
-          en = c.normal_spring_n[i] + k.kn * c.gap_change_m[i];
+          un = c.normal_stretch_m[i] + c.gap_change_m[i];
         else
-          en = std::min(0.0, c.normal_spring_n[i] + k.kn * (std::min(gap, 0.0) - std::min(gap_before, 0.0)));
-        // Shear spring: turn last step's force into the current contact plane, keep its
-        // magnitude, then add the increment from the tangential displacement. The plane
-        // turns little in a step: when the out-of-plane part is tiny, the rescale is
-        // 1 + x/2 (x = its squared share), exact to 3x^2/8, with no square root.
-        Vec3 es = c.shear_spring_n[i];
-        const double es_old2 = es.squaredNorm();
-        const double along = es.dot(n), along2 = along * along;
+          un = std::min(0.0, c.normal_stretch_m[i] + (std::min(gap, 0.0) - std::min(gap_before, 0.0)));
+        double en = k.kn * un;
+        // Shear spring: turn last step's stretch into the current contact plane, keep its
+        // length, then add the tangential displacement. The plane turns little in a step:
+        // when the out-of-plane part is tiny, the rescale is 1 + x/2 (x = its squared
+        // share), exact to 3x^2/8, with no square root.
+        Vec3 us = c.shear_stretch_m[i];
+        const double us_old2 = us.squaredNorm();
+        const double along = us.dot(n), along2 = along * along;
         if (along2 > 0) {
-          es -= along * n;
-          const double in_plane2 = es_old2 - along2;
-          if (along2 < 1e-6 * es_old2)
-            es *= 1.0 + 0.5 * along2 / es_old2;
+          us -= along * n;
+          const double in_plane2 = us_old2 - along2;
+          if (along2 < 1e-16 * us_old2) {
+            // 1 + x/2 rounds to 1: skip the division (most steps of a joint at rest).
+          } else if (along2 < 1e-6 * us_old2)
+            us *= 1.0 + 0.5 * along2 / us_old2;
           else if (in_plane2 > 0)
-            es *= std::sqrt(es_old2 / in_plane2);
+            us *= std::sqrt(us_old2 / in_plane2);
         }
-        es -= k.ks * dt * vs;
+        us -= dt * vs;
+        Vec3 es = k.ks * us;
 
         if (flags & SubContactFlag::bonded) {
           const double sigma = en / area, tau = es.norm() / area;
@@ -106,15 +112,15 @@ double apply_contact_law(const Model& m, State& s, double dt) {
         }
         const bool bonded = flags & SubContactFlag::bonded;
         Vec3 force = Vec3::Zero(), damping_force = Vec3::Zero();
-        if (!bonded && (en >= 0 || gap >= 0)) {
+        if (!bonded && (un >= 0 || gap >= 0)) {
           // Open: no spring, no dashpot. A bond that broke just now releases its springs'
           // energy; a dry joint's shear spring slips free (a dry gap stores nothing).
           if (c.flags[i] & SubContactFlag::bonded)
-            e.bond += 0.5 * en * en / k.kn + 0.5 * es.squaredNorm() / k.ks;
+            e.bond += 0.5 * (en * un + es.dot(us));
           else
-            e.friction += 0.5 * es_old2 / k.ks;
-          en = 0;
-          es = Vec3::Zero();
+            e.friction += 0.5 * k.ks * us_old2;
+          un = 0;
+          us = Vec3::Zero();
           flags |= SubContactFlag::open;
         } else {
           Vec3 shear_damping = -k.cs * vs;
@@ -122,12 +128,13 @@ double apply_contact_law(const Model& m, State& s, double dt) {
             const double limit = -en * law.tan_friction;
             const double es_norm2 = es.squaredNorm();
             if (es_norm2 > limit * limit) {
-              const double es_norm = std::sqrt(es_norm2), es_old = std::sqrt(es_old2);
+              const double es_norm = std::sqrt(es_norm2), es_old = k.ks * std::sqrt(us_old2);
               // Dissipated by slip: the stored spring energy above the new limit (when the
               // normal force dropped), plus force x plastic slip of this step's increment.
               const double stored = std::max(std::min(es_old, es_norm), limit);
               e.friction += 0.5 * (stored * stored - limit * limit) / k.ks + limit * (es_norm - stored) / k.ks;
               c.slip_m[i] += (es_norm - limit) / k.ks;
+              us *= limit / es_norm;
               es *= limit / es_norm;
               shear_damping = Vec3::Zero();
               flags |= SubContactFlag::sliding;
@@ -138,10 +145,10 @@ double apply_contact_law(const Model& m, State& s, double dt) {
           damping_force = -(fn - en) * n + shear_damping;
           e.damping -= 0.5 * dt * damping_force.dot(v_rel);
           force = -fn * n + es + shear_damping;
-          e.elastic += 0.5 * en * en / k.kn + 0.5 * es.squaredNorm() / k.ks;
+          e.elastic += 0.5 * (en * un + es.dot(us));
         }
-        c.normal_spring_n[i] = en;
-        c.shear_spring_n[i] = es;
+        c.normal_stretch_m[i] = un;
+        c.shear_stretch_m[i] = us;
         c.damping_force_n[i] = damping_force;
         c.flags[i] = flags;
         pair_force += force;

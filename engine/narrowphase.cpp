@@ -461,8 +461,8 @@ void append_rebuilt(const Model& m, const State& s, const Pair& pair, const Mani
     }
     if (found >= 0) {
       const double ratio = p.area_m2 / old.area_m2[found];
-      out.normal_spring_n[j] = old.normal_spring_n[found] * ratio;
-      out.shear_spring_n[j] = old.shear_spring_n[found] * ratio;
+      out.normal_stretch_m[j] = old.normal_stretch_m[found] * ratio * old.normal_stiffness_n_m[found] / k.kn;
+      out.shear_stretch_m[j] = old.shear_stretch_m[found] * (ratio * old.shear_stiffness_n_m[found] / k.ks);
       out.flags[j] = old.flags[found];
       out.damping_force_n[j] = old.damping_force_n[found] * ratio;
       // The joint's own motion over the last step, not the jump from the old point's gap
@@ -472,8 +472,8 @@ void append_rebuilt(const Model& m, const State& s, const Pair& pair, const Mani
       out.gap_change_m[j] = dt_s * (vb - va).dot(manifold.normal);
       out.slip_m[j] = old.slip_m[found];
     } else {
-      out.normal_spring_n[j] = 0.0;
-      out.shear_spring_n[j] = Vec3::Zero();
+      out.normal_stretch_m[j] = 0.0;
+      out.shear_stretch_m[j] = Vec3::Zero();
       out.flags[j] = SubContactFlag::fresh | (bondable ? SubContactFlag::bonded : 0) |
                      (first_detection ? SubContactFlag::original : 0);
       out.damping_force_n[j] = Vec3::Zero();
@@ -485,18 +485,14 @@ void append_rebuilt(const Model& m, const State& s, const Pair& pair, const Mani
   // contact (small area, soft) that turns into a face contact (large area, stiff) would
   // otherwise pass on stresses that the stiffer springs turn into energy from nothing,
   // and the stones would pop apart. Capped, the re-clip stores at most what it found.
-  auto stored = [](const SubContacts& c, std::size_t i) {
-    return 0.5 * c.normal_spring_n[i] * c.normal_spring_n[i] / c.normal_stiffness_n_m[i] +
-           0.5 * c.shear_spring_n[i].squaredNorm() / c.shear_stiffness_n_m[i];
-  };
   double before = 0, after = 0;
-  for (int q = old_begin; q < old_end; ++q) before += stored(old, q);
-  for (std::size_t j = first; j < out.size(); ++j) after += stored(out, j);
+  for (int q = old_begin; q < old_end; ++q) before += old.spring_energy(q);
+  for (std::size_t j = first; j < out.size(); ++j) after += out.spring_energy(j);
   if (after > 0 && before > 0) {
     const double scale = std::sqrt(before / after);
     for (std::size_t j = first; j < out.size(); ++j) {
-      out.normal_spring_n[j] *= scale;
-      out.shear_spring_n[j] *= scale;
+      out.normal_stretch_m[j] *= scale;
+      out.shear_stretch_m[j] *= scale;
     }
   }
 }

@@ -19,8 +19,8 @@ void SubContacts::resize(std::size_t n) {
   shear_stiffness_n_m.resize(n);
   normal_damping_n_s_m.resize(n);
   shear_damping_n_s_m.resize(n);
-  normal_spring_n.resize(n);
-  shear_spring_n.resize(n);
+  normal_stretch_m.resize(n);
+  shear_stretch_m.resize(n);
   damping_force_n.resize(n);
   slip_m.resize(n);
   incident_local.resize(n);
@@ -41,8 +41,8 @@ void SubContacts::copy_range(const SubContacts& s, std::size_t from, std::size_t
   copy(s.shear_stiffness_n_m, shear_stiffness_n_m);
   copy(s.normal_damping_n_s_m, normal_damping_n_s_m);
   copy(s.shear_damping_n_s_m, shear_damping_n_s_m);
-  copy(s.normal_spring_n, normal_spring_n);
-  copy(s.shear_spring_n, shear_spring_n);
+  copy(s.normal_stretch_m, normal_stretch_m);
+  copy(s.shear_stretch_m, shear_stretch_m);
   copy(s.damping_force_n, damping_force_n);
   copy(s.slip_m, slip_m);
   copy(s.incident_local, incident_local);

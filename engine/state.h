@@ -41,8 +41,10 @@ struct SubContacts {
   // carried over, as its area does).
   std::vector<double> normal_stiffness_n_m, shear_stiffness_n_m;      // K_n, K_s
   std::vector<double> normal_damping_n_s_m, shear_damping_n_s_m;      // C_n, C_s
-  std::vector<double> normal_spring_n;   // e_n, tension positive
-  std::vector<Vec3> shear_spring_n;      // e_s, force on b, in the contact plane
+  // Spring stretches: normal spring force e_n = K_n u_n (tension positive), shear spring
+  // force on b e_s = K_s u_s (in the contact plane).
+  std::vector<double> normal_stretch_m;  // u_n
+  std::vector<Vec3> shear_stretch_m;     // u_s
   std::vector<Vec3> damping_force_n;     // dashpot part of the force on b (for the energy balance)
   std::vector<double> slip_m;            // accumulated sliding (plastic shear displacement)
   std::vector<Vec3> incident_local;      // face contacts: the point on the incident face, in
@@ -52,7 +54,13 @@ struct SubContacts {
   std::size_t size() const { return key.size(); }
   // Total force on b (springs + dashpots) of the last contact law, N: derived rather
   // than stored, as the law's memory traffic is much of its cost.
-  Vec3 force(std::size_t i) const { return shear_spring_n[i] - normal_spring_n[i] * normal[i] + damping_force_n[i]; }
+  Vec3 force(std::size_t i) const { return shear_spring(i) - normal_spring(i) * normal[i] + damping_force_n[i]; }
+  double normal_spring(std::size_t i) const { return normal_stiffness_n_m[i] * normal_stretch_m[i]; }  // e_n, N
+  Vec3 shear_spring(std::size_t i) const { return shear_stiffness_n_m[i] * shear_stretch_m[i]; }      // e_s, N
+  // Energy stored in the sub-contact's springs, J.
+  double spring_energy(std::size_t i) const {
+    return 0.5 * (normal_spring(i) * normal_stretch_m[i] + shear_spring(i).dot(shear_stretch_m[i]));
+  }
   SpringConstants constants(std::size_t i) const {
     return {normal_stiffness_n_m[i], shear_stiffness_n_m[i], normal_damping_n_s_m[i], shear_damping_n_s_m[i]};
   }

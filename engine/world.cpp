@@ -152,7 +152,7 @@ std::uint64_t World::state_hash() const {
     mix(state_.velocity[b].data(), sizeof(double) * 3);
     mix(state_.angular_velocity[b].data(), sizeof(double) * 3);
   }
-  mix(state_.contacts.shear_spring_n.data(), sizeof(Vec3) * state_.contacts.size());
+  mix(state_.contacts.shear_stretch_m.data(), sizeof(Vec3) * state_.contacts.size());
   return h;
 }
 

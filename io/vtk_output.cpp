@@ -178,8 +178,8 @@ void write_contacts_vtu(const State& s, const std::filesystem::path& file) {
   for (vtkIdType i = 0; i < n; ++i) {
     points->SetPoint(i, c.point[i].data());
     normal->SetTuple(i, c.normal[i].data());
-    sigma->InsertNextValue(c.normal_spring_n[i] / c.area_m2[i]);
-    tau->InsertNextValue(c.shear_spring_n[i].norm() / c.area_m2[i]);
+    sigma->InsertNextValue(c.normal_spring(i) / c.area_m2[i]);
+    tau->InsertNextValue(c.shear_spring(i).norm() / c.area_m2[i]);
     opening->InsertNextValue(std::max(0.0, c.gap_m[i]));
     slip->InsertNextValue(c.slip_m[i]);
     const std::uint8_t f = c.flags[i];
