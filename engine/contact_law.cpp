@@ -38,7 +38,7 @@ double apply_contact_law(const Model& m, State& s, double dt) {
   SubContacts& c = s.contacts;
   const std::ptrdiff_t np = static_cast<std::ptrdiff_t>(s.pairs.size());
   s.pair_force_n.resize(np);
-  s.pair_torque_nm.resize(np);
+  s.pair_moment_nm.resize(2 * np);
   std::array<EnergyParts, kChunks> parts{};
   // Pair by pair: what the sub-contacts of a pair share (blocks, velocities, law) is
   // loaded once, and their resultant is summed here so that the gather works on pairs.
@@ -47,13 +47,13 @@ double apply_contact_law(const Model& m, State& s, double dt) {
     for (std::ptrdiff_t pi = begin; pi < end; ++pi) {
       const Pair& pair = s.pairs[pi];
       if (pair.sub_count == 0) {
-        s.pair_force_n[pi] = s.pair_torque_nm[pi] = Vec3::Zero();
+        s.pair_force_n[pi] = s.pair_moment_nm[2 * pi] = s.pair_moment_nm[2 * pi + 1] = Vec3::Zero();
         continue;
       }
       const int a = pair.a, b = pair.b;
       // Relative velocity at r = p - x_a: v_b + w_b x (r - d) - v_a - w_a x r, d = x_b - x_a.
-      const Vec3 xa = s.position[a];
-      const Vec3 v0 = s.velocity[b] - s.velocity[a] - s.angular_velocity[b].cross(s.position[b] - xa);
+      const Vec3 xa = s.position[a], d = s.position[b] - xa;
+      const Vec3 v0 = s.velocity[b] - s.velocity[a] - s.angular_velocity[b].cross(d);
       const Vec3 w_rel = s.angular_velocity[b] - s.angular_velocity[a];
       const PairLaw& law = m.law(m.material[a], m.material[b]);
       Vec3 pair_force = Vec3::Zero(), pair_torque = Vec3::Zero();
@@ -155,7 +155,8 @@ double apply_contact_law(const Model& m, State& s, double dt) {
         pair_torque += r.cross(force);
       }
       s.pair_force_n[pi] = pair_force;
-      s.pair_torque_nm[pi] = pair_torque;
+      s.pair_moment_nm[2 * pi] = -pair_torque;                         // on a, about x_a
+      s.pair_moment_nm[2 * pi + 1] = pair_torque - d.cross(pair_force);  // on b, about x_b
     }
     parts[k] = e;
   });

@@ -6,7 +6,7 @@ double kinetic_energy(const Model& m, const State& s) {
   double e = 0.0;
   for (int b = 0; b < m.block_count; ++b) {
     if (m.motion[b] != Motion::free) continue;
-    const Vec3 w = s.orientation[b].toRotationMatrix().transpose() * s.angular_velocity[b];
+    const Vec3 w = s.rotation[b].transpose() * s.angular_velocity[b];
     e += 0.5 * m.mass_kg[b] * s.velocity[b].squaredNorm() + 0.5 * w.dot(m.inertia_kg_m2[b].cwiseProduct(w));
   }
   return e;

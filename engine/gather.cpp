@@ -36,17 +36,12 @@ double gather_forces(const Model& m, State& s) {
   parallel_for(nb, [&](std::ptrdiff_t b) {
     Vec3 f = Vec3::Zero(), t = Vec3::Zero();
     for (int q = s.block_pair_begin[b]; q < s.block_pair_begin[b + 1]; ++q) {
-      const int entry = s.block_pair[q];
-      const int p = entry >> 1;
-      const Vec3& force = s.pair_force_n[p];  // on b; about a's centroid:
-      const Vec3& torque = s.pair_torque_nm[p];
-      if (entry & 1) {  // moved to b's centroid: T - (x_b - x_a) x F
-        f += force;
-        t += torque - (s.position[b] - s.position[s.pairs[p].a]).cross(force);
-      } else {
-        f -= force;
-        t -= torque;
-      }
+      const int entry = s.block_pair[q];  // 2p: b is the pair's a, 2p + 1: its b
+      if (entry & 1)
+        f += s.pair_force_n[entry >> 1];
+      else
+        f -= s.pair_force_n[entry >> 1];
+      t += s.pair_moment_nm[entry];
     }
     s.force[b] = f + s.applied_force[b];
     s.torque[b] = t + s.applied_torque[b];

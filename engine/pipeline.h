@@ -44,7 +44,8 @@ double gather_forces(const Model& model, State& state);
 // Throws ModelError naming the block when its state becomes NaN or infinite.
 void integrate(const Model& model, State& state, double dt_s);
 
-// energy.cpp: kinetic and gravitational energy of the current state (J).
+// energy.cpp: kinetic and gravitational energy of the current state (J); the kinetic
+// energy uses the rotations of the pose stage (State::rotation) for the body-frame spin.
 double kinetic_energy(const Model& model, const State& state);
 double gravitational_energy(const Model& model, const State& state);
 

@@ -144,7 +144,8 @@ struct State {
   std::vector<int> pair_scratch_begin;   // (np) regrouping: each pair's new range start
   bool pairs_changed = true;             // the pair list changed since the last narrowphase
   std::vector<Vec3> pair_force_n;        // (np) resultant force of a pair's sub-contacts on b
-  std::vector<Vec3> pair_torque_nm;      // (np) its moment about a's centroid
+  std::vector<Vec3> pair_moment_nm;      // (2 np) moment of the pair's forces on a about a's
+                                         // centroid (2p), and on b about b's (2p + 1)
   std::vector<int> block_pair_begin;     // (nb+1) gather index, rebuilt with the pair list:
   std::vector<int> block_pair;           // entry 2 p is side a of pair p, 2 p + 1 side b
   std::vector<int> block_pair_cursor;
