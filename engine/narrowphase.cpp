@@ -63,47 +63,84 @@ struct Axis {
   Vec3 normal = Vec3::Zero();  // a -> b
 };
 
+// World-frame vertices and edge directions of the two blocks of the pair being searched.
+// Only the pairs that moved are searched in a step, so these are made here, per pair,
+// rather than by the pose stage for every block. One per thread, reused.
+class PairWorld {
+ public:
+  void set(const Model& m, const State& s, int a, int b) {
+    a_vertices_ = m.vertex_begin[a];
+    b_vertices_ = m.vertex_begin[b];
+    a_directions_ = m.direction_begin[a];
+    b_directions_ = m.direction_begin[b];
+    na_vertices_ = m.vertex_begin[a + 1] - a_vertices_;
+    na_directions_ = m.direction_begin[a + 1] - a_directions_;
+    vertices_.resize(na_vertices_ + m.vertex_begin[b + 1] - b_vertices_);
+    directions_.resize(na_directions_ + m.direction_begin[b + 1] - b_directions_);
+    for (int v = 0; v < na_vertices_; ++v) vertices_[v] = s.position[a] + s.rotation[a] * m.vertex_local[a_vertices_ + v];
+    for (int v = na_vertices_; v < static_cast<int>(vertices_.size()); ++v)
+      vertices_[v] = s.position[b] + s.rotation[b] * m.vertex_local[b_vertices_ + v - na_vertices_];
+    for (int d = 0; d < na_directions_; ++d) directions_[d] = s.rotation[a] * m.direction_local[a_directions_ + d];
+    for (int d = na_directions_; d < static_cast<int>(directions_.size()); ++d)
+      directions_[d] = s.rotation[b] * m.direction_local[b_directions_ + d - na_directions_];
+  }
+  // By the model's global vertex and direction indices (of block a or b).
+  const Vec3& vertex(int v) const {
+    return v - a_vertices_ < na_vertices_ && v >= a_vertices_ ? vertices_[v - a_vertices_]
+                                                              : vertices_[na_vertices_ + v - b_vertices_];
+  }
+  const Vec3& direction(int d) const {
+    return d - a_directions_ < na_directions_ && d >= a_directions_ ? directions_[d - a_directions_]
+                                                                    : directions_[na_directions_ + d - b_directions_];
+  }
+
+ private:
+  int a_vertices_ = 0, b_vertices_ = 0, na_vertices_ = 0;
+  int a_directions_ = 0, b_directions_ = 0, na_directions_ = 0;
+  std::vector<Vec3> vertices_, directions_;
+};
+
 // Largest signed distance of block `other`'s vertices from the plane of face f, negated:
 // the separation along the face's normal (> 0: separated).
-double face_separation(const Model& m, const State& s, int f, int other) {
+double face_separation(const Model& m, const State& s, const PairWorld& w, int f, int other) {
   const Vec3& n = s.face_normal_world[f];
   double lowest = 1e300;
   for (int v = m.vertex_begin[other]; v < m.vertex_begin[other + 1]; ++v)
-    lowest = std::min(lowest, n.dot(s.vertex_world[v]));
+    lowest = std::min(lowest, n.dot(w.vertex(v)));
   return lowest - s.face_offset_world[f];
 }
 
-Axis best_face_axis(const Model& m, const State& s, int owner, int other, int kind) {
+Axis best_face_axis(const Model& m, const State& s, const PairWorld& w, int owner, int other, int kind) {
   Axis best;
   for (int f = m.face_begin[owner]; f < m.face_begin[owner + 1]; ++f) {
-    const double sep = face_separation(m, s, f, other);
+    const double sep = face_separation(m, s, w, f, other);
     if (sep > best.separation_m) best = Axis{sep, kind, f, s.face_normal_world[f]};
   }
   if (kind == 1) best.normal = -best.normal;
   return best;
 }
 
-void support_range(const Model& m, const State& s, int b, const Vec3& axis, double& lo, double& hi) {
+void support_range(const Model& m, const PairWorld& w, int b, const Vec3& axis, double& lo, double& hi) {
   lo = 1e300;
   hi = -1e300;
   for (int v = m.vertex_begin[b]; v < m.vertex_begin[b + 1]; ++v) {
-    const double d = axis.dot(s.vertex_world[v]);
+    const double d = axis.dot(w.vertex(v));
     lo = std::min(lo, d);
     hi = std::max(hi, d);
   }
 }
 
-Axis best_edge_axis(const Model& m, const State& s, int a, int b) {
+Axis best_edge_axis(const Model& m, const PairWorld& w, int a, int b) {
   Axis best;
   for (int da = m.direction_begin[a]; da < m.direction_begin[a + 1]; ++da)
     for (int db = m.direction_begin[b]; db < m.direction_begin[b + 1]; ++db) {
-      Vec3 axis = s.direction_world[da].cross(s.direction_world[db]);
+      Vec3 axis = w.direction(da).cross(w.direction(db));
       const double len = axis.norm();
       if (len < 1e-6) continue;  // parallel edges: their axis is a face axis or none
       axis /= len;
       double alo, ahi, blo, bhi;
-      support_range(m, s, a, axis, alo, ahi);
-      support_range(m, s, b, axis, blo, bhi);
+      support_range(m, w, a, axis, alo, ahi);
+      support_range(m, w, b, axis, blo, bhi);
       const double forward = blo - ahi, backward = alo - bhi;
       const double sep = std::max(forward, backward);
       if (sep > best.separation_m)
@@ -133,14 +170,14 @@ void closest_points(const Vec3& p1, const Vec3& q1, const Vec3& p2, const Vec3& 
 
 // The edge of block `b` with direction index `dir` that lies furthest along `axis`
 // (sign = +1) or least far (sign = -1).
-int extreme_edge(const Model& m, const State& s, int b, int dir, const Vec3& axis, double sign) {
+int extreme_edge(const Model& m, const PairWorld& w, int b, int dir, const Vec3& axis, double sign) {
   int best = -1;
   double best_value = -1e300;
   for (int e = m.edge_begin[b]; e < m.edge_begin[b + 1]; ++e) {
     if (m.edge_direction[e] != dir) continue;
-    const double u = sign * axis.dot(s.vertex_world[m.edge_vertex[e][0]]);
-    const double w = sign * axis.dot(s.vertex_world[m.edge_vertex[e][1]]);
-    const double value = std::min(u, w);
+    const double u0 = sign * axis.dot(w.vertex(m.edge_vertex[e][0]));
+    const double u1 = sign * axis.dot(w.vertex(m.edge_vertex[e][1]));
+    const double value = std::min(u0, u1);
     if (value > best_value) {
       best_value = value;
       best = e;
@@ -173,7 +210,7 @@ struct Manifold {
   }
 };
 
-void face_manifold(const Model& m, const State& s, int a, int b, const Axis& axis, Manifold& out) {
+void face_manifold(const Model& m, const State& s, const PairWorld& w, int a, int b, const Axis& axis, Manifold& out) {
   const bool ref_is_a = axis.kind == 0;
   const int ref = ref_is_a ? a : b, inc = ref_is_a ? b : a;
   const int f = axis.feature;
@@ -196,13 +233,13 @@ void face_manifold(const Model& m, const State& s, int a, int b, const Axis& axi
   Polygon* cut = &buffers[1];
   for (int k = m.face_vertex_begin[g]; k < m.face_vertex_begin[g + 1]; ++k) {
     const int v = m.face_vertex[k];
-    in->push(ClipPoint{s.vertex_world[v], static_cast<std::uint32_t>(v - m.vertex_begin[inc])});
+    in->push(ClipPoint{w.vertex(v), static_cast<std::uint32_t>(v - m.vertex_begin[inc])});
   }
   // Side planes of the reference face (edge direction x normal points outward).
   const int rb = m.face_vertex_begin[f], re = m.face_vertex_begin[f + 1];
   for (int k = rb; k < re; ++k) {
-    const Vec3& p = s.vertex_world[m.face_vertex[k]];
-    const Vec3& q = s.vertex_world[m.face_vertex[k + 1 < re ? k + 1 : rb]];
+    const Vec3& p = w.vertex(m.face_vertex[k]);
+    const Vec3& q = w.vertex(m.face_vertex[k + 1 < re ? k + 1 : rb]);
     const Vec3 side = (q - p).cross(n).normalized();
     clip(*in, side, side.dot(p), 0.1 * tol, static_cast<std::uint32_t>(k - rb + 1), *cut);
     std::swap(in, cut);
@@ -293,13 +330,13 @@ void face_manifold(const Model& m, const State& s, int a, int b, const Axis& axi
   }
 }
 
-void edge_manifold(const Model& m, const State& s, int a, int b, const Axis& axis, Manifold& out) {
+void edge_manifold(const Model& m, const State& s, const PairWorld& w, int a, int b, const Axis& axis, Manifold& out) {
   const int da = m.direction_begin[a] + axis.feature / 65536, db = m.direction_begin[b] + axis.feature % 65536;
-  const int ea = extreme_edge(m, s, a, da, axis.normal, +1.0);
-  const int eb = extreme_edge(m, s, b, db, axis.normal, -1.0);
+  const int ea = extreme_edge(m, w, a, da, axis.normal, +1.0);
+  const int eb = extreme_edge(m, w, b, db, axis.normal, -1.0);
   Vec3 ca, cb;
-  closest_points(s.vertex_world[m.edge_vertex[ea][0]], s.vertex_world[m.edge_vertex[ea][1]],
-                 s.vertex_world[m.edge_vertex[eb][0]], s.vertex_world[m.edge_vertex[eb][1]], ca, cb);
+  closest_points(w.vertex(m.edge_vertex[ea][0]), w.vertex(m.edge_vertex[ea][1]),
+                 w.vertex(m.edge_vertex[eb][0]), w.vertex(m.edge_vertex[eb][1]), ca, cb);
   const Vec3 x = 0.5 * (ca + cb);
   out.normal = axis.normal;
   out.lever_a_m = std::abs(axis.normal.dot(x - s.position[a]));
@@ -330,7 +367,7 @@ bool moved_at_least(const Model& m, const State& s, const Pair& pair, double lim
 // false instead when the pair needs no new manifold: it is still apart, or it has barely
 // moved since its last axis search and has a face manifold, whose sub-contacts are then
 // updated in place (update_in_place).
-bool pair_manifold(const Model& m, const State& s, Pair& pair, Manifold& out) {
+bool pair_manifold(const Model& m, const State& s, Pair& pair, PairWorld& w, Manifold& out) {
   out.n = 0;
   const int a = pair.a, b = pair.b;
   const double tol = m.contact_tolerance_m(a, b);
@@ -347,7 +384,8 @@ bool pair_manifold(const Model& m, const State& s, Pair& pair, Manifold& out) {
     if (pair.sub_count > 0) return false;
     const int f = pair.axis_feature;
     const Axis cached{0.0, pair.axis_kind, f, pair.axis_kind == 0 ? s.face_normal_world[f] : Vec3(-s.face_normal_world[f])};
-    face_manifold(m, s, a, b, cached, out);
+    w.set(m, s, a, b);
+    face_manifold(m, s, w, a, b, cached, out);
     return true;
   }
   pair.offset_at_search = offset;
@@ -359,11 +397,12 @@ bool pair_manifold(const Model& m, const State& s, Pair& pair, Manifold& out) {
 
   const double centre_gap = (s.position[a] - s.position[b]).norm() - m.radius_m[a] - m.radius_m[b];
   if (centre_gap > tol) return apart(centre_gap), true;
-  const Axis face_a = best_face_axis(m, s, a, b, 0);
+  w.set(m, s, a, b);
+  const Axis face_a = best_face_axis(m, s, w, a, b, 0);
   if (face_a.separation_m > tol) return apart(face_a.separation_m), true;
-  const Axis face_b = best_face_axis(m, s, b, a, 1);
+  const Axis face_b = best_face_axis(m, s, w, b, a, 1);
   if (face_b.separation_m > tol) return apart(face_b.separation_m), true;
-  const Axis edge = best_edge_axis(m, s, a, b);
+  const Axis edge = best_edge_axis(m, w, a, b);
   if (edge.separation_m > tol) return apart(edge.separation_m), true;
 
   // Prefer a face of a over one of b, and last step's face over both, unless clearly
@@ -372,7 +411,7 @@ bool pair_manifold(const Model& m, const State& s, Pair& pair, Manifold& out) {
   Axis face = face_a.separation_m >= face_b.separation_m - 1e-3 * tol ? face_a : face_b;
   if (pair.axis_kind == 0 || pair.axis_kind == 1) {
     const int f = pair.axis_feature;
-    const double sep = face_separation(m, s, f, pair.axis_kind == 0 ? b : a);
+    const double sep = face_separation(m, s, w, f, pair.axis_kind == 0 ? b : a);
     if (sep >= face.separation_m - bias)
       face = Axis{sep, pair.axis_kind, f, pair.axis_kind == 0 ? s.face_normal_world[f] : Vec3(-s.face_normal_world[f])};
   }
@@ -380,9 +419,9 @@ bool pair_manifold(const Model& m, const State& s, Pair& pair, Manifold& out) {
   pair.axis_kind = chosen.kind;
   pair.axis_feature = chosen.feature;
   if (chosen.kind == 2)
-    edge_manifold(m, s, a, b, chosen, out);
+    edge_manifold(m, s, w, a, b, chosen, out);
   else
-    face_manifold(m, s, a, b, chosen, out);
+    face_manifold(m, s, w, a, b, chosen, out);
   return true;
 }
 
@@ -512,10 +551,11 @@ void update_contacts(const Model& m, State& s, bool first_detection, double dt_s
     SubContacts& out = s.chunk_contacts[k];
     out.clear();
     thread_local Manifold manifold;  // large; one per thread, reused
+    thread_local PairWorld world;
     for (std::ptrdiff_t pi = begin; pi < end; ++pi) {
       Pair& pair = s.pairs[pi];
       pair.rebuilt_count = -1;
-      if (!pair_manifold(m, s, pair, manifold)) {
+      if (!pair_manifold(m, s, pair, world, manifold)) {
         if (pair.sub_count > 0) update_in_place(s, pair);
         continue;
       }

@@ -61,10 +61,8 @@ State make_initial_state(const Model& model) {
   s.force.assign(nb, Vec3::Zero());
   s.torque.assign(nb, Vec3::Zero());
   s.rotation.resize(nb);
-  s.vertex_world.resize(model.vertex_local.size());
   s.face_normal_world.resize(model.face_normal_local.size());
   s.face_offset_world.resize(model.face_offset_local.size());
-  s.direction_world.resize(model.direction_local.size());
   s.position_at_rebuild = s.position;
   return s;
 }

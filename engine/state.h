@@ -129,10 +129,8 @@ struct State {
 
   // ---- world-frame geometry of the current pose ----
   std::vector<Mat3> rotation;            // (nb) principal frame -> world
-  std::vector<Vec3> vertex_world;        // (nv)
   std::vector<Vec3> face_normal_world;   // (nf)
   std::vector<double> face_offset_world; // (nf)
-  std::vector<Vec3> direction_world;     // (nd)
 
   // ---- contacts ----
   std::vector<Pair> pairs;               // sorted by (a, b)
