@@ -34,7 +34,7 @@ int main(int argc, char** argv) {
   const Model model = make_wall_model(spec);
 
   std::printf("threads,blocks,pairs,subcontacts,steps,seconds,steps_per_s,ns_per_subcontact_step,"
-              "pose_s,broadphase_s,narrowphase_s,contact_law_s,gather_s,integrate_s,rebuilds\n");
+              "pose_s,broadphase_s,narrowphase_s,contact_law_s,gather_s,integrate_s,rebuilds,regroups\n");
   double one_thread = 0;
   for (int threads = 1; threads <= max_threads; threads *= 2) {
     omp_set_num_threads(threads);
@@ -48,11 +48,11 @@ int main(int argc, char** argv) {
     const Profile& p = s.profile;
     const double rate = steps / seconds;
     if (threads == 1) one_thread = rate;
-    std::printf("%d,%d,%zu,%zu,%ld,%.3f,%.1f,%.1f,%.3f,%.3f,%.3f,%.3f,%.3f,%.3f,%ld\n", threads, model.block_count,
+    std::printf("%d,%d,%zu,%zu,%ld,%.3f,%.1f,%.1f,%.3f,%.3f,%.3f,%.3f,%.3f,%.3f,%ld,%ld\n", threads, model.block_count,
                 s.pairs.size(), s.contacts.size(), steps, seconds, rate, 1e9 * seconds / (steps * double(s.contacts.size())),
                 p.pose_s - before.pose_s, p.broadphase_s - before.broadphase_s, p.narrowphase_s - before.narrowphase_s,
                 p.contact_law_s - before.contact_law_s, p.gather_s - before.gather_s, p.integrate_s - before.integrate_s,
-                p.broadphase_rebuilds - before.broadphase_rebuilds);
+                p.broadphase_rebuilds - before.broadphase_rebuilds, p.contact_regroups - before.contact_regroups);
     if (threads > 1) std::printf("# speed-up %d threads / 1 thread: %.2f\n", threads, rate / one_thread);
   }
   rusage usage{};
