@@ -64,8 +64,9 @@ double apply_contact_law(const Model& m, State& s, double dt) {
         const double vn = v_rel.dot(n);
         const Vec3 vs = v_rel - vn * n;
         // Dashpot work over a step is F . (v_before + v_after) / 2 dt, the form in which
-        // semi-implicit Euler balances kinetic energy: last step's half is added now.
-        e.damping -= 0.5 * dt * c.damping_force_n[i].dot(v_rel);
+        // semi-implicit Euler balances kinetic energy: last step's half is added with
+        // this step's, both at this step's velocity.
+        const Vec3 damping_before = c.damping_force_n[i];
         const SpringConstants k = c.constants(i);
         const double area = c.area_m2[i];
         std::uint8_t flags = c.flags[i] & (SubContactFlag::bonded | SubContactFlag::broken | SubContactFlag::original);
@@ -143,12 +144,12 @@ double apply_contact_law(const Model& m, State& s, double dt) {
           double fn = en + k.cn * vn;
           if (!bonded && fn > 0) fn = 0;  // a dashpot must not pull a dry joint
           damping_force = -(fn - en) * n + shear_damping;
-          e.damping -= 0.5 * dt * damping_force.dot(v_rel);
           force = -fn * n + es + shear_damping;
           e.elastic += 0.5 * (en * un + es.dot(us));
         }
         c.normal_stretch_m[i] = un;
         c.shear_stretch_m[i] = us;
+        e.damping -= 0.5 * dt * (damping_before + damping_force).dot(v_rel);
         c.damping_force_n[i] = damping_force;
         c.flags[i] = flags;
         pair_force += force;
