@@ -591,17 +591,27 @@ void update_contacts(const Model& m, State& s, bool first_detection, double dt_s
   }
   s.next_contacts.resize(total);
   parallel_chunks(np, chunks, [&](std::ptrdiff_t begin, std::ptrdiff_t end, int k) {
+    // Runs of pairs that kept their sub-contacts are contiguous in both layouts: one
+    // copy per run, not one per pair (a regroup typically changes a handful of pairs).
+    int run_from = 0, run_to = 0, run_count = 0;
+    auto flush = [&] {
+      if (run_count > 0) s.next_contacts.copy_range(s.contacts, run_from, run_count, run_to);
+      run_count = 0;
+    };
     for (std::ptrdiff_t pi = begin; pi < end; ++pi) {
       Pair& pair = s.pairs[pi];
       const int at = s.pair_scratch_begin[pi];
       if (pair.rebuilt_count >= 0) {
+        flush();
         s.next_contacts.copy_range(s.chunk_contacts[k], pair.rebuilt_begin, pair.rebuilt_count, at);
         pair.sub_count = pair.rebuilt_count;
-      } else {
-        s.next_contacts.copy_range(s.contacts, pair.sub_begin, pair.sub_count, at);
+      } else if (pair.sub_count > 0) {
+        if (run_count == 0) run_from = pair.sub_begin, run_to = at;
+        run_count += pair.sub_count;
       }
       pair.sub_begin = at;
     }
+    flush();
   });
   std::swap(s.contacts, s.next_contacts);
 }
