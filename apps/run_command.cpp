@@ -66,7 +66,9 @@ int run_scenario(const RunOptions& o) {
   model.contact.subdivision = sc.subdivision;
   for (Motion& motion : model.motion)
     if (motion == Motion::fixed) motion = Motion::prescribed;
-  const double dt = sc.dt_s > 0 ? sc.dt_s : 0.8 * World(model, 1e-9).critical_time_step_s();
+  int limiting_block = -1;
+  const double limit_s = World(model, 1e-9).critical_time_step_s(&limiting_block);
+  const double dt = sc.dt_s > 0 ? sc.dt_s : 0.8 * limit_s;
   const GroundMotion ground = prepare_ground_motion(sc.ground_motion, dt);
   World world(model, dt);
   const Model& m = world.model();
@@ -82,6 +84,7 @@ int run_scenario(const RunOptions& o) {
   std::printf("%s: %d blocks, %zu sub-contacts, dt = %.3g s, %d threads; ground motion %.2f s (from %.2f s of the record)\n",
               sc.model.name.c_str(), m.block_count, s.contacts.size(), dt, thread_count(), ground.duration_s(),
               sc.ground_motion.start_s);
+  std::printf("  stability limit %.3g s, set by %s and its joints\n", limit_s, m.block_label(limiting_block).c_str());
 
   VtkSeriesWriter blocks(out, "blocks"), contacts(out, "contacts", VtkSeriesWriter::Kind::contacts);
   std::ostringstream history;

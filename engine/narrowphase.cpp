@@ -86,12 +86,12 @@ class PairWorld {
   }
   // By the model's global vertex and direction indices (of block a or b).
   const Vec3& vertex(int v) const {
-    return v - a_vertices_ < na_vertices_ && v >= a_vertices_ ? vertices_[v - a_vertices_]
-                                                              : vertices_[na_vertices_ + v - b_vertices_];
+    const bool of_a = v >= a_vertices_ && v < a_vertices_ + na_vertices_;
+    return of_a ? vertices_[v - a_vertices_] : vertices_[na_vertices_ + v - b_vertices_];
   }
   const Vec3& direction(int d) const {
-    return d - a_directions_ < na_directions_ && d >= a_directions_ ? directions_[d - a_directions_]
-                                                                    : directions_[na_directions_ + d - b_directions_];
+    const bool of_a = d >= a_directions_ && d < a_directions_ + na_directions_;
+    return of_a ? directions_[d - a_directions_] : directions_[na_directions_ + d - b_directions_];
   }
 
  private:
@@ -520,10 +520,10 @@ void append_rebuilt(const Model& m, const State& s, const Pair& pair, const Mani
       out.slip_m[j] = 0.0;
     }
   }
-  // A new manifold must not store more spring energy than the old one did: a corner
-  // contact (small area, soft) that turns into a face contact (large area, stiff) would
-  // otherwise pass on stresses that the stiffer springs turn into energy from nothing,
-  // and the stones would pop apart. Capped, the re-clip stores at most what it found.
+  // The re-clipped pair keeps exactly the spring energy it stored: the passed-on springs
+  // are scaled together to it. Otherwise a corner contact (small area, soft) that turns
+  // into a face contact (large area, stiff) would turn the stresses it passes on into
+  // energy from nothing and the stones would pop apart (and the reverse would lose some).
   double before = 0, after = 0;
   for (int q = old_begin; q < old_end; ++q) before += old.spring_energy(q);
   for (std::size_t j = first; j < out.size(); ++j) after += out.spring_energy(j);
