@@ -65,7 +65,8 @@ struct Axis {
 
 // World-frame vertices and edge directions of the two blocks of the pair being searched.
 // Only the pairs that moved are searched in a step, so these are made here, per pair,
-// rather than by the pose stage for every block. One per thread, reused.
+// rather than by the pose stage for every block. One per thread, reused: its buffers grow
+// to the largest pair once and are not allocated again.
 class PairWorld {
  public:
   void set(const Model& m, const State& s, int a, int b) {
