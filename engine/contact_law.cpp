@@ -26,8 +26,6 @@ SpringConstants spring_constants(const Model& m, int a, int b, double lever_a_m,
 
 namespace {
 
-constexpr int kChunks = 64;  // fixed, so energy sums do not depend on the thread count
-
 struct EnergyParts {
   double elastic = 0, damping = 0, friction = 0, bond = 0;
 };
@@ -39,10 +37,10 @@ double apply_contact_law(const Model& m, State& s, double dt) {
   const std::ptrdiff_t np = static_cast<std::ptrdiff_t>(s.pairs.size());
   s.pair_force_n.resize(np);
   s.pair_moment_nm.resize(2 * np);
-  std::array<EnergyParts, kChunks> parts{};
+  std::array<EnergyParts, kReductionChunks> parts{};
   // Pair by pair: what the sub-contacts of a pair share (blocks, velocities, law) is
   // loaded once, and their resultant is summed here so that the gather works on pairs.
-  parallel_chunks(np, kChunks, [&](std::ptrdiff_t begin, std::ptrdiff_t end, int k) {
+  parallel_chunks(np, kReductionChunks, [&](std::ptrdiff_t begin, std::ptrdiff_t end, int k) {
     EnergyParts e;
     for (std::ptrdiff_t pi = begin; pi < end; ++pi) {
       const Pair& pair = s.pairs[pi];

@@ -2,6 +2,8 @@
 // contact law), found through a block -> pair index, so no two threads write the same
 // block (no atomics, and the summation order, hence the result, is the same for any
 // thread count).
+#include <array>
+
 #include "engine/parallel.h"
 #include "engine/pipeline.h"
 
@@ -33,26 +35,28 @@ double gather_forces(const Model& m, State& s) {
   const int nb = m.block_count;
   if (!s.gather_index_valid) build_gather_index(m, s);  // only when the pair list changed
 
-  parallel_for(nb, [&](std::ptrdiff_t b) {
-    Vec3 f = Vec3::Zero(), t = Vec3::Zero();
-    for (int q = s.block_pair_begin[b]; q < s.block_pair_begin[b + 1]; ++q) {
-      const int entry = s.block_pair[q];  // 2p: b is the pair's a, 2p + 1: its b
-      if (entry & 1)
-        f += s.pair_force_n[entry >> 1];
-      else
-        f -= s.pair_force_n[entry >> 1];
-      t += s.pair_moment_nm[entry];
+  std::array<double, kReductionChunks> parts{};
+  parallel_chunks(nb, kReductionChunks, [&](std::ptrdiff_t begin, std::ptrdiff_t end, int k) {
+    double power = 0.0;
+    for (std::ptrdiff_t b = begin; b < end; ++b) {
+      Vec3 f = Vec3::Zero(), t = Vec3::Zero();
+      for (int q = s.block_pair_begin[b]; q < s.block_pair_begin[b + 1]; ++q) {
+        const int entry = s.block_pair[q];  // 2p: b is the pair's a, 2p + 1: its b
+        if (entry & 1)
+          f += s.pair_force_n[entry >> 1];
+        else
+          f -= s.pair_force_n[entry >> 1];
+        t += s.pair_moment_nm[entry];
+      }
+      s.force[b] = f + s.applied_force[b];
+      s.torque[b] = t + s.applied_torque[b];
+      // Power the prescribed blocks put in: minus the power of the contact forces on them.
+      if (m.motion[b] == Motion::prescribed) power -= f.dot(s.velocity[b]) + t.dot(s.angular_velocity[b]);
     }
-    s.force[b] = f + s.applied_force[b];
-    s.torque[b] = t + s.applied_torque[b];
+    parts[k] = power;
   });
-
-  // Power the prescribed blocks put in: minus the power of the contact forces on them.
   double power = 0.0;
-  for (int b = 0; b < nb; ++b)
-    if (m.motion[b] == Motion::prescribed)
-      power -= (s.force[b] - s.applied_force[b]).dot(s.velocity[b]) +
-               (s.torque[b] - s.applied_torque[b]).dot(s.angular_velocity[b]);
+  for (double p : parts) power += p;
   return power;
 }
 

@@ -11,6 +11,10 @@ namespace ishibashi {
 
 inline int thread_count() { return omp_get_max_threads(); }
 
+// Chunks of every sum over blocks or pairs: a fixed count, so that the partial sums are
+// added in the same order whatever the number of threads.
+constexpr int kReductionChunks = 64;
+
 // Calls fn(i) for i in [0, n), spread over the threads.
 template <class Fn>
 void parallel_for(std::ptrdiff_t n, Fn&& fn) {

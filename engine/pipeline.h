@@ -41,12 +41,12 @@ double gather_forces(const Model& model, State& state);
 
 // integrate.cpp: semi-implicit Euler with Euler's rotation equations in the principal frame;
 // reads State::rotation, so update_pose must have run on the current orientations.
+// Returns the kinetic and gravitational energy of the free blocks before the update (J).
 // Throws ModelError naming the block when its state becomes NaN or infinite.
-void integrate(const Model& model, State& state, double dt_s);
-
-// energy.cpp: kinetic and gravitational energy of the current state (J); the kinetic
-// energy uses the rotations of the pose stage (State::rotation) for the body-frame spin.
-double kinetic_energy(const Model& model, const State& state);
-double gravitational_energy(const Model& model, const State& state);
+struct BlockEnergy {
+  double kinetic_j = 0.0;
+  double gravitational_j = 0.0;  // -m g . x, zero at the origin
+};
+BlockEnergy integrate(const Model& model, State& state, double dt_s);
 
 }  // namespace ishibashi

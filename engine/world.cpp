@@ -114,27 +114,28 @@ void World::step() {
   const double prescribed_power = gather_forces(m, s);
   p.gather_s += seconds_since(t0);
 
-  // Energy at this step. v was last updated between the previous pose and this one, so
-  // the potential is averaged over the two poses: that is the quantity semi-implicit
-  // Euler conserves to second order.
+  t0 = Clock::now();
+  const BlockEnergy before = integrate(m, s, dt_s_);
+  p.integrate_s += seconds_since(t0);
+
+  // Energy at this step, i.e. of the pose and the velocities integrate started from. v
+  // was last updated between the previous pose and this one, so the potential is
+  // averaged over the two poses: that is the quantity semi-implicit Euler conserves to
+  // second order.
   Energy& e = s.energy;
-  const double gravitational = gravitational_energy(m, s);
+  const double gravitational = before.gravitational_j;
   if (!s.energy_started) {
     s.last_gravitational_j = gravitational;
     s.last_elastic_j = elastic;
-    e.initial_total_j = kinetic_energy(m, s) + gravitational + elastic;
+    e.initial_total_j = before.kinetic_j + gravitational + elastic;
     s.energy_started = true;
   }
-  e.kinetic_j = kinetic_energy(m, s);
+  e.kinetic_j = before.kinetic_j;
   e.gravitational_j = 0.5 * (s.last_gravitational_j + gravitational);
   e.elastic_j = 0.5 * (s.last_elastic_j + elastic);
   s.last_gravitational_j = gravitational;
   s.last_elastic_j = elastic;
   e.prescribed_work_j += prescribed_power * dt_s_;
-
-  t0 = Clock::now();
-  integrate(m, s, dt_s_);
-  p.integrate_s += seconds_since(t0);
 
   s.time_s += dt_s_;
   ++s.step;
