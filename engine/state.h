@@ -52,8 +52,8 @@ struct SubContacts {
   std::vector<std::uint8_t> flags;       // SubContactFlag bits
 
   std::size_t size() const { return key.size(); }
-  // Total force on b (springs + dashpots) of the last contact law, N: derived rather
-  // than stored, as the law's memory traffic is much of its cost.
+  // Total force on b (springs + dashpots) of the last contact law, N: derived, not
+  // stored, as only diagnostics need it.
   Vec3 force(std::size_t i) const { return shear_spring(i) - normal_spring(i) * normal[i] + damping_force_n[i]; }
   double normal_spring(std::size_t i) const { return normal_stiffness_n_m[i] * normal_stretch_m[i]; }  // e_n, N
   Vec3 shear_spring(std::size_t i) const { return shear_stiffness_n_m[i] * shear_stretch_m[i]; }      // e_s, N
