@@ -133,8 +133,9 @@ double apply_contact_law(const Model& m, State& s, double dt) {
               const double stored = std::max(std::min(es_old, es_norm), limit);
               e.friction += 0.5 * (stored * stored - limit * limit) / k.ks + limit * (es_norm - stored) / k.ks;
               c.slip_m[i] += (es_norm - limit) / k.ks;
-              us *= limit / es_norm;
-              es *= limit / es_norm;
+              const double keep = limit / es_norm;
+              us *= keep;
+              es *= keep;
               shear_damping = Vec3::Zero();
               flags |= SubContactFlag::sliding;
             }

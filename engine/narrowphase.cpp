@@ -63,6 +63,12 @@ struct Axis {
   Vec3 normal = Vec3::Zero();  // a -> b
 };
 
+// The a -> b normal of a face axis: face f's outward normal when the face is a's
+// (kind 0), reversed when it is b's (kind 1).
+Vec3 face_axis_normal(const State& s, int kind, int f) {
+  return kind == 0 ? s.face_normal_world[f] : Vec3(-s.face_normal_world[f]);
+}
+
 // World-frame vertices and edge directions of the two blocks of the pair being searched.
 // Only the pairs that moved are searched in a step, so these are made here, per pair,
 // rather than by the pose stage for every block. One per thread, reused: its buffers grow
@@ -250,7 +256,7 @@ void face_manifold(const Model& m, const State& s, const PairWorld& w, int a, in
   const Polygon& poly = *cut;
   if (poly.n == 0) return;
 
-  out.normal = ref_is_a ? n : Vec3(-n);
+  out.normal = face_axis_normal(s, axis.kind, f);
   const double lever_ref = std::abs(d - n.dot(s.position[ref]));
   const double lever_inc = std::abs(n.dot(s.position[inc]) - d);
   out.lever_a_m = ref_is_a ? lever_ref : lever_inc;
@@ -384,7 +390,7 @@ bool pair_manifold(const Model& m, const State& s, Pair& pair, PairWorld& w, Man
     // The last face axis still holds (a resting joint is decided once).
     if (pair.sub_count > 0) return false;
     const int f = pair.axis_feature;
-    const Axis cached{0.0, pair.axis_kind, f, pair.axis_kind == 0 ? s.face_normal_world[f] : Vec3(-s.face_normal_world[f])};
+    const Axis cached{0.0, pair.axis_kind, f, face_axis_normal(s, pair.axis_kind, f)};
     w.set(m, s, a, b);
     face_manifold(m, s, w, a, b, cached, out);
     return true;
@@ -414,7 +420,7 @@ bool pair_manifold(const Model& m, const State& s, Pair& pair, PairWorld& w, Man
     const int f = pair.axis_feature;
     const double sep = face_separation(m, s, w, f, pair.axis_kind == 0 ? b : a);
     if (sep >= face.separation_m - bias)
-      face = Axis{sep, pair.axis_kind, f, pair.axis_kind == 0 ? s.face_normal_world[f] : Vec3(-s.face_normal_world[f])};
+      face = Axis{sep, pair.axis_kind, f, face_axis_normal(s, pair.axis_kind, f)};
   }
   const Axis& chosen = edge.separation_m > face.separation_m + bias ? edge : face;
   pair.axis_kind = chosen.kind;
@@ -431,11 +437,10 @@ bool pair_manifold(const Model& m, const State& s, Pair& pair, PairWorld& w, Man
 // its block, the reference face gives the normal and the gap.
 void update_in_place(State& s, const Pair& pair) {
   SubContacts& c = s.contacts;
-  const bool ref_is_a = pair.axis_kind == 0;
-  const int inc = ref_is_a ? pair.b : pair.a;
+  const int inc = pair.axis_kind == 0 ? pair.b : pair.a;
   const int f = pair.axis_feature;
   const Vec3 n = s.face_normal_world[f];
-  const Vec3 normal = ref_is_a ? n : Vec3(-n);
+  const Vec3 normal = face_axis_normal(s, pair.axis_kind, f);
   const double d = s.face_offset_world[f];
   const Mat3& r = s.rotation[inc];
   const Vec3 x = s.position[inc];
