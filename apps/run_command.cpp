@@ -8,6 +8,7 @@
 #include <sstream>
 
 #include "apps/build_command.h"
+#include "engine/joints.h"
 #include "engine/parallel.h"
 #include "engine/world.h"
 #include "geometry/bridge.h"
@@ -24,29 +25,30 @@ extern "C" void on_interrupt(int) { interrupted = 1; }
 using Clock = std::chrono::steady_clock;
 
 struct Counts {
-  int broken = 0;   // sub-contacts that lost their bond
-  int cracked = 0;  // original sub-contacts broken or open by more than `opening_m`
-  int fallen = 0;   // free blocks whose centroid dropped by more than their size
+  JointCounts joints;
+  int fallen = 0;       // free blocks whose centroid dropped by more than their size
   int fallen_ring = 0;
+  int left_model = 0;   // blocks that fell past the ground and were frozen there
 };
 
-Counts count(const Model& m, const State& s, double opening_m, int original_total) {
+Counts count(const Model& m, const State& s, const JointThresholds& thresholds, Joints& joints) {
   Counts c;
-  int original_now = 0;
-  for (std::size_t i = 0; i < s.contacts.size(); ++i) {
-    const std::uint8_t f = s.contacts.flags[i];
-    c.broken += (f & SubContactFlag::broken) != 0;
-    if (!(f & SubContactFlag::original)) continue;
-    ++original_now;
-    c.cracked += (f & SubContactFlag::broken) || s.contacts.gap_m[i] > opening_m;
-  }
-  c.cracked += std::max(0, original_total - original_now);  // opened beyond the contact tolerance
-  for (int b = 0; b < m.block_count; ++b)
+  c.joints = measure_joints(s, thresholds, joints);
+  for (int b = 0; b < m.block_count; ++b) {
+    c.left_model += s.left_model[b];
     if (is_fallen(m, s, b)) {
       ++c.fallen;
       c.fallen_ring += m.block_tag[b].part == static_cast<int>(Part::ring);
     }
+  }
   return c;
+}
+
+// The balance error over the energy exchanged: the ground's work and what the dashpots,
+// friction and broken bonds took.
+double relative_balance_error(const Energy& e) {
+  const double exchanged = std::abs(e.prescribed_work_j) + std::abs(e.damping_j) + std::abs(e.friction_j) + std::abs(e.bond_j);
+  return exchanged > 0 ? e.balance_error_j() / exchanged : 0.0;
 }
 
 }  // namespace
@@ -77,9 +79,8 @@ int run_scenario(const RunOptions& o) {
   if (monitors.empty() && crown_unit(m) >= 0) monitors.push_back(crown_unit(m));
   for (int b : monitors)
     if (b < 0 || b >= m.block_count) throw InputError(o.scenario.string() + ": [monitor] block " + std::to_string(b) + " does not exist");
-  int original_total = 0;
-  for (std::uint8_t f : s.contacts.flags) original_total += (f & SubContactFlag::original) != 0;
-  const double opening = 1e-3;  // m: an original joint open by more than this has cracked
+  Joints joints = find_original_joints(s);
+  const JointThresholds thresholds;  // 1 mm opening is a crack, 1 mm slip a slipped joint
 
   std::printf("%s: %d blocks, %zu sub-contacts, dt = %.3g s, %d threads; ground motion %.2f s (from %.2f s of the record)\n",
               sc.model.name.c_str(), m.block_count, s.contacts.size(), dt, thread_count(), ground.duration_s(),
@@ -90,14 +91,14 @@ int run_scenario(const RunOptions& o) {
   std::ostringstream history;
   history << "time_s,phase,ground_ax_m_s2,ground_ay_m_s2,ground_az_m_s2,ground_dx_m,ground_dy_m,ground_dz_m";
   for (int b : monitors) history << ",block" << b << "_dx_m,block" << b << "_dy_m,block" << b << "_dz_m";
-  history << ",kinetic_j,gravitational_j,elastic_j,damping_j,friction_j,bond_j,ground_work_j,balance_error_j,"
-             "broken_subcontacts,cracked_subcontacts,fallen_blocks\n";
+  history << ",kinetic_j,gravitational_j,elastic_j,damping_j,friction_j,bond_j,left_model_j,ground_work_j,balance_error_j,"
+             "open_joints,cracked_joints,slipped_joints,largest_opening_m,largest_slip_m,fallen_blocks,left_model_blocks\n";
 
   std::signal(SIGINT, on_interrupt);
   std::signal(SIGTERM, on_interrupt);
   struct Summary {
     bool settled = false;
-    double settle_time_s = 0, first_crack_s = -1, largest_crown_drop_m = 0;
+    double settle_time_s = 0, first_opening_s = -1, largest_crown_drop_m = 0;
     Counts counts;
     Vec3 settled_crown = Vec3::Zero();
   } sum;
@@ -105,7 +106,10 @@ int run_scenario(const RunOptions& o) {
 
   // Monitored displacements are relative to the ground (gd: the ground's displacement).
   auto record = [&](const char* phase, const Vec3& ga, const Vec3& gd) {
-    const Counts c = count(m, s, opening, original_total);
+    const Counts c = count(m, s, thresholds, joints);
+    if (c.left_model > sum.counts.left_model)
+      std::fprintf(stderr, "\n  warning: %d block(s) fell past the ground at t = %.3f s and were frozen there\n",
+                   c.left_model - sum.counts.left_model, s.time_s);
     sum.counts = c;
     history.precision(9);
     history << s.time_s << "," << phase << "," << ga.x() << "," << ga.y() << "," << ga.z() << "," << gd.x() << ","
@@ -116,26 +120,34 @@ int run_scenario(const RunOptions& o) {
     }
     const Energy& e = s.energy;
     history << "," << e.kinetic_j << "," << e.gravitational_j << "," << e.elastic_j << "," << e.damping_j << ","
-            << e.friction_j << "," << e.bond_j << "," << e.prescribed_work_j << "," << e.balance_error_j() << ","
-            << c.broken << "," << c.cracked << "," << c.fallen << "\n";
+            << e.friction_j << "," << e.bond_j << "," << e.left_model_j << "," << e.prescribed_work_j << ","
+            << e.balance_error_j() << "," << c.joints.open << "," << c.joints.cracked << "," << c.joints.slipped << ","
+            << c.joints.largest_opening_m << "," << c.joints.largest_slip_m << "," << c.fallen << "," << c.left_model << "\n";
     write_text_atomically(out / "history.csv", history.str());
-    blocks.write(m, s);
-    contacts.write(m, s);
+    blocks.write(m, s, gd);
+    contacts.write(m, s, gd, &joints);
   };
   auto write_summary = [&](bool done) {
     const Energy& e = s.energy;
-    const double work = std::abs(e.prescribed_work_j) + std::abs(e.damping_j) + std::abs(e.friction_j);
+    const JointCounts& jc = sum.counts.joints;
+    const int slip_joint = jc.largest_slip_joint;
     std::ostringstream j;
     j.precision(9);
     j << "{\n  \"model\": \"" << sc.model.name << "\",\n  \"finished\": " << (done ? "true" : "false")
       << ",\n  \"interrupted\": " << (interrupted ? "true" : "false") << ",\n  \"settled\": " << (sum.settled ? "true" : "false")
       << ",\n  \"settle_time_s\": " << sum.settle_time_s << ",\n  \"simulated_time_s\": " << s.time_s
-      << ",\n  \"first_crack_time_s\": " << (sum.first_crack_s < 0 ? "null" : std::to_string(sum.first_crack_s))
+      << ",\n  \"first_opening_time_s\": " << (sum.first_opening_s < 0 ? "null" : std::to_string(sum.first_opening_s))
       << ",\n  \"collapse\": " << (sum.counts.fallen_ring > 0 || sum.counts.fallen > 0.05 * m.block_count ? "true" : "false")
-      << ",\n  \"fallen_stones\": " << sum.counts.fallen << ",\n  \"broken_subcontacts\": " << sum.counts.broken
+      << ",\n  \"fallen_stones\": " << sum.counts.fallen << ",\n  \"blocks_left_model\": " << sum.counts.left_model
+      << ",\n  \"joints\": " << joints.size() << ",\n  \"joints_open_at_end\": " << jc.open
+      << ",\n  \"joints_cracked\": " << jc.cracked << ",\n  \"joints_slipped_at_end\": " << jc.slipped
+      << ",\n  \"largest_opening_m\": " << jc.largest_opening_m << ",\n  \"largest_slip_m\": " << jc.largest_slip_m
+      << ",\n  \"largest_slip_blocks\": "
+      << (slip_joint < 0 ? std::string("null")
+                         : "[" + std::to_string(joints.block_a[slip_joint]) + ", " + std::to_string(joints.block_b[slip_joint]) + "]")
       << ",\n  \"largest_crown_drop_m\": " << sum.largest_crown_drop_m << ",\n  \"monitored_block\": " << crown
       << ",\n  \"energy_balance_error_j\": " << e.balance_error_j()
-      << ",\n  \"energy_balance_error_relative\": " << (work > 0 ? e.balance_error_j() / work : 0.0)
+      << ",\n  \"energy_balance_error_relative\": " << relative_balance_error(e)
       << ",\n  \"dt_s\": " << dt << ",\n  \"steps\": " << s.step << ",\n  \"threads\": " << thread_count()
       << ",\n  \"wall_time_s\": " << std::chrono::duration<double>(Clock::now() - wall0).count() << "\n}\n";
     write_text_atomically(out / "summary.json", j.str());
@@ -159,18 +171,21 @@ int run_scenario(const RunOptions& o) {
   // ---- shake: the prescribed blocks move with the ground ----
   const long n = static_cast<long>(ground.accel_m_s2.size()) - 1;
   const auto shake0 = Clock::now();
+  Vec3 ground_accel = Vec3::Zero(), ground_displacement = Vec3::Zero();  // at the last step
   for (long k = 0; k < n && !interrupted; ++k) {
     const Vec3 v = 0.5 * (ground.velocity_m_s[k] + ground.velocity_m_s[k + 1]);  // exact displacement per step
     for (int b = 0; b < m.block_count; ++b)
       if (m.motion[b] == Motion::prescribed) s.velocity[b] = v;
     world.step();
-    if (sum.first_crack_s < 0 && (k + 1) % 50 == 0 && count(m, s, opening, original_total).cracked > 0)
-      sum.first_crack_s = s.time_s - sum.settle_time_s;
+    ground_accel = ground.accel_m_s2[k + 1];
+    ground_displacement = ground.displacement_m[k + 1];
+    if (sum.first_opening_s < 0 && (k + 1) % 50 == 0 && count(m, s, thresholds, joints).joints.cracked > 0)
+      sum.first_opening_s = s.time_s - sum.settle_time_s;
     if (crown >= 0)  // the crown's drop relative to the ground since settling
       sum.largest_crown_drop_m = std::max(sum.largest_crown_drop_m, sum.settled_crown.z() - s.position[crown].z() +
-                                                                        ground.displacement_m[k + 1].z());
+                                                                        ground_displacement.z());
     if ((k + 1) % steps_per_frame == 0 || k + 1 == n) {
-      record("shake", ground.accel_m_s2[k + 1], ground.displacement_m[k + 1]);
+      record("shake", ground_accel, ground_displacement);
       write_summary(false);
       if (!o.quiet) {
         const double elapsed = std::chrono::duration<double>(Clock::now() - shake0).count();
@@ -182,13 +197,16 @@ int run_scenario(const RunOptions& o) {
     }
   }
   if (!o.quiet) std::fprintf(stderr, "\n");
-  if (interrupted) record("interrupted", Vec3::Zero(), Vec3::Zero());
+  if (interrupted) record("interrupted", ground_accel, ground_displacement);
   write_summary(!interrupted);
 
   const Profile& p = s.profile;
-  std::printf("%s after %.2f s of shaking: %d fallen stones, %d broken sub-contacts, largest crown drop %.4f m, first crack %s\n",
-              interrupted ? "interrupted" : "done", s.time_s - sum.settle_time_s, sum.counts.fallen, sum.counts.broken,
-              sum.largest_crown_drop_m, sum.first_crack_s < 0 ? "none" : (std::to_string(sum.first_crack_s) + " s").c_str());
+  std::printf("%s after %.2f s of shaking: %d fallen stones, %d of %d joints cracked (%d open now), largest slip %.4f m, "
+              "largest crown drop %.4f m, first opening %s\n",
+              interrupted ? "interrupted" : "done", s.time_s - sum.settle_time_s, sum.counts.fallen, sum.counts.joints.cracked,
+              joints.size(), sum.counts.joints.open, sum.counts.joints.largest_slip_m, sum.largest_crown_drop_m,
+              sum.first_opening_s < 0 ? "none" : (std::to_string(sum.first_opening_s) + " s").c_str());
+  std::printf("energy balance error %.3g %% of the energy exchanged\n", 100 * relative_balance_error(s.energy));
   if (o.profile) {
     const double total = p.pose_s + p.broadphase_s + p.narrowphase_s + p.contact_law_s + p.gather_s + p.integrate_s;
     std::printf("stage         seconds   share\n");

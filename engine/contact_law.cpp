@@ -71,17 +71,18 @@ double apply_contact_law(const Model& m, State& s, double dt) {
 
         // Springs as stretches u (m), e = K u, K fixed for the sub-contact's life: the
         // energy K u^2 / 2 then needs no division. Normal spring, incremental: u_n += dn,
-        // dn = change of the gap (tension positive). A dry joint only counts the part of
-        // dn spent in overlap, so it takes up load exactly when the gap closes. A new
-        // sub-contact starts from its overlap.
+        // dn = change of the gap (tension positive). A loaded dry spring follows the
+        // joint's motion until it is unloaded, even past the geometric gap's zero (a spring
+        // passed on by a re-clip may hold more than its new point's overlap: it gives that
+        // energy back as work, rather than vanishing with it). An unloaded one counts only
+        // the part of dn spent in overlap, so it takes up load exactly when the gap closes.
+        // A new sub-contact starts from its overlap.
         const double gap = c.gap_m[i], gap_before = gap - c.gap_change_m[i];
         double un;
-        if (c.flags[i] & SubContactFlag::fresh)
-          un = (flags & SubContactFlag::bonded) ? gap : std::min(gap, 0.0);
-        else if (flags & SubContactFlag::bonded)
+        if ((flags & SubContactFlag::bonded) || c.normal_stretch_m[i] < 0)
           un = c.normal_stretch_m[i] + c.gap_change_m[i];
         else
-          un = std::min(0.0, c.normal_stretch_m[i] + (std::min(gap, 0.0) - std::min(gap_before, 0.0)));
+          un = std::min(gap, 0.0) - std::min(gap_before, 0.0);
         double en = k.kn * un;
         // Shear spring: turn last step's stretch into the current contact plane, keep its
         // length, then add the tangential displacement. The plane turns little in a step:
@@ -111,7 +112,7 @@ double apply_contact_law(const Model& m, State& s, double dt) {
         }
         const bool bonded = flags & SubContactFlag::bonded;
         Vec3 force = Vec3::Zero(), damping_force = Vec3::Zero();
-        if (!bonded && (un >= 0 || gap >= 0)) {
+        if (!bonded && un >= 0) {
           // Open: no spring, no dashpot. A bond that broke just now releases its springs'
           // energy; a dry joint's shear spring slips free (a dry gap stores nothing).
           if (c.flags[i] & SubContactFlag::bonded)
@@ -140,8 +141,12 @@ double apply_contact_law(const Model& m, State& s, double dt) {
               flags |= SubContactFlag::sliding;
             }
           }
-          double fn = en + k.cn * vn;
-          if (!bonded && fn > 0) fn = 0;  // a dashpot must not pull a dry joint
+          // The dashpot acts while the spring is compressed, also when it pulls (a dry
+          // joint leaving the base): the joint opens when the spring force reaches the
+          // tensile strength (MODEL.md section 3), the linear spring-dashpot whose
+          // restitution is exp(-pi zeta / sqrt(1 - zeta^2)). Cutting the pull off instead
+          // gives a stone dropped with h = 1 a rebound of 0.18 of its impact speed.
+          const double fn = en + k.cn * vn;
           damping_force = -(fn - en) * n + shear_damping;
           force = -fn * n + es + shear_damping;
           e.elastic += 0.5 * (en * un + es.dot(us));

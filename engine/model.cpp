@@ -219,6 +219,18 @@ Model ModelBuilder::build() const {
   for (double size : m.size_m) size_sum += size;
   m.margin_m = contact_.margin_ratio * size_sum / m.block_count;
   m.gravity_m_s2 = gravity_;
+  if (gravity_.norm() > 0) {
+    const Vec3 down = gravity_.normalized();
+    double deepest_immobile = -INFINITY, largest = 0.0;
+    for (int b = 0; b < m.block_count; ++b) {
+      largest = std::max(largest, m.size_m[b]);
+      if (m.motion[b] == Motion::free) continue;
+      const Mat3 r = m.initial_orientation[b].toRotationMatrix();
+      for (int v = m.vertex_begin[b]; v < m.vertex_begin[b + 1]; ++v)
+        deepest_immobile = std::max(deepest_immobile, down.dot(m.initial_position[b] + r * m.vertex_local[v]));
+    }
+    if (std::isfinite(deepest_immobile)) m.leave_depth_m = deepest_immobile + largest;
+  }
   const std::size_t n = m.materials.size();
   m.pair_law.resize(n * n);
   for (std::size_t a = 0; a < n; ++a)

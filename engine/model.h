@@ -4,6 +4,7 @@
 #pragma once
 #include <algorithm>
 #include <array>
+#include <cmath>
 #include <cstdint>
 #include <stdexcept>
 #include <string>
@@ -107,6 +108,12 @@ struct Model {
   }
 
   Vec3 gravity_m_s2{0.0, 0.0, -9.81};
+  // Depth along gravity (g_hat . x, m) below which a free block's centroid has left the
+  // model: the lowest point of the fixed and prescribed blocks plus the largest block
+  // size. Such a block fell past the ground; it is frozen there (State::left_model)
+  // instead of falling for ever. Infinite when the model has no immobile block or no
+  // gravity.
+  double leave_depth_m = INFINITY;
   ContactSettings contact;
   double margin_m = 0.0;  // broadphase margin, from contact.margin_ratio * mean block size
 

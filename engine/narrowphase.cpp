@@ -509,6 +509,8 @@ void append_rebuilt(const Model& m, const State& s, const Pair& pair, const Mani
       out.normal_stretch_m[j] = old.normal_stretch_m[found] * ratio * old.normal_stiffness_n_m[found] / k.kn;
       out.shear_stretch_m[j] = old.shear_stretch_m[found] * (ratio * old.shear_stiffness_n_m[found] / k.ks);
       out.flags[j] = old.flags[found];
+      if (!(out.flags[j] & SubContactFlag::bonded))  // a dry point holds no more than its own overlap
+        out.normal_stretch_m[j] = std::max(out.normal_stretch_m[j], std::min(p.gap_m, 0.0));
       out.damping_force_n[j] = old.damping_force_n[found] * ratio;
       // The joint's own motion over the last step, not the jump from the old point's gap
       // to the new one's (a new point is not a displacement of the joint).
@@ -517,7 +519,7 @@ void append_rebuilt(const Model& m, const State& s, const Pair& pair, const Mani
       out.gap_change_m[j] = dt_s * (vb - va).dot(manifold.normal);
       out.slip_m[j] = old.slip_m[found];
     } else {
-      out.normal_stretch_m[j] = 0.0;
+      out.normal_stretch_m[j] = bondable ? p.gap_m : std::min(p.gap_m, 0.0);  // from its overlap
       out.shear_stretch_m[j] = Vec3::Zero();
       out.flags[j] = SubContactFlag::fresh | (bondable ? SubContactFlag::bonded : 0) |
                      (first_detection ? SubContactFlag::original : 0);

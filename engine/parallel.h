@@ -15,10 +15,15 @@ inline int thread_count() { return omp_get_max_threads(); }
 // added in the same order whatever the number of threads.
 constexpr int kReductionChunks = 64;
 
+// Below this many items (blocks or pairs) a loop runs on the calling thread: waking a
+// team costs more than a tiny scene's whole step, and a descheduled thread on a busy
+// machine would stall it.
+constexpr std::ptrdiff_t kMinParallelItems = 128;
+
 // Calls fn(i) for i in [0, n), spread over the threads.
 template <class Fn>
 void parallel_for(std::ptrdiff_t n, Fn&& fn) {
-#pragma omp parallel for schedule(static)
+#pragma omp parallel for schedule(static) if (n >= kMinParallelItems)
   for (std::ptrdiff_t i = 0; i < n; ++i) fn(i);
 }
 
@@ -27,7 +32,7 @@ void parallel_for(std::ptrdiff_t n, Fn&& fn) {
 // the number of threads, so per-chunk results can be combined deterministically.
 template <class Fn>
 void parallel_chunks(std::ptrdiff_t n, int chunk_count, Fn&& fn) {
-#pragma omp parallel for schedule(static)
+#pragma omp parallel for schedule(static) if (n >= kMinParallelItems)
   for (int k = 0; k < chunk_count; ++k) {
     const std::ptrdiff_t begin = n * k / chunk_count;
     const std::ptrdiff_t end = n * (k + 1) / chunk_count;

@@ -41,11 +41,13 @@ double gather_forces(const Model& model, State& state);
 
 // integrate.cpp: semi-implicit Euler with Euler's rotation equations in the principal frame;
 // reads State::rotation, so update_pose must have run on the current orientations.
-// Returns the kinetic and gravitational energy of the free blocks before the update (J).
+// Returns the kinetic and gravitational energy of the free blocks before the update (J),
+// and the kinetic energy of blocks that left the model in this step and were frozen.
 // Throws ModelError naming the block when its state becomes NaN or infinite.
 struct BlockEnergy {
   double kinetic_j = 0.0;
   double gravitational_j = 0.0;  // -m g . x, zero at the origin
+  double left_model_j = 0.0;     // kinetic energy of the blocks frozen in this step
 };
 BlockEnergy integrate(const Model& model, State& state, double dt_s);
 

@@ -60,6 +60,7 @@ State make_initial_state(const Model& model) {
   s.applied_torque.assign(nb, Vec3::Zero());
   s.force.assign(nb, Vec3::Zero());
   s.torque.assign(nb, Vec3::Zero());
+  s.left_model.assign(nb, 0);
   s.rotation.resize(nb);
   s.face_normal_world.resize(model.face_normal_local.size());
   s.face_offset_world.resize(model.face_offset_local.size());

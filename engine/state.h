@@ -99,12 +99,14 @@ struct Energy {
   double friction_j = 0.0;       // dissipated by sliding so far
   double bond_j = 0.0;           // spring energy released when bonds broke
   double prescribed_work_j = 0.0;  // work done on the system by prescribed blocks so far
+  double left_model_j = 0.0;     // kinetic energy of blocks that left the model, frozen
+                                 // where they left (see Model::leave_depth_m)
   double initial_total_j = 0.0;  // mechanical energy at the first step
 
   double mechanical_j() const { return kinetic_j + gravitational_j + elastic_j; }
   // (mechanical + dissipated - work in) - initial; zero for an exact integrator.
   double balance_error_j() const {
-    return mechanical_j() + damping_j + friction_j + bond_j - prescribed_work_j - initial_total_j;
+    return mechanical_j() + damping_j + friction_j + bond_j + left_model_j - prescribed_work_j - initial_total_j;
   }
 };
 
@@ -126,6 +128,8 @@ struct State {
   std::vector<Vec3> applied_force;       // external loads set by the driver, N
   std::vector<Vec3> applied_torque;      // N m
   std::vector<Vec3> force, torque;       // resultant of contacts + applied loads (no gravity)
+  std::vector<std::uint8_t> left_model;  // 1: a free block that fell below Model::leave_depth_m,
+                                         // frozen since (its kinetic energy in Energy::left_model_j)
 
   // ---- world-frame geometry of the current pose ----
   std::vector<Mat3> rotation;            // (nb) principal frame -> world

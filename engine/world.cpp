@@ -136,6 +136,7 @@ void World::step() {
   s.last_gravitational_j = gravitational;
   s.last_elastic_j = elastic;
   e.prescribed_work_j += prescribed_power * dt_s_;
+  e.left_model_j += before.left_model_j;
 
   s.time_s += dt_s_;
   ++s.step;

@@ -34,8 +34,10 @@ void write_grid(vtkUnstructuredGrid* grid, const std::filesystem::path& file) {
     vtkNew<vtkXMLUnstructuredGridWriter> writer;
     writer->SetFileName(tmp.c_str());
     writer->SetInputData(grid);
-    writer->SetDataModeToAppended();
-    writer->EncodeAppendedDataOff();  // raw binary
+    // Inline binary (base64 inside each DataArray): Debian 12's ParaView 5.11 with the
+    // patched libexpat (2.5.0-1+deb12u2) fails on VTK's appended mode, raw or base64
+    // ("not well-formed (invalid token)") and renders nothing. Inline files are plain XML.
+    writer->SetDataModeToBinary();
     writer->SetCompressorTypeToZLib();
     if (writer->Write() != 1) throw std::runtime_error("cannot write " + file.string() + " (VTK writer failed)");
   });
@@ -93,7 +95,7 @@ bool is_fallen(const Model& m, const State& s, int b) {
   return m.motion[b] == Motion::free && m.initial_position[b].z() - s.position[b].z() > m.size_m[b];
 }
 
-void write_blocks_vtu(const Model& m, const State& s, const std::filesystem::path& file) {
+void write_blocks_vtu(const Model& m, const State& s, const std::filesystem::path& file, const Vec3& ground_displacement_m) {
   const int nb = m.block_count;
   const vtkIdType nv = static_cast<vtkIdType>(m.vertex_local.size());
   vtkNew<vtkPoints> points;
@@ -104,6 +106,7 @@ void write_blocks_vtu(const Model& m, const State& s, const std::filesystem::pat
   auto cell_velocity = vector_array("velocity", nb);
   auto cell_angular = vector_array("angular_velocity", nb);
   auto cell_displacement = vector_array("displacement", nb);
+  auto cell_relative = vector_array("displacement_relative_to_ground", nb);
   vtkNew<vtkIntArray> block_id, material, part, course;
   block_id->SetName("block_id");
   material->SetName("material");
@@ -138,6 +141,8 @@ void write_blocks_vtu(const Model& m, const State& s, const std::filesystem::pat
     cell_angular->SetTuple(b, s.angular_velocity[b].data());
     const Vec3 d = s.position[b] - m.initial_position[b];
     cell_displacement->SetTuple(b, d.data());
+    const Vec3 relative = d - ground_displacement_m;
+    cell_relative->SetTuple(b, relative.data());
   }
   grid->SetPoints(points);
   grid->GetPointData()->AddArray(point_velocity);
@@ -151,12 +156,13 @@ void write_blocks_vtu(const Model& m, const State& s, const std::filesystem::pat
   grid->GetCellData()->AddArray(cell_velocity);
   grid->GetCellData()->AddArray(cell_angular);
   grid->GetCellData()->AddArray(cell_displacement);
+  grid->GetCellData()->AddArray(cell_relative);
 
   write_grid(grid, file);
 }
 
 
-void write_contacts_vtu(const State& s, const std::filesystem::path& file) {
+void write_contacts_vtu(const State& s, const std::filesystem::path& file, const Joints* joints) {
   const SubContacts& c = s.contacts;
   const vtkIdType n = static_cast<vtkIdType>(c.size());
   vtkNew<vtkPoints> points;
@@ -168,7 +174,11 @@ void write_contacts_vtu(const State& s, const std::filesystem::path& file) {
   sigma->SetName("normal_stress_pa");
   tau->SetName("shear_stress_pa");
   opening->SetName("opening_m");
-  vtkNew<vtkIntArray> state, original, block_a, block_b;
+  vtkNew<vtkDoubleArray> joint_opening, joint_slip;
+  joint_opening->SetName("joint_opening_m");
+  joint_slip->SetName("joint_slip_m");
+  vtkNew<vtkIntArray> state, original, block_a, block_b, joint_cracked;
+  joint_cracked->SetName("joint_cracked");
   state->SetName("state");
   original->SetName("original");
   block_a->SetName("block_a");
@@ -192,11 +202,26 @@ void write_contacts_vtu(const State& s, const std::filesystem::path& file) {
     original->InsertNextValue((f & SubContactFlag::original) ? 1 : 0);
     block_a->InsertNextValue(c.block_a[i]);
     block_b->InsertNextValue(c.block_b[i]);
+    if (joints) {  // joints are sorted by (block_a, block_b), as the pairs they came from
+      int j = 0, hi = joints->size();
+      const std::pair<int, int> key{c.block_a[i], c.block_b[i]};
+      while (j < hi) {
+        const int mid = (j + hi) / 2;
+        if (std::pair{joints->block_a[mid], joints->block_b[mid]} < key) j = mid + 1; else hi = mid;
+      }
+      const bool found = j < joints->size() && joints->block_a[j] == key.first && joints->block_b[j] == key.second;
+      joint_opening->InsertNextValue(found ? joints->opening_m[j] : 0.0);
+      joint_slip->InsertNextValue(found ? joints->slip_m[j] : 0.0);
+      joint_cracked->InsertNextValue(found ? joints->cracked[j] : 0);
+    }
     grid->InsertNextCell(VTK_VERTEX, 1, &i);
   }
   grid->SetPoints(points);
   for (vtkDataArray* a : std::initializer_list<vtkDataArray*>{normal, sigma, tau, opening, slip, state, original, block_a, block_b})
     grid->GetPointData()->AddArray(a);
+  if (joints)
+    for (vtkDataArray* a : std::initializer_list<vtkDataArray*>{joint_opening, joint_slip, joint_cracked})
+      grid->GetPointData()->AddArray(a);
   write_grid(grid, file);
 }
 
@@ -207,14 +232,15 @@ VtkSeriesWriter::VtkSeriesWriter(std::filesystem::path directory, std::string na
   if (ec) throw std::runtime_error("cannot create output folder " + directory_.string() + ": " + ec.message());
 }
 
-void VtkSeriesWriter::write(const Model& model, const State& state) {
+void VtkSeriesWriter::write(const Model& model, const State& state, const Vec3& ground_displacement_m,
+                            const Joints* joints) {
   char file[64];
   std::snprintf(file, sizeof file, "_%06d.vtu", frame_count());
   const std::string vtu = name_ + file;
   if (kind_ == Kind::blocks)
-    write_blocks_vtu(model, state, directory_ / vtu);
+    write_blocks_vtu(model, state, directory_ / vtu, ground_displacement_m);
   else
-    write_contacts_vtu(state, directory_ / vtu);
+    write_contacts_vtu(state, directory_ / vtu, joints);
   times_.push_back(state.time_s);
   files_.push_back(vtu);
 

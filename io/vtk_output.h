@@ -1,10 +1,11 @@
-// ParaView output of the blocks: one binary, zlib-compressed .vtu per output time (one
+// ParaView output of the blocks: one inline-binary, zlib-compressed .vtu per output time (one
 // polyhedron cell per block) and a .pvd collection that lists them with their times.
 #pragma once
 #include <filesystem>
 #include <string>
 #include <vector>
 
+#include "engine/joints.h"
 #include "engine/model.h"
 #include "engine/state.h"
 
@@ -17,9 +18,12 @@ bool is_fallen(const Model& model, const State& state, int block);
 // Cell data: block_id, material, part and course (the generator's labels, see
 // geometry/bridge.h: 0 ground, 1 ring, 2 wall, 3 fill, 4 soil, 5 side wall), fixed (1
 // unless the block is free), fallen (see is_fallen), velocity (m/s),
-// angular_velocity (rad/s), displacement of the centroid (m). Point data: velocity and
-// displacement of each vertex.
-void write_blocks_vtu(const Model& model, const State& state, const std::filesystem::path& file);
+// angular_velocity (rad/s), displacement of the centroid (m) and the same relative to the
+// ground (displacement_relative_to_ground: minus the ground's displacement, m, so that a
+// shaken bridge is coloured by how it deforms, not by how the ground moves). Point data:
+// velocity and displacement of each vertex.
+void write_blocks_vtu(const Model& model, const State& state, const std::filesystem::path& file,
+                      const Vec3& ground_displacement_m = Vec3::Zero());
 
 // The sub-contacts as points (one vertex cell each), so cracks can be seen: point data
 // normal (a -> b), normal_stress_pa (tension positive), shear_stress_pa, opening_m
@@ -39,7 +43,8 @@ class VtkSeriesWriter {
  public:
   enum class Kind { blocks, contacts };
   VtkSeriesWriter(std::filesystem::path directory, std::string name, Kind kind = Kind::blocks);
-  void write(const Model& model, const State& state);
+  void write(const Model& model, const State& state, const Vec3& ground_displacement_m = Vec3::Zero(),
+             const Joints* joints = nullptr);
   std::filesystem::path pvd_path() const { return directory_ / (name_ + ".pvd"); }
   int frame_count() const { return static_cast<int>(times_.size()); }
 

@@ -1,0 +1,79 @@
+#include "engine/joints.h"
+
+#include <algorithm>
+
+namespace ishibashi {
+
+Joints find_original_joints(const State& s) {
+  Joints j;
+  const SubContacts& c = s.contacts;
+  for (const Pair& pair : s.pairs) {
+    const int begin = static_cast<int>(j.point_on_a.size());
+    Vec3 centre = Vec3::Zero(), normal = Vec3::Zero();
+    const Mat3 ra = s.orientation[pair.a].toRotationMatrix().transpose();  // world -> a's frame
+    const Mat3 rb = s.orientation[pair.b].toRotationMatrix().transpose();
+    for (int i = pair.sub_begin; i < pair.sub_begin + pair.sub_count; ++i) {
+      if (!(c.flags[i] & SubContactFlag::original)) continue;
+      j.point_on_a.push_back(ra * (c.point[i] - s.position[pair.a]));
+      j.point_on_b.push_back(rb * (c.point[i] - s.position[pair.b]));
+      centre += c.point[i];
+      normal = c.normal[i];
+    }
+    const int count = static_cast<int>(j.point_on_a.size()) - begin;
+    if (count == 0) continue;
+    centre /= count;
+    j.block_a.push_back(pair.a);
+    j.block_b.push_back(pair.b);
+    j.point_begin.push_back(begin + count);
+    j.centre_on_a.push_back(ra * (centre - s.position[pair.a]));
+    j.centre_on_b.push_back(rb * (centre - s.position[pair.b]));
+    j.normal_on_a.push_back(ra * normal);
+  }
+  const std::size_t nj = j.block_a.size();
+  j.opening_m.assign(nj, 0.0);
+  j.slip_m.assign(nj, 0.0);
+  j.bond_broken.assign(nj, 0);
+  j.cracked.assign(nj, 0);
+  return j;
+}
+
+JointCounts measure_joints(const State& s, const JointThresholds& t, Joints& j) {
+  JointCounts counts;
+  for (int k = 0; k < j.size(); ++k) {
+    const int a = j.block_a[k], b = j.block_b[k];
+    const Mat3 ra = s.orientation[a].toRotationMatrix(), rb = s.orientation[b].toRotationMatrix();
+    const Vec3 n = ra * j.normal_on_a[k];
+    double opening = 0;
+    for (int q = j.point_begin[k]; q < j.point_begin[k + 1]; ++q) {
+      const Vec3 separation = (s.position[b] + rb * j.point_on_b[q]) - (s.position[a] + ra * j.point_on_a[q]);
+      opening = std::max(opening, separation.dot(n));
+    }
+    const Vec3 centre_separation = (s.position[b] + rb * j.centre_on_b[k]) - (s.position[a] + ra * j.centre_on_a[k]);
+    const double slip = (centre_separation - centre_separation.dot(n) * n).norm();
+
+    // The pair's sub-contacts (pairs are sorted by (a, b)): has any lost its bond?
+    const auto it = std::lower_bound(s.pairs.begin(), s.pairs.end(), std::pair{a, b},
+                                     [](const Pair& p, const std::pair<int, int>& key) {
+                                       return p.a < key.first || (p.a == key.first && p.b < key.second);
+                                     });
+    if (it != s.pairs.end() && it->a == a && it->b == b)
+      for (int i = it->sub_begin; i < it->sub_begin + it->sub_count; ++i)
+        if (s.contacts.flags[i] & SubContactFlag::broken) j.bond_broken[k] = 1;
+
+    j.opening_m[k] = opening;
+    j.slip_m[k] = slip;
+    const bool open = opening > t.crack_opening_m;
+    if (open || j.bond_broken[k]) j.cracked[k] = 1;
+    counts.open += open;
+    counts.cracked += j.cracked[k];
+    counts.slipped += slip > t.slip_m;
+    counts.largest_opening_m = std::max(counts.largest_opening_m, opening);
+    if (slip > counts.largest_slip_m) {
+      counts.largest_slip_m = slip;
+      counts.largest_slip_joint = k;
+    }
+  }
+  return counts;
+}
+
+}  // namespace ishibashi

@@ -1,0 +1,54 @@
+// The joints of a structure as an engineer reads them: one joint per pair of blocks in
+// contact at the start (two convex blocks meet on one plane), measured kinematically
+// from the blocks' motion, so that neither re-keyed sub-contacts nor contacts that
+// opened beyond the contact tolerance change what is counted.
+//   opening: the largest separation normal to the joint over its corners, m (a hinge
+//            opens at one edge first);
+//   slip:    the relative displacement in the joint plane at its centre, m.
+// A joint has cracked when it opened by more than `crack_opening_m` or its bond broke;
+// it has slipped when the slip exceeds `slip_m`. Sliding is not cracking.
+#pragma once
+#include <vector>
+
+#include "engine/state.h"
+
+namespace ishibashi {
+
+struct JointThresholds {
+  double crack_opening_m = 1e-3;
+  double slip_m = 1e-3;
+};
+
+struct Joints {
+  // ---- geometry at the start (nj joints, nq points) ----
+  std::vector<int> block_a, block_b;     // (nj) block_a < block_b
+  std::vector<int> point_begin{0};       // (nj+1) joint j owns points [point_begin[j], point_begin[j+1])
+  std::vector<Vec3> point_on_a, point_on_b;    // (nq) the same material point in a's and b's
+                                               // principal frames (the original sub-contact points)
+  std::vector<Vec3> centre_on_a, centre_on_b;  // (nj) the joint's centre, likewise
+  std::vector<Vec3> normal_on_a;         // (nj) unit, a -> b, in a's principal frame
+
+  // ---- measured by measure_joints ----
+  std::vector<double> opening_m;         // (nj) now, >= 0
+  std::vector<double> slip_m;            // (nj) now
+  std::vector<std::uint8_t> bond_broken; // (nj) a sub-contact of the joint lost its bond (for good)
+  std::vector<std::uint8_t> cracked;     // (nj) has cracked at some time (for good)
+
+  int size() const { return static_cast<int>(block_a.size()); }
+};
+
+// The joints of the sub-contacts flagged original (in contact when the World was made).
+Joints find_original_joints(const State& state);
+
+struct JointCounts {
+  int open = 0;      // open by more than the crack opening now
+  int cracked = 0;   // cracked at some time (opened beyond it, or lost the bond)
+  int slipped = 0;   // slip beyond the threshold now
+  double largest_opening_m = 0, largest_slip_m = 0;
+  int largest_slip_joint = -1;
+};
+
+// Updates the joints' openings, slips and crack flags from the current state.
+JointCounts measure_joints(const State& state, const JointThresholds& thresholds, Joints& joints);
+
+}  // namespace ishibashi
