@@ -45,6 +45,14 @@ int main(int argc, char** argv) {
       ->check(CLI::NonNegativeNumber);
   run_cmd->add_option("--threads", run.threads, "threads, replacing the scenario's threads (0: all cores)")
       ->check(CLI::NonNegativeNumber);
+  run_cmd->add_option("--start", run.start_s, "where in the record the shaking starts, s, replacing the scenario's start_s")
+      ->check(CLI::NonNegativeNumber);
+  run_cmd->add_option("--dt", run.dt_s, "time step, s, replacing the scenario's dt_s (0: 0.8 of the stability limit)")
+      ->check(CLI::NonNegativeNumber);
+  run_cmd->add_option("--dt-factor", run.dt_factor, "multiplies the time step (0.5 halves it: convergence studies)")
+      ->check(CLI::Range(1e-3, 1.0));
+  run_cmd->add_option("--subdivision", run.subdivision, "contact subdivision, replacing the scenario's")
+      ->check(CLI::Range(1, 16));
 
   ishibashi::ModalOptions modal;
   CLI::App* modal_cmd = app.add_subcommand("modal", "Natural frequencies and mode shapes (modal analysis, joints held linear)");

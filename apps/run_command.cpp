@@ -58,6 +58,9 @@ int run_scenario(const RunOptions& o) {
   Scenario sc = read_scenario(o.scenario);
   if (o.duration_s >= 0) sc.duration_s = sc.ground_motion.duration_s = o.duration_s;
   if (o.threads >= 0) sc.threads = o.threads;
+  if (o.start_s >= 0) sc.ground_motion.start_s = o.start_s;
+  if (o.dt_s >= 0) sc.dt_s = o.dt_s;
+  if (o.subdivision > 0) sc.subdivision = o.subdivision;
   if (sc.threads > 0) omp_set_num_threads(sc.threads);
   const std::filesystem::path out = o.out.empty() ? std::filesystem::path("out") / o.scenario.stem() : o.out;
   std::filesystem::create_directories(out);
@@ -70,7 +73,7 @@ int run_scenario(const RunOptions& o) {
     if (motion == Motion::fixed) motion = Motion::prescribed;
   int limiting_block = -1;
   const double limit_s = World(model, 1e-9).critical_time_step_s(&limiting_block);
-  const double dt = sc.dt_s > 0 ? sc.dt_s : 0.8 * limit_s;
+  const double dt = (sc.dt_s > 0 ? sc.dt_s : 0.8 * limit_s) * o.dt_factor;
   const GroundMotion ground = prepare_ground_motion(sc.ground_motion, dt);
   World world(model, dt);
   const Model& m = world.model();
@@ -104,12 +107,16 @@ int run_scenario(const RunOptions& o) {
   } sum;
   const int crown = monitors.empty() ? -1 : monitors.front();
 
+  std::vector<std::uint8_t> reported_left(m.block_count, 0);
   // Monitored displacements are relative to the ground (gd: the ground's displacement).
   auto record = [&](const char* phase, const Vec3& ga, const Vec3& gd) {
     const Counts c = count(m, s, thresholds, joints);
-    if (c.left_model > sum.counts.left_model)
-      std::fprintf(stderr, "\n  warning: %d block(s) fell past the ground at t = %.3f s and were frozen there\n",
-                   c.left_model - sum.counts.left_model, s.time_s);
+    for (int b = 0; b < m.block_count; ++b)
+      if (s.left_model[b] && !reported_left[b]) {
+        reported_left[b] = 1;
+        std::fprintf(stderr, "\n  warning: %s fell past the edge of the ground by t = %.3f s and was frozen at (%.2f, %.2f, %.2f) m\n",
+                     m.block_label(b).c_str(), s.time_s, s.position[b].x(), s.position[b].y(), s.position[b].z());
+      }
     sum.counts = c;
     history.precision(9);
     history << s.time_s << "," << phase << "," << ga.x() << "," << ga.y() << "," << ga.z() << "," << gd.x() << ","
@@ -165,6 +172,7 @@ int run_scenario(const RunOptions& o) {
     }
   }
   sum.settle_time_s = s.time_s;
+  set_joint_reference(s, joints);  // openings and slips of the shaking, from the settled pose
   if (crown >= 0) sum.settled_crown = s.position[crown];
   write_summary(false);
 

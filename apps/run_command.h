@@ -12,6 +12,10 @@ struct RunOptions {
   bool quiet = false;         // no progress bar
   double duration_s = -1;     // >= 0: replaces the scenario's [run] duration_s (0: whole record)
   int threads = -1;           // >= 0: replaces the scenario's [run] threads (0: all cores)
+  double start_s = -1;        // >= 0: replaces the scenario's [ground_motion] start_s
+  double dt_s = -1;           // >= 0: replaces the scenario's [run] dt_s (0: 0.8 of the limit)
+  double dt_factor = 1;       // multiplies the time step (0.5: half of it, for convergence studies)
+  int subdivision = 0;        // > 0: replaces the scenario's [run] subdivision
 };
 
 // Returns the exit code: 0 done, 130 interrupted (outputs valid up to that moment).

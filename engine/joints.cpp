@@ -30,6 +30,8 @@ Joints find_original_joints(const State& s) {
     j.normal_on_a.push_back(ra * normal);
   }
   const std::size_t nj = j.block_a.size();
+  j.reference_on_a.assign(j.point_on_a.size(), Vec3::Zero());
+  j.centre_reference_on_a.assign(nj, Vec3::Zero());
   j.opening_m.assign(nj, 0.0);
   j.slip_m.assign(nj, 0.0);
   j.bond_broken.assign(nj, 0);
@@ -37,19 +39,36 @@ Joints find_original_joints(const State& s) {
   return j;
 }
 
+namespace {
+
+// Where b's copy of a material point is relative to a's copy, in a's principal frame, m.
+Vec3 separation_on_a(const State& s, int a, int b, const Vec3& on_a, const Vec3& on_b) {
+  const Mat3 ra = s.orientation[a].toRotationMatrix();
+  return ra.transpose() * (s.position[b] + s.orientation[b] * on_b - s.position[a]) - on_a;
+}
+
+}  // namespace
+
+void set_joint_reference(const State& s, Joints& j) {
+  for (int k = 0; k < j.size(); ++k) {
+    const int a = j.block_a[k], b = j.block_b[k];
+    for (int q = j.point_begin[k]; q < j.point_begin[k + 1]; ++q)
+      j.reference_on_a[q] = separation_on_a(s, a, b, j.point_on_a[q], j.point_on_b[q]);
+    j.centre_reference_on_a[k] = separation_on_a(s, a, b, j.centre_on_a[k], j.centre_on_b[k]);
+    j.cracked[k] = j.bond_broken[k];
+  }
+}
+
 JointCounts measure_joints(const State& s, const JointThresholds& t, Joints& j) {
   JointCounts counts;
   for (int k = 0; k < j.size(); ++k) {
     const int a = j.block_a[k], b = j.block_b[k];
-    const Mat3 ra = s.orientation[a].toRotationMatrix(), rb = s.orientation[b].toRotationMatrix();
-    const Vec3 n = ra * j.normal_on_a[k];
+    const Vec3& n = j.normal_on_a[k];
     double opening = 0;
-    for (int q = j.point_begin[k]; q < j.point_begin[k + 1]; ++q) {
-      const Vec3 separation = (s.position[b] + rb * j.point_on_b[q]) - (s.position[a] + ra * j.point_on_a[q]);
-      opening = std::max(opening, separation.dot(n));
-    }
-    const Vec3 centre_separation = (s.position[b] + rb * j.centre_on_b[k]) - (s.position[a] + ra * j.centre_on_a[k]);
-    const double slip = (centre_separation - centre_separation.dot(n) * n).norm();
+    for (int q = j.point_begin[k]; q < j.point_begin[k + 1]; ++q)
+      opening = std::max(opening, (separation_on_a(s, a, b, j.point_on_a[q], j.point_on_b[q]) - j.reference_on_a[q]).dot(n));
+    const Vec3 centre = separation_on_a(s, a, b, j.centre_on_a[k], j.centre_on_b[k]) - j.centre_reference_on_a[k];
+    const double slip = (centre - centre.dot(n) * n).norm();
 
     // The pair's sub-contacts (pairs are sorted by (a, b)): has any lost its bond?
     const auto it = std::lower_bound(s.pairs.begin(), s.pairs.end(), std::pair{a, b},

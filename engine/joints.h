@@ -27,6 +27,10 @@ struct Joints {
                                                // principal frames (the original sub-contact points)
   std::vector<Vec3> centre_on_a, centre_on_b;  // (nj) the joint's centre, likewise
   std::vector<Vec3> normal_on_a;         // (nj) unit, a -> b, in a's principal frame
+  // Separation of b's copy of each point from a's, in a's frame, at the reference pose
+  // (zero at the start; set_joint_reference moves it, e.g. to the pose after settling).
+  std::vector<Vec3> reference_on_a;      // (nq)
+  std::vector<Vec3> centre_reference_on_a;  // (nj)
 
   // ---- measured by measure_joints ----
   std::vector<double> opening_m;         // (nj) now, >= 0
@@ -39,6 +43,10 @@ struct Joints {
 
 // The joints of the sub-contacts flagged original (in contact when the World was made).
 Joints find_original_joints(const State& state);
+
+// Measures opening and slip from the current pose on (a run's settled state), keeping
+// only the broken bonds as cracks.
+void set_joint_reference(const State& state, Joints& joints);
 
 struct JointCounts {
   int open = 0;      // open by more than the crack opening now

@@ -289,8 +289,10 @@ std::vector<BridgeBlock> generate_bridge(const BridgeSpec& s) {
                                    Part::side_wall, 0, true});
     }
   if (s.ground_thickness_m > 0) {
-    // Wide enough to catch what falls: the bridge's height beyond it on every side.
-    const double margin = std::max(2 * stone, height);
+    // Wide enough to catch what falls: twice the bridge's height beyond it on every side
+    // (stones thrown off the crown of model A at 5 m/s land up to about 6 m out, then
+    // roll). What leaves it anyway is frozen below it (Model::leave_depth_m).
+    const double margin = std::max(2 * stone, 2 * height);
     const double length = 2 * (half_length + s.side_wall_width_m + margin);
     blocks.push_back(BridgeBlock{make_box(Vec3(0, 0, -0.5 * s.ground_thickness_m),
                                           Vec3(length, s.ring.width_m + 2 * margin, s.ground_thickness_m)),
