@@ -16,6 +16,7 @@ if [ ${#scenarios[@]} -eq 0 ]; then
 fi
 bash "$root/scripts/build.sh" > /dev/null
 start=${START:-6} duration=${DURATION:-5} threads=${THREADS:-0}
+mkdir -p "$(dirname "$table")"
 [ -f "$table" ] || echo "scenario,start_s,duration_s,dt_s,balance_error_pct,balance_error_before_first_fall_pct,first_opening_s,crown_drop_m,joints_cracked,fallen_stones,blocks_left_model,collapse,wall_s" > "$table"
 mkdir -p "$root/out/energy"
 for name in "${scenarios[@]}"; do
