@@ -156,6 +156,7 @@ int run_scenario(const RunOptions& o) {
       << ",\n  \"energy_balance_error_j\": " << e.balance_error_j()
       << ",\n  \"energy_balance_error_relative\": " << relative_balance_error(e)
       << ",\n  \"dt_s\": " << dt << ",\n  \"steps\": " << s.step << ",\n  \"threads\": " << thread_count()
+      << ",\n  \"state_hash\": \"" << std::hex << world.state_hash() << std::dec << "\""
       << ",\n  \"wall_time_s\": " << std::chrono::duration<double>(Clock::now() - wall0).count() << "\n}\n";
     write_text_atomically(out / "summary.json", j.str());
   };
