@@ -521,17 +521,17 @@ void append_rebuilt(const Model& m, const State& s, const Pair& pair, const Mani
     } else {
       out.normal_stretch_m[j] = bondable ? p.gap_m : std::min(p.gap_m, 0.0);  // from its overlap
       out.shear_stretch_m[j] = Vec3::Zero();
-      out.flags[j] = SubContactFlag::fresh | (bondable ? SubContactFlag::bonded : 0) |
-                     (first_detection ? SubContactFlag::original : 0);
+      out.flags[j] = (bondable ? SubContactFlag::bonded : 0) | (first_detection ? SubContactFlag::original : 0);
       out.damping_force_n[j] = Vec3::Zero();
       out.gap_change_m[j] = 0.0;
       out.slip_m[j] = 0.0;
     }
   }
-  // The re-clipped pair keeps exactly the spring energy it stored: the passed-on springs
-  // are scaled together to it. Otherwise a corner contact (small area, soft) that turns
-  // into a face contact (large area, stiff) would turn the stresses it passes on into
-  // energy from nothing and the stones would pop apart (and the reverse would lose some).
+  // The re-clipped pair keeps exactly the spring energy it stored: its springs, passed on
+  // or new, are scaled together to it. Otherwise a corner contact (small area, soft) that
+  // turns into a face contact (large area, stiff) would turn the stresses it passes on
+  // into energy from nothing and the stones would pop apart (and the reverse would lose
+  // some).
   double before = 0, after = 0;
   for (int q = old_begin; q < old_end; ++q) before += old.spring_energy(q);
   for (std::size_t j = first; j < out.size(); ++j) after += out.spring_energy(j);

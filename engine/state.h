@@ -21,7 +21,6 @@ enum SubContactFlag : std::uint8_t {
   broken = 2,    // had a bond and lost it (tension or shear failure)
   sliding = 4,   // shear force at the friction limit this step
   open = 8,      // gap >= 0 and no bond: carries no force
-  fresh = 16,    // created this step: its springs start from the current overlap
   original = 32, // part of a joint in contact at the start (may carry a bond)
 };
 
