@@ -40,7 +40,10 @@ BlockEnergy integrate(const Model& m, State& s, double dt) {
         s.orientation[b] = (s.orientation[b] * quat_from_rotation_vector(w * dt)).normalized();
         if (down.dot(s.position[b]) > m.leave_depth_m) {
           s.left_model[b] = 1;
-          e.left_model_j += 0.5 * m.mass_kg[b] * s.velocity[b].squaredNorm() + 0.5 * w.dot(inertia.cwiseProduct(w));
+          // Its kinetic energy, plus the half step of fall that the pose-averaged
+          // gravitational energy (World::step) has yet to count.
+          e.left_model_j += 0.5 * m.mass_kg[b] * s.velocity[b].squaredNorm() + 0.5 * w.dot(inertia.cwiseProduct(w)) +
+                            0.5 * m.mass_kg[b] * dt * m.gravity_m_s2.dot(s.velocity[b]);
           s.velocity[b] = s.angular_velocity[b] = Vec3::Zero();
         }
       }
