@@ -527,15 +527,19 @@ void append_rebuilt(const Model& m, const State& s, const Pair& pair, const Mani
       out.slip_m[j] = 0.0;
     }
   }
-  // The re-clipped pair keeps exactly the spring energy it stored: its springs, passed on
-  // or new, are scaled together to it. Otherwise a corner contact (small area, soft) that
-  // turns into a face contact (large area, stiff) would turn the stresses it passes on
-  // into energy from nothing and the stones would pop apart (and the reverse would lose
-  // some).
+  // A re-clipped pair keeps the spring energy it stored: its springs, passed on or new,
+  // are scaled together to it. Otherwise a corner contact (small area, soft) that turns
+  // into a face contact (large area, stiff) would turn the stresses it passes on into
+  // energy from nothing and the stones would pop apart, a face contact that turns into
+  // a corner would lose most of its energy, and a pair whose features change while the
+  // blocks overlap deeply (a falling stone's corner that turns out to be a face 9 mm
+  // inside its neighbour) would start its new points from that overlap: a pair that
+  // stored nothing starts with nothing (Nishida A at subdivision 2: balance error 50 %
+  // of the energy exchanged before, 0.15 % after).
   double before = 0, after = 0;
   for (int q = old_begin; q < old_end; ++q) before += old.spring_energy(q);
   for (std::size_t j = first; j < out.size(); ++j) after += out.spring_energy(j);
-  if (after > 0 && before > 0) {
+  if (after > 0 && after != before) {
     const double scale = std::sqrt(before / after);
     for (std::size_t j = first; j < out.size(); ++j) {
       out.normal_stretch_m[j] *= scale;
