@@ -82,7 +82,10 @@ int run_scenario(const RunOptions& o) {
   if (monitors.empty() && crown_unit(m) >= 0) monitors.push_back(crown_unit(m));
   for (int b : monitors)
     if (b < 0 || b >= m.block_count) throw InputError(o.scenario.string() + ": [monitor] block " + std::to_string(b) + " does not exist");
-  Joints joints = find_original_joints(s);
+  // The masonry's joints: a soil fill's elements part and slide as soil does.
+  std::vector<std::uint8_t> soil(m.block_count, 0);
+  for (int b = 0; b < m.block_count; ++b) soil[b] = m.block_tag[b].part == static_cast<int>(Part::soil);
+  Joints joints = find_original_joints(s, soil);
   const JointThresholds thresholds;  // 1 mm opening is a crack, 1 mm slip a slipped joint
 
   std::printf("%s: %d blocks, %zu sub-contacts, dt = %.3g s, %d threads; ground motion %.2f s (from %.2f s of the record)\n",

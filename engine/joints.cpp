@@ -4,10 +4,11 @@
 
 namespace ishibashi {
 
-Joints find_original_joints(const State& s) {
+Joints find_original_joints(const State& s, const std::vector<std::uint8_t>& leave_out) {
   Joints j;
   const SubContacts& c = s.contacts;
   for (const Pair& pair : s.pairs) {
+    if (!leave_out.empty() && (leave_out[pair.a] || leave_out[pair.b])) continue;
     const int begin = static_cast<int>(j.point_on_a.size());
     Vec3 centre = Vec3::Zero(), normal = Vec3::Zero();
     const Mat3 ra = s.orientation[pair.a].toRotationMatrix().transpose();  // world -> a's frame

@@ -8,6 +8,7 @@
 // A joint has cracked when it opened by more than `crack_opening_m` or its bond broke;
 // it has slipped when the slip exceeds `slip_m`. Sliding is not cracking.
 #pragma once
+#include <cstdint>
 #include <vector>
 
 #include "engine/state.h"
@@ -41,8 +42,10 @@ struct Joints {
   int size() const { return static_cast<int>(block_a.size()); }
 };
 
-// The joints of the sub-contacts flagged original (in contact when the World was made).
-Joints find_original_joints(const State& state);
+// The joints of the sub-contacts flagged original (in contact when the World was made),
+// leaving out those of the blocks flagged in `leave_out` (nb; empty: none), e.g. a soil
+// fill's elements, whose openings are no cracks of the masonry.
+Joints find_original_joints(const State& state, const std::vector<std::uint8_t>& leave_out = {});
 
 // Measures opening and slip from the current pose on (a run's settled state), keeping
 // only the broken bonds as cracks.
