@@ -10,7 +10,7 @@ struct DemoOptions {
   std::filesystem::path out = "out/demo";
   double duration_s = 4.0;
   double frames_per_s = 25.0;
-  double dt_s = 2e-5;  // below the damped stability limit of these stones (2.5e-5 s)
+  double dt_s = 1e-5;  // below the damped stability limit of these stones (1.3e-5 s)
   int courses = 6, stones_per_course = 5;
 };
 

@@ -35,6 +35,7 @@ Joints find_original_joints(const State& s, const std::vector<std::uint8_t>& lea
   j.centre_reference_on_a.assign(nj, Vec3::Zero());
   j.opening_m.assign(nj, 0.0);
   j.slip_m.assign(nj, 0.0);
+  j.broken_at_reference.assign(nj, 0);
   j.bond_broken.assign(nj, 0);
   j.cracked.assign(nj, 0);
   return j;
@@ -48,16 +49,33 @@ Vec3 separation_on_a(const State& s, int a, int b, const Vec3& on_a, const Vec3&
   return ra.transpose() * (s.position[b] + s.orientation[b] * on_b - s.position[a]) - on_a;
 }
 
+// Sub-contacts of the pair (a, b) that lost their bond (pairs are sorted by (a, b)).
+int broken_subcontacts(const State& s, int a, int b) {
+  const auto it = std::lower_bound(s.pairs.begin(), s.pairs.end(), std::pair{a, b},
+                                   [](const Pair& p, const std::pair<int, int>& key) {
+                                     return p.a < key.first || (p.a == key.first && p.b < key.second);
+                                   });
+  int broken = 0;
+  if (it != s.pairs.end() && it->a == a && it->b == b)
+    for (int i = it->sub_begin; i < it->sub_begin + it->sub_count; ++i)
+      broken += (s.contacts.flags[i] & SubContactFlag::broken) != 0;
+  return broken;
+}
+
 }  // namespace
 
-void set_joint_reference(const State& s, Joints& j) {
+int set_joint_reference(const State& s, Joints& j) {
+  int with_broken_bond = 0;
   for (int k = 0; k < j.size(); ++k) {
     const int a = j.block_a[k], b = j.block_b[k];
     for (int q = j.point_begin[k]; q < j.point_begin[k + 1]; ++q)
       j.reference_on_a[q] = separation_on_a(s, a, b, j.point_on_a[q], j.point_on_b[q]);
     j.centre_reference_on_a[k] = separation_on_a(s, a, b, j.centre_on_a[k], j.centre_on_b[k]);
-    j.cracked[k] = j.bond_broken[k];
+    j.broken_at_reference[k] = broken_subcontacts(s, a, b);
+    with_broken_bond += j.broken_at_reference[k] > 0;
+    j.bond_broken[k] = j.cracked[k] = 0;
   }
+  return with_broken_bond;
 }
 
 JointCounts measure_joints(const State& s, const JointThresholds& t, Joints& j) {
@@ -71,14 +89,7 @@ JointCounts measure_joints(const State& s, const JointThresholds& t, Joints& j) 
     const Vec3 centre = separation_on_a(s, a, b, j.centre_on_a[k], j.centre_on_b[k]) - j.centre_reference_on_a[k];
     const double slip = (centre - centre.dot(n) * n).norm();
 
-    // The pair's sub-contacts (pairs are sorted by (a, b)): has any lost its bond?
-    const auto it = std::lower_bound(s.pairs.begin(), s.pairs.end(), std::pair{a, b},
-                                     [](const Pair& p, const std::pair<int, int>& key) {
-                                       return p.a < key.first || (p.a == key.first && p.b < key.second);
-                                     });
-    if (it != s.pairs.end() && it->a == a && it->b == b)
-      for (int i = it->sub_begin; i < it->sub_begin + it->sub_count; ++i)
-        if (s.contacts.flags[i] & SubContactFlag::broken) j.bond_broken[k] = 1;
+    if (broken_subcontacts(s, a, b) > j.broken_at_reference[k]) j.bond_broken[k] = 1;
 
     j.opening_m[k] = opening;
     j.slip_m[k] = slip;

@@ -36,7 +36,8 @@ struct Joints {
   // ---- measured by measure_joints ----
   std::vector<double> opening_m;         // (nj) now, >= 0
   std::vector<double> slip_m;            // (nj) now
-  std::vector<std::uint8_t> bond_broken; // (nj) a sub-contact of the joint lost its bond (for good)
+  std::vector<int> broken_at_reference;  // (nj) its sub-contacts that had lost their bond then
+  std::vector<std::uint8_t> bond_broken; // (nj) more of them lost their bond since (for good)
   std::vector<std::uint8_t> cracked;     // (nj) has cracked at some time (for good)
 
   int size() const { return static_cast<int>(block_a.size()); }
@@ -47,9 +48,9 @@ struct Joints {
 // fill's elements, whose openings are no cracks of the masonry.
 Joints find_original_joints(const State& state, const std::vector<std::uint8_t>& leave_out = {});
 
-// Measures opening and slip from the current pose on (a run's settled state), keeping
-// only the broken bonds as cracks.
-void set_joint_reference(const State& state, Joints& joints);
+// Measures opening, slip and broken bonds from the current state on (a run's settled
+// state): what cracked before counts no more. Returns the joints with a broken bond now.
+int set_joint_reference(const State& state, Joints& joints);
 
 struct JointCounts {
   int open = 0;      // open by more than the crack opening now

@@ -47,9 +47,11 @@ void clip(const Polygon& in, const Vec3& normal, double offset, double slack, st
     const double dp = normal.dot(p.x) - offset, dq = normal.dot(q.x) - offset;
     const bool p_in = dp <= slack, q_in = dq <= slack;
     if (p_in) out.push(p);
-    if (p_in != q_in) {
-      // The cut lies on the true plane; when a kept end is itself within the slack
-      // outside, the cut falls beyond the segment and that end stands for it.
+    // The cut lies on the true plane. When the kept end lies within the slack of it, on
+    // either side, that end stands for the cut: a cut next to it would be a second
+    // sub-contact on the same spot (a corner exactly on the side plane of an aligned
+    // masonry joint), doubling the joint's stiffness there beyond the stability limit.
+    if (p_in != q_in && std::abs(p_in ? dp : dq) > slack) {
       const double t = dp / (dp - dq);
       if (t > 0.0 && t < 1.0) out.push(ClipPoint{p.x + t * (q.x - p.x), crossing_feature(plane, p.feature, q.feature)});
     }

@@ -16,7 +16,7 @@ std::uint64_t shaken_wall_hash(int threads) {
   spec.courses = 5;
   spec.stones_per_course = 14;  // 141 blocks: enough for the loops to run on threads
   spec.leaves = 2;
-  World w(make_wall_model(spec), 2e-5);
+  World w(make_wall_model(spec), 1e-5);
   State& s = w.state();
   for (int i = 0; i < 3000; ++i) {
     s.velocity[0].x() += 0.8 * 9.81 * std::sin(2 * M_PI * 5.0 * s.time_s) * w.dt_s();

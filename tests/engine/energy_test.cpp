@@ -62,10 +62,10 @@ TEST(Energy, BalanceClosesOnAShakingBase) {
   WallSpec spec;
   spec.courses = 1;
   spec.stones_per_course = 4;
-  World w(make_wall_model(spec), 2e-5);
+  World w(make_wall_model(spec), 1e-5);
   State& s = w.state();
   const double pi = std::acos(-1.0);
-  for (int i = 0; i < 50000; ++i) {  // 1 s at 2 Hz
+  for (int i = 0; i < 100000; ++i) {  // 1 s at 2 Hz
     s.velocity[0].x() += 0.8 * 9.81 * std::sin(2 * pi * 2.0 * s.time_s) * w.dt_s();
     w.step();
   }

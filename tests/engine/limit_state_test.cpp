@@ -49,7 +49,7 @@ struct ArchOutcome {
 ArchOutcome load_arch(double t_over_r, double duration_s, double stop_drop_m) {
   const double radius = 5.0;
   const int count = 36;  // 5 degrees each: joints at 50, 55, 60 degrees from the crown
-  World w(semicircular_arch(radius, t_over_r * radius, count), 2e-5);
+  World w(semicircular_arch(radius, t_over_r * radius, count), 1e-5);
   State& s = w.state();
   Joints joints = find_original_joints(s);
   const int crown = 1 + count / 2;  // the voussoir just past the crown (joint 18 is at the crown)

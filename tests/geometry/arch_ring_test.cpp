@@ -80,8 +80,8 @@ TEST(ArchRing, RunningBondRingAlsoStands) {
   ArchRingSpec spec;
   spec.bond = Bond::running;
   const Model m = make_arch_ring_model(spec);
-  World w(m, 2e-5);
-  w.run(15000);
+  World w(m, 1e-5);
+  w.run(30000);
   double d = 0;
   for (int b = 0; b < m.block_count; ++b) d = std::max(d, (w.state().position[b] - m.initial_position[b]).norm());
   EXPECT_LT(d, 1e-3);
