@@ -47,7 +47,7 @@ double gather_forces(const Model& model, State& state);
 struct BlockEnergy {
   double kinetic_j = 0.0;
   double gravitational_j = 0.0;  // -m g . x, zero at the origin
-  double left_model_j = 0.0;     // kinetic energy of the blocks frozen in this step
+  double left_model_j = 0.0;     // energy taken from the blocks frozen in this step
 };
 BlockEnergy integrate(const Model& model, State& state, double dt_s);
 

@@ -98,8 +98,8 @@ struct Energy {
   double friction_j = 0.0;       // dissipated by sliding so far
   double bond_j = 0.0;           // spring energy released when bonds broke
   double prescribed_work_j = 0.0;  // work done on the system by prescribed blocks so far
-  double left_model_j = 0.0;     // kinetic energy of blocks that left the model, frozen
-                                 // where they left (see Model::leave_depth_m)
+  double left_model_j = 0.0;     // mechanical energy taken from blocks that left the model
+                                 // when they were frozen (Model::leave_depth_m; integrate.cpp)
   double initial_total_j = 0.0;  // mechanical energy at the first step
 
   double mechanical_j() const { return kinetic_j + gravitational_j + elastic_j; }
