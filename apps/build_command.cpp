@@ -5,6 +5,7 @@
 #include <cstdio>
 #include <map>
 
+#include "analysis/load.h"
 #include "engine/mass_properties.h"
 #include "engine/world.h"
 #include "geometry/block_files.h"
@@ -15,56 +16,14 @@
 
 namespace ishibashi {
 
-namespace {
-
-std::vector<BridgeBlock> blocks_of(const ModelFile& file, const std::filesystem::path& path) {
-  std::vector<BridgeBlock> blocks;
-  if (file.imported()) {
-    for (const auto* list : {&file.import_files, &file.fixed_files})
-      for (const auto& p : *list)
-        for (const Polyhedron& shape : read_block_file(p))
-          blocks.push_back(BridgeBlock{shape, Part::imported, 0, list == &file.fixed_files});
-    return blocks;
-  }
-  try {
-    return generate_bridge(file.bridge);
-  } catch (const ModelError& e) {
-    throw InputError(path.string() + ": " + e.what());
-  }
-}
-
-ValidationReport validate(const std::vector<BridgeBlock>& blocks) {
-  std::vector<Polyhedron> shapes;
-  std::vector<std::string> names;
-  for (std::size_t i = 0; i < blocks.size(); ++i) {
-    shapes.push_back(blocks[i].shape);
-    names.push_back(std::string(part_name(blocks[i].part)) + "-" + std::to_string(i));
-  }
-  return validate_blocks(shapes, names);
-}
-
-}  // namespace
-
-Model load_model(const ModelFile& file, const std::filesystem::path& path) {
-  std::vector<BridgeBlock> blocks = blocks_of(file, path);
-  const ValidationReport report = validate(blocks);
-  if (!report.ok()) {
-    for (const std::string& e : report.errors) std::fprintf(stderr, "  error: %s\n", e.c_str());
-    throw InputError(path.string() + ": the blocks failed validation (" + std::to_string(report.errors.size()) + " errors above)");
-  }
-  if (file.imported())
-    for (BridgeBlock& b : blocks) b.shape = merged_faces(b.shape);
-  return compile_bridge(file.bridge, blocks);
-}
-
 int run_build(const BuildOptions& o) {
   const auto t0 = std::chrono::steady_clock::now();
   const ModelFile file = read_model_file(o.model_file);
-  std::vector<BridgeBlock> blocks = blocks_of(file, o.model_file);
+  std::vector<BridgeBlock> blocks = model_blocks(file, o.model_file);
   std::printf("%s: %s\n", file.name.c_str(), file.description.c_str());
 
   // Validation (CGAL): every block sound, no overlaps, every block on a shared face.
-  const ValidationReport report = validate(blocks);
+  const ValidationReport report = validate_model_blocks(blocks);
   double ground_volume = 0;  // our fixed slab is not part of the design outline
   for (const BridgeBlock& b : blocks)
     if (b.part == Part::ground) ground_volume += polyhedron_mass_properties(b.shape.vertices, b.shape.faces).volume_m3;

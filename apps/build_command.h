@@ -3,9 +3,6 @@
 #pragma once
 #include <filesystem>
 
-#include "engine/model.h"
-#include "io/model_file.h"
-
 namespace ishibashi {
 
 struct BuildOptions {
@@ -16,9 +13,5 @@ struct BuildOptions {
 
 // Returns the exit code: 0 when the model is valid, 3 when validation found errors.
 int run_build(const BuildOptions& options);
-
-// The blocks of a model file (generated or imported), validated with CGAL and ready for
-// the engine; prints the validation errors and throws InputError when there are any.
-Model load_model(const ModelFile& file, const std::filesystem::path& path);
 
 }  // namespace ishibashi

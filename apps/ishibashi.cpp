@@ -8,6 +8,7 @@
 #include "apps/demo.h"
 #include "apps/modal_command.h"
 #include "apps/run_command.h"
+#include "apps/study_command.h"
 #include "io/model_file.h"
 #include "engine/model.h"
 #include "engine/parallel.h"
@@ -59,8 +60,25 @@ int main(int argc, char** argv) {
   modal_cmd->add_option("file", modal.file, "model or scenario file")->required();
   modal_cmd->add_option("--modes", modal.modes, "number of modes")->check(CLI::Range(1, 500));
   modal_cmd->add_option("--out", modal.out, "output folder (default: out/<name>_modal)");
-  modal_cmd->add_option("--impulse", modal.impulse_s, "also run impulse responses of this many seconds in x, y, z")
+  modal_cmd->add_option("--impulse", modal.impulse_s, "also run impulse responses of this many seconds (x, y, z steps)")
       ->check(CLI::NonNegativeNumber);
+  modal_cmd->add_option("--excite", modal.excite, "one impulse: the ground step's axis")->check(CLI::IsMember({"x", "y", "z"}));
+  modal_cmd->add_option("--read", modal.read, "the displacement component read (default: the step's axis)")
+      ->check(CLI::IsMember({"x", "y", "z"}));
+  modal_cmd->add_option("--block", modal.block, "the monitored block (default: the unit on top of the crown)")
+      ->check(CLI::NonNegativeNumber);
+
+  ishibashi::StudyCommandOptions study;
+  CLI::App* study_cmd = app.add_subcommand(
+      "study", "A whole study: natural frequencies of its models, its seismic runs, and a report with figures");
+  study_cmd->add_option("file", study.file, "study file (TOML; default: the Nishida study, scenarios/nishida_study.toml)");
+  study_cmd->add_option("--out", study.out, "output folder (default: out/study, out/study_quick with --quick)");
+  study_cmd->add_flag("--quick", study.quick, "the study file's short version ([quick]): what CI runs");
+  study_cmd->add_option("--jobs", study.jobs, "analyses run at once")->check(CLI::Range(1, 256));
+  study_cmd->add_option("--threads-per-job", study.threads_per_job, "threads of each analysis (default: cores / jobs)")
+      ->check(CLI::Range(0, 1024));
+  study_cmd->add_flag("--force", study.force, "rerun analyses whose outputs are current");
+  study_cmd->add_flag("--no-report", study.no_report, "skip the report (needs python3 with matplotlib)");
 
   CLI11_PARSE(app, argc, argv);
   if (threads > 0) omp_set_num_threads(threads);
@@ -69,6 +87,7 @@ int main(int argc, char** argv) {
     if (*build_cmd) return ishibashi::run_build(build);
     if (*run_cmd) return ishibashi::run_scenario(run);
     if (*modal_cmd) return ishibashi::run_modal(modal);
+    if (*study_cmd) return ishibashi::run_study_command(study);
   } catch (const ishibashi::InputError& e) {
     std::fprintf(stderr, "ishibashi: input error: %s\n", e.what());
     return 2;

@@ -1,7 +1,8 @@
 // Natural frequencies by impulse response (MODEL.md section 6.1): the ground (the fixed
 // blocks) makes a short step in one direction, the joints originally in contact are held
 // linear (they carry tension, never fail; no gravity needed, no damping), and the response
-// of a monitored block in the same direction is recorded.
+// of a monitored block is recorded along a chosen axis (the excitation's or another: an x
+// step read in z shows how the structure couples the two).
 #pragma once
 #include <vector>
 
@@ -15,12 +16,14 @@ Model linear_joint_model(Model model);
 
 struct ImpulseResponse {
   double dt_s;
-  std::vector<double> displacement_m;  // monitored block relative to the ground, along the axis
+  std::vector<double> displacement_m;  // monitored block relative to the ground, along the response axis
 };
 
-// Ground step of `step_m` along axis (0 x, 1 y, 2 z) over `rise_s`, then `duration_s` of
-// free vibration. dt_s = 0: a tenth of the stability limit (frequencies within 0.2 %).
-ImpulseResponse impulse_response(const Model& linear_model, int axis, int monitor_block, double duration_s,
+// Ground step of `step_m` along excitation_axis (0 x, 1 y, 2 z) over `rise_s`, then
+// `duration_s` of free vibration, read along response_axis. dt_s = 0: a tenth of the
+// stability limit (frequencies within 0.2 %).
+ImpulseResponse impulse_response(const Model& linear_model, int excitation_axis, int response_axis, int monitor_block,
+                                 double duration_s,
                                  double dt_s = 0.0, double step_m = 1e-4, double rise_s = 2e-3);
 
 }  // namespace ishibashi

@@ -28,20 +28,27 @@ Spectrum amplitude_spectrum(const std::vector<double>& signal, double dt_s, int 
   return s;
 }
 
-double first_peak_hz(const Spectrum& s, double threshold, double min_hz) {
+std::vector<SpectralPeak> spectral_peaks(const Spectrum& s, double threshold, double min_hz) {
   double largest = 0;
   for (std::size_t k = 0; k < s.amplitude.size(); ++k)
     if (s.frequency_hz[k] >= min_hz) largest = std::max(largest, s.amplitude[k]);
+  std::vector<SpectralPeak> peaks;
   for (std::size_t k = 1; k + 1 < s.amplitude.size(); ++k) {
     const double a = s.amplitude[k];
-    if (s.frequency_hz[k] < min_hz || a < threshold * largest) continue;
+    if (s.frequency_hz[k] < min_hz || a <= 0 || a < threshold * largest) continue;
     if (a < s.amplitude[k - 1] || a < s.amplitude[k + 1]) continue;
     // Parabola through the three bins (on log amplitude: exact for a Gaussian-like peak).
     const double l = std::log(s.amplitude[k - 1]), c = std::log(a), r = std::log(s.amplitude[k + 1]);
-    const double shift = 0.5 * (l - r) / (l - 2 * c + r);
-    return s.frequency_hz[k] + shift * s.resolution_hz();
+    const double curvature = l - 2 * c + r;
+    const double shift = curvature < 0 ? 0.5 * (l - r) / curvature : 0.0;
+    peaks.push_back({s.frequency_hz[k] + shift * s.resolution_hz(), a / largest});
   }
-  return 0.0;
+  return peaks;
+}
+
+double first_peak_hz(const Spectrum& s, double threshold, double min_hz) {
+  const std::vector<SpectralPeak> peaks = spectral_peaks(s, threshold, min_hz);
+  return peaks.empty() ? 0.0 : peaks.front().frequency_hz;
 }
 
 }  // namespace ishibashi

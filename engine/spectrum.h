@@ -1,5 +1,5 @@
 // Fourier analysis of response histories (Eigen's FFT): amplitude spectra and the first
-// clear spectral peak, for natural frequencies from impulse responses.
+// clear spectral peak and every peak, for natural frequencies from impulse responses.
 #pragma once
 #include <vector>
 
@@ -14,6 +14,16 @@ struct Spectrum {
 // One-sided amplitude spectrum of a signal sampled every dt_s, mean removed, Hann
 // window, zero-padded to a power of two at least `pad` times the length.
 Spectrum amplitude_spectrum(const std::vector<double>& signal, double dt_s, int pad = 4);
+
+struct SpectralPeak {
+  double frequency_hz;
+  double relative_amplitude;  // of the spectrum's largest amplitude (1: the largest peak)
+};
+
+// Every local maximum above `threshold` times the spectrum's largest amplitude (ignoring
+// frequencies below `min_hz`), ascending in frequency, each refined by a parabola through
+// the three bins around it.
+std::vector<SpectralPeak> spectral_peaks(const Spectrum& s, double threshold = 0.05, double min_hz = 0.0);
 
 // The lowest local maximum above `threshold` times the spectrum's largest amplitude
 // (ignoring frequencies below `min_hz`), refined by a parabola through the three bins

@@ -49,6 +49,10 @@ void SubContacts::copy_range(const SubContacts& s, std::size_t from, std::size_t
   copy(s.flags, flags);
 }
 
+bool is_fallen(const Model& m, const State& s, int b) {
+  return m.motion[b] == Motion::free && m.initial_position[b].z() - s.position[b].z() > m.size_m[b];
+}
+
 State make_initial_state(const Model& model) {
   State s;
   const int nb = model.block_count;

@@ -172,4 +172,8 @@ struct State {
 // A State at the model's initial pose, at rest, with no contacts yet.
 State make_initial_state(const Model& model);
 
+// A free block has fallen when its centroid is lower than at the start by more than its
+// size (cbrt of its volume).
+bool is_fallen(const Model& model, const State& state, int block);
+
 }  // namespace ishibashi

@@ -68,6 +68,19 @@ class TableReader {
       }
     }
   }
+  // An array of numbers >= 0 (e.g. times in seconds); replaces `out` when present.
+  void non_negative_numbers(const char* key, std::vector<double>& out) {
+    if (const toml::node* n = find(key)) {
+      const toml::array* a = n->as_array();
+      if (!a) fail(*n, std::string("'") + key + "' must be an array of numbers, e.g. [1.0, 2.5]");
+      out.clear();
+      for (const toml::node& e : *a) {
+        auto v = e.value<double>();
+        if (!v || *v < 0) fail(e, std::string("'") + key + "' must hold numbers >= 0");
+        out.push_back(*v);
+      }
+    }
+  }
   void paths(const char* key, const std::filesystem::path& base, std::vector<std::filesystem::path>& out) {
     if (const toml::node* n = find(key)) {
       const toml::array* a = n->as_array();

@@ -91,10 +91,6 @@ void write_modes_vtu(const Model& m, const State& s, const Eigen::MatrixXd& shap
   write_grid(grid, file);
 }
 
-bool is_fallen(const Model& m, const State& s, int b) {
-  return m.motion[b] == Motion::free && m.initial_position[b].z() - s.position[b].z() > m.size_m[b];
-}
-
 void write_blocks_vtu(const Model& m, const State& s, const std::filesystem::path& file, const Vec3& ground_displacement_m) {
   const int nb = m.block_count;
   const vtkIdType nv = static_cast<vtkIdType>(m.vertex_local.size());

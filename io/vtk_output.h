@@ -11,13 +11,9 @@
 
 namespace ishibashi {
 
-// A free block has fallen when its centroid is lower than at the start by more than its
-// size (cbrt of its volume).
-bool is_fallen(const Model& model, const State& state, int block);
-
 // Cell data: block_id, material, part and course (the generator's labels, see
 // geometry/bridge.h: 0 ground, 1 ring, 2 wall, 3 fill, 4 soil, 5 side wall), fixed (1
-// unless the block is free), fallen (see is_fallen), velocity (m/s),
+// unless the block is free), fallen (see is_fallen in engine/state.h), velocity (m/s),
 // angular_velocity (rad/s), displacement of the centroid (m) and the same relative to the
 // ground (displacement_relative_to_ground: minus the ground's displacement, m, so that a
 // shaken bridge is coloured by how it deforms, not by how the ground moves). Point data:

@@ -1,0 +1,71 @@
+#include "analysis/frequencies.h"
+
+#include <sstream>
+#include <string>
+
+#include "engine/impulse.h"
+#include "engine/world.h"
+#include "geometry/bridge.h"
+#include "io/atomic_file.h"
+#include "io/model_file.h"
+#include "io/vtk_output.h"
+
+namespace ishibashi {
+
+char axis_letter(int axis) { return "xyz"[axis]; }
+
+int axis_index(const std::string& letter) {
+  return letter == "x" ? 0 : letter == "y" ? 1 : letter == "z" ? 2 : -1;
+}
+
+FrequencyAnalysis analyse_frequencies(const Model& model, const FrequencyOptions& o, const std::filesystem::path& out) {
+  const World world(model, 1e-9);  // finds the joints in contact at the start
+  FrequencyAnalysis a;
+  a.modal = modal_analysis(model, world.state(), o.modes);
+  a.sub_contacts = world.state().contacts.size();
+  const ModalResult& r = a.modal;
+  std::filesystem::create_directories(out);
+  std::ostringstream csv;
+  csv << "mode,frequency_hz,effective_mass_x,effective_mass_y,effective_mass_z,dominant\n";
+  for (std::size_t k = 0; k < r.frequency_hz.size(); ++k) {
+    const Vec3& e = r.effective_mass_ratio[k];
+    const int d = r.dominant_direction(static_cast<int>(k));
+    csv << k + 1 << "," << r.frequency_hz[k] << "," << e.x() << "," << e.y() << "," << e.z() << "," << axis_letter(d) << "\n";
+    for (int axis = 0; axis < 3; ++axis)
+      if (a.first_mode_hz[axis] == 0 && e[axis] > 0.05) a.first_mode_hz[axis] = r.frequency_hz[k];
+  }
+  write_text_atomically(out / "modes.csv", csv.str());
+  write_modes_vtu(model, world.state(), r.shapes, r.free_blocks, out / "modes.vtu");
+  if (o.impulse_s <= 0) return a;
+
+  std::vector<ImpulseSpec> specs = o.impulses;
+  if (specs.empty())
+    for (int axis = 0; axis < 3; ++axis) specs.push_back({axis, axis, -1});
+  const Model linear = linear_joint_model(model);
+  std::ostringstream peaks;
+  peaks << "excitation,response,block,peak,frequency_hz,relative_amplitude\n";
+  for (ImpulseSpec spec : specs) {
+    if (spec.monitor_block < 0) spec.monitor_block = crown_unit(model) >= 0 ? crown_unit(model) : r.free_blocks.front();
+    if (spec.monitor_block >= model.block_count || model.motion[spec.monitor_block] != Motion::free)
+      throw InputError("impulse response: block " + std::to_string(spec.monitor_block) + " is not a free block of " +
+                       std::to_string(model.block_count));
+    const ImpulseResponse response =
+        impulse_response(linear, spec.excitation_axis, spec.response_axis, spec.monitor_block, o.impulse_s);
+    ImpulseResult result{spec, amplitude_spectrum(response.displacement_m, response.dt_s), {}};
+    result.peaks = spectral_peaks(result.spectrum);
+    const std::string tag = std::string(1, axis_letter(spec.excitation_axis)) + axis_letter(spec.response_axis);
+    std::ostringstream spectrum;
+    spectrum << "frequency_hz,amplitude_m\n";
+    for (std::size_t k = 0; k < result.spectrum.frequency_hz.size(); ++k)
+      spectrum << result.spectrum.frequency_hz[k] << "," << result.spectrum.amplitude[k] << "\n";
+    write_text_atomically(out / ("spectrum_" + tag + "_block" + std::to_string(spec.monitor_block) + ".csv"), spectrum.str());
+    for (std::size_t k = 0; k < result.peaks.size(); ++k)
+      peaks << axis_letter(spec.excitation_axis) << "," << axis_letter(spec.response_axis) << "," << spec.monitor_block << ","
+            << k + 1 << "," << result.peaks[k].frequency_hz << "," << result.peaks[k].relative_amplitude << "\n";
+    a.impulses.push_back(std::move(result));
+  }
+  write_text_atomically(out / "peaks.csv", peaks.str());
+  return a;
+}
+
+}  // namespace ishibashi

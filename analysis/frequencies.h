@@ -1,0 +1,50 @@
+// Natural frequencies of a model (MODEL.md section 6.1) two ways: modal analysis of the
+// assembly with its joints held linear, and impulse responses (a short ground step along
+// one axis, a monitored block read along the same or another axis) whose amplitude
+// spectra show every mode the step excites.
+#pragma once
+#include <array>
+#include <filesystem>
+#include <vector>
+
+#include "engine/modal.h"
+#include "engine/spectrum.h"
+
+namespace ishibashi {
+
+struct ImpulseSpec {
+  int excitation_axis = 0;  // the ground step's direction: 0 x, 1 y, 2 z
+  int response_axis = 0;    // the monitored block's displacement component read
+  int monitor_block = -1;   // -1: the unit on top of the crown (the first free block if none)
+};
+
+struct ImpulseResult {
+  ImpulseSpec spec;  // with the monitored block resolved
+  Spectrum spectrum;
+  std::vector<SpectralPeak> peaks;  // every peak above 5 % of the largest, ascending
+};
+
+struct FrequencyOptions {
+  int modes = 12;
+  double impulse_s = 0.0;             // > 0: impulse responses of this length
+  std::vector<ImpulseSpec> impulses;  // empty: x, y and z, each read along itself at the crown
+};
+
+struct FrequencyAnalysis {
+  ModalResult modal;
+  std::size_t sub_contacts = 0;
+  // Per axis, the lowest mode whose effective mass in that axis exceeds 5 % (0: none).
+  std::array<double, 3> first_mode_hz{0, 0, 0};
+  std::vector<ImpulseResult> impulses;
+};
+
+// Runs the analyses and writes to `out`: modes.csv (frequencies, effective masses),
+// modes.vtu (mode shapes for ParaView), and per impulse response
+// spectrum_<excitation><response>_block<N>.csv and a row of peaks.csv.
+FrequencyAnalysis analyse_frequencies(const Model& model, const FrequencyOptions& options, const std::filesystem::path& out);
+
+char axis_letter(int axis);
+// "x", "y" or "z" as 0, 1, 2; -1 otherwise.
+int axis_index(const std::string& letter);
+
+}  // namespace ishibashi

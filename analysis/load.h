@@ -1,0 +1,33 @@
+// Models for the analyses: the blocks generated from a model file (or imported from block
+// files), validated with CGAL and compiled for the engine.
+#pragma once
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include "engine/model.h"
+#include "geometry/bridge.h"
+#include "geometry/validate.h"
+#include "io/model_file.h"
+
+namespace ishibashi {
+
+// The blocks a model file describes, not yet validated. Throws InputError naming the file.
+std::vector<BridgeBlock> model_blocks(const ModelFile& file, const std::filesystem::path& path);
+
+// CGAL validation of the blocks: each sound and convex, no overlaps, joints on shared faces.
+ValidationReport validate_model_blocks(const std::vector<BridgeBlock>& blocks);
+
+// The blocks of a model file, validated and ready for the engine; prints the validation
+// errors and throws InputError when there are any.
+Model load_model(const ModelFile& file, const std::filesystem::path& path);
+
+// A model file, or a scenario file's model with the scenario's contact subdivision and
+// mortar: what the modal and impulse analyses of that file study.
+struct LoadedModel {
+  std::string name;
+  Model model;
+};
+LoadedModel load_model_or_scenario(const std::filesystem::path& file);
+
+}  // namespace ishibashi

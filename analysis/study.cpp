@@ -1,0 +1,225 @@
+#include "analysis/study.h"
+
+#include <omp.h>
+
+#include <atomic>
+#include <chrono>
+#include <cstdio>
+#include <fstream>
+#include <mutex>
+#include <sstream>
+#include <thread>
+#include <vector>
+
+#include "analysis/frequencies.h"
+#include "analysis/load.h"
+#include "analysis/seismic_run.h"
+#include "io/atomic_file.h"
+#include "io/scenario_file.h"
+
+namespace ishibashi {
+namespace {
+
+namespace fs = std::filesystem;
+
+std::string file_bytes(const fs::path& p) {
+  std::ifstream in(p, std::ios::binary);
+  std::ostringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+
+// FNV-1a, 64 bits: a fingerprint of a job's inputs, not a security hash.
+std::uint64_t fnv1a(const std::string& bytes, std::uint64_t h = 1469598103934665603ull) {
+  for (unsigned char c : bytes) h = (h ^ c) * 1099511628211ull;
+  return h;
+}
+
+// The program itself is an input: a rebuilt engine makes every output stale.
+std::uint64_t program_fingerprint() {
+  static const std::uint64_t h = fnv1a(file_bytes("/proc/self/exe"));
+  return h;
+}
+
+enum class JobKind { frequencies, run };
+
+struct Job {
+  JobKind kind;
+  fs::path input;   // model or scenario file
+  fs::path folder;  // its outputs
+  std::string key{};  // fingerprint of everything the outputs depend on
+  std::string status = "pending", error{};
+  double seconds = 0;
+};
+
+std::string job_key(const Job& job, const StudyFile& study) {
+  std::ostringstream in;
+  in << program_fingerprint() << (job.kind == JobKind::run ? " run " : " frequencies ") << file_bytes(job.input);
+  if (is_scenario_file(job.input)) {  // its model file and ground motion records too
+    const Scenario sc = read_scenario(job.input);
+    in << file_bytes(sc.model_file);
+    if (job.kind == JobKind::run) {
+      for (const auto& c : sc.ground_motion.component)
+        if (c) in << file_bytes(c->file);
+      in << " duration " << study.duration_s;
+    }
+  }
+  if (job.kind == JobKind::frequencies) in << " modes " << study.modes << " impulse " << study.impulse_s;
+  char hex[17];
+  std::snprintf(hex, sizeof hex, "%016llx", static_cast<unsigned long long>(fnv1a(in.str())));
+  return hex;
+}
+
+bool is_current(const Job& job) {
+  return fs::exists(job.folder / "row.csv") && fs::exists(job.folder / "inputs.key") &&
+         file_bytes(job.folder / "inputs.key") == job.key + "\n";
+}
+
+constexpr const char* kRunHeader =
+    "scenario,model,mortar_pa,settled,settle_time_s,shaking_s,first_opening_s,largest_crown_drop_m,fallen_stones,collapse,"
+    "joints,joints_cracked,energy_balance_pct,dt_s,steps,threads,wall_s,monitored_block\n";
+constexpr const char* kFrequencyHeader =
+    "model,file,subdivision,sub_contacts,mode_x_hz,mode_y_hz,mode_z_hz,impulse_x_hz,impulse_y_hz,impulse_z_hz\n";
+
+void run_job(const Job& job, const StudyFile& study, int threads) {
+  omp_set_num_threads(threads);
+  fs::remove_all(job.folder);  // no frames of an older, longer run left behind
+  fs::create_directories(job.folder);
+  std::ostringstream row;
+  row.precision(9);
+  if (job.kind == JobKind::run) {
+    Scenario sc = read_scenario(job.input);
+    if (study.duration_s >= 0) sc.duration_s = sc.ground_motion.duration_s = study.duration_s;
+    sc.threads = threads;
+    SeismicRun run(sc, SeismicRunOptions{job.folder, 1.0, {}, {}});
+    const SeismicRunResult r = run.run();
+    if (r.interrupted) throw std::runtime_error("interrupted");
+    // The ground motion as the report plots it: 200 samples per second.
+    const GroundMotion g = prepare_ground_motion(sc.ground_motion, 0.005);
+    std::ostringstream csv;
+    csv << "time_s,ax_m_s2,ay_m_s2,az_m_s2\n";
+    for (std::size_t k = 0; k < g.accel_m_s2.size(); ++k)
+      csv << k * g.dt_s << "," << g.accel_m_s2[k].x() << "," << g.accel_m_s2[k].y() << "," << g.accel_m_s2[k].z() << "\n";
+    write_text_atomically(job.folder / "ground_motion.csv", csv.str());
+    row << kRunHeader << job.input.stem().string() << ",\"" << sc.model.name << "\"," << sc.model.bridge.mortar_pa << ","
+        << (r.settled ? "yes" : "no") << "," << r.settle_time_s << "," << r.shaking_time_s << ",";
+    if (r.first_opening_s >= 0) row << r.first_opening_s;
+    row << "," << r.largest_crown_drop_m << "," << r.fallen_stones << "," << (r.collapse ? "yes" : "no") << "," << r.joints
+        << "," << r.joint_counts.cracked << "," << 100 * r.balance_error_relative << "," << run.dt_s() << "," << r.steps
+        << "," << threads << "," << r.wall_s << "," << run.monitored_block() << "\n";
+  } else {
+    const LoadedModel loaded = load_model_or_scenario(job.input);
+    FrequencyOptions options;
+    options.modes = study.modes;
+    options.impulse_s = study.impulse_s;
+    const FrequencyAnalysis a = analyse_frequencies(loaded.model, options, job.folder);
+    row << kFrequencyHeader << "\"" << loaded.name << "\"," << job.input.stem().string() << ","
+        << loaded.model.contact.subdivision << "," << a.sub_contacts;
+    for (double f : a.first_mode_hz) row << "," << f;
+    for (int axis = 0; axis < 3; ++axis) {
+      row << ",";
+      for (const ImpulseResult& i : a.impulses)  // the first clear peak of the step read along itself
+        if (i.spec.excitation_axis == axis && i.spec.response_axis == axis) row << first_peak_hz(i.spectrum);
+    }
+    row << "\n";
+  }
+  write_text_atomically(job.folder / "row.csv", row.str());
+  write_text_atomically(job.folder / "inputs.key", job.key + "\n");  // last: the outputs are complete
+}
+
+// One table of every job's row (their header once).
+void gather_rows(const std::vector<Job>& jobs, JobKind kind, const char* header, const fs::path& file) {
+  std::string table = header;
+  for (const Job& job : jobs) {
+    if (job.kind != kind || !fs::exists(job.folder / "row.csv") || job.status == "failed") continue;
+    const std::string rows = file_bytes(job.folder / "row.csv");
+    table += rows.substr(rows.find('\n') + 1);
+  }
+  write_text_atomically(file, table);
+}
+
+fs::path python() { return fs::exists("/usr/bin/python3") ? "/usr/bin/python3" : "python3"; }
+
+}  // namespace
+
+StudyOutcome run_study(const StudyFile& study, const StudyOptions& o) {
+  std::vector<Job> jobs;
+  // The long runs first: the frequency analyses fill the gaps at the end.
+  for (const fs::path& s : study.scenarios) jobs.push_back({JobKind::run, s, o.out / "runs" / s.stem()});
+  for (const fs::path& m : study.models) jobs.push_back({JobKind::frequencies, m, o.out / "frequencies" / m.stem()});
+  for (Job& job : jobs) job.key = job_key(job, study);
+
+  const int workers = std::max(1, std::min<int>(o.jobs, static_cast<int>(jobs.size())));
+  const int threads = o.threads_per_job > 0 ? o.threads_per_job : std::max(1, omp_get_num_procs() / workers);
+  std::mutex report_lock;  // serialises on_event; outside any time step
+  auto event = [&](const std::string& text) {
+    const std::lock_guard<std::mutex> lock(report_lock);
+    if (o.on_event) o.on_event(text);
+  };
+  event("study '" + study.name + "': " + std::to_string(jobs.size()) + " jobs, " + std::to_string(workers) + " at a time, " +
+        std::to_string(threads) + " threads each, outputs in " + o.out.string());
+
+  std::atomic<std::size_t> next{0};
+  auto worker = [&] {
+    for (std::size_t i = next++; i < jobs.size() && !stop_requested(); i = next++) {
+      Job& job = jobs[i];
+      const std::string name = (job.kind == JobKind::run ? "run " : "frequencies ") + job.input.stem().string();
+      if (!o.force && is_current(job)) {
+        job.status = "current";
+        event(name + ": current, kept");
+        continue;
+      }
+      event(name + ": started");
+      const auto t0 = std::chrono::steady_clock::now();
+      try {
+        run_job(job, study, threads);
+        job.status = "ran";
+      } catch (const std::exception& e) {
+        job.status = "failed";
+        job.error = e.what();
+      }
+      job.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+      char took[64];
+      std::snprintf(took, sizeof took, " (%.1f s)", job.seconds);
+      event(name + (job.status == "ran" ? ": done" : ": FAILED: " + job.error) + took);
+    }
+  };
+  std::vector<std::thread> pool;
+  for (int w = 1; w < workers; ++w) pool.emplace_back(worker);
+  worker();
+  for (std::thread& t : pool) t.join();
+
+  StudyOutcome outcome;
+  std::ostringstream list;
+  list << "kind,input,status,seconds,error\n";
+  for (const Job& job : jobs) {
+    outcome.ran += job.status == "ran";
+    outcome.current += job.status == "current";
+    outcome.failed += job.status == "failed";
+    std::string error = job.error;
+    for (char& c : error)
+      if (c == '"' || c == '\n') c = '\'';
+    list << (job.kind == JobKind::run ? "run," : "frequencies,") << job.input.string() << "," << job.status << ","
+         << job.seconds << ",\"" << error << "\"\n";
+  }
+  fs::create_directories(o.out);
+  write_text_atomically(o.out / "jobs.csv", list.str());
+  gather_rows(jobs, JobKind::run, kRunHeader, o.out / "runs.csv");
+  gather_rows(jobs, JobKind::frequencies, kFrequencyHeader, o.out / "frequencies.csv");
+  std::ostringstream about;
+  about << "name," << study.name << "\nstudy_file," << fs::absolute(study.file).string() << "\n";
+  about << "snapshot_times_s,";
+  for (std::size_t k = 0; k < study.snapshot_times_s.size(); ++k) about << (k ? " " : "") << study.snapshot_times_s[k];
+  about << "\n";
+  write_text_atomically(o.out / "study.csv", about.str());
+
+  if (o.report && !stop_requested()) {
+    const std::string command = python().string() + " " + ISHIBASHI_SOURCE_DIR "/analysis/report.py \"" + o.out.string() + "\"";
+    event("report: " + command);
+    outcome.report_written = std::system(command.c_str()) == 0;
+    if (!outcome.report_written) event("report: FAILED (needs python3 with matplotlib and vtk: bash scripts/setup.sh)");
+  }
+  return outcome;
+}
+
+}  // namespace ishibashi

@@ -1,0 +1,35 @@
+// A whole study in one call: the modal and impulse analysis of every model and every
+// seismic run of a study file, several at once within a thread budget, skipping the jobs
+// whose outputs are current (same inputs, same program), then the tables and the report.
+//
+// Layout of the output folder:
+//   frequencies/<model>/   modes.csv, modes.vtu, spectrum_*.csv, peaks.csv, row.csv
+//   runs/<scenario>/       blocks.pvd, contacts.pvd, history.csv, summary.json, ground_motion.csv, row.csv
+//   frequencies.csv, runs.csv (one row per job), jobs.csv (what ran, was current or failed)
+//   report.md, report.html, figures/*.png (analysis/report.py)
+#pragma once
+#include <filesystem>
+#include <functional>
+#include <string>
+
+#include "io/study_file.h"
+
+namespace ishibashi {
+
+struct StudyOptions {
+  std::filesystem::path out;
+  int jobs = 1;              // analyses at once
+  int threads_per_job = 0;   // 0: the cores shared among the jobs
+  bool force = false;        // rerun jobs whose outputs are current
+  bool report = true;        // write the report (python3 with matplotlib)
+  std::function<void(const std::string&)> on_event;  // a job started, finished, was skipped or failed
+};
+
+struct StudyOutcome {
+  int ran = 0, current = 0, failed = 0;
+  bool report_written = false;
+};
+
+StudyOutcome run_study(const StudyFile& study, const StudyOptions& options);
+
+}  // namespace ishibashi

@@ -1,0 +1,55 @@
+#include "io/study_file.h"
+
+#include "io/toml_reader.h"
+
+namespace ishibashi {
+namespace {
+
+// The keys that both [study] and [quick] may set.
+void read_common(TableReader& t, const std::filesystem::path& file, StudyFile& s) {
+  const std::filesystem::path base = std::filesystem::absolute(file).parent_path();
+  std::vector<std::filesystem::path> models, scenarios;
+  t.paths("models", base, models);
+  t.paths("scenarios", base, scenarios);
+  if (!models.empty()) s.models = models;
+  if (!scenarios.empty()) s.scenarios = scenarios;
+  t.non_negative_numbers("snapshot_times_s", s.snapshot_times_s);
+  t.number("duration_s", s.duration_s);
+}
+
+}  // namespace
+
+StudyFile read_study(const std::filesystem::path& file, bool quick) {
+  const toml::table root = parse_toml_file(file, {"study", "frequencies", "quick"});
+  StudyFile s;
+  s.file = file;
+  TableReader study(file, root, "study");
+  study.text("name", s.name);
+  read_common(study, file, s);
+  study.finish();
+  TableReader frequencies(file, root, "frequencies");
+  frequencies.integer("modes", s.modes);
+  frequencies.number("impulse_s", s.impulse_s);
+  frequencies.finish();
+
+  TableReader short_version(file, root, "quick");
+  StudyFile q = s;
+  read_common(short_version, file, q);
+  short_version.integer("modes", q.modes);
+  short_version.number("impulse_s", q.impulse_s);
+  short_version.finish();
+  if (quick) s = q;
+
+  if (s.name.empty()) s.name = file.stem().string();
+  if (s.models.empty() && s.scenarios.empty())
+    throw InputError(file.string() + ": [study] lists no models and no scenarios (models = [\"...\"], scenarios = [\"...\"])");
+  if (s.modes < 1 || s.modes > 500) throw InputError(file.string() + ": modes must be 1 to 500, not " + std::to_string(s.modes));
+  if (s.impulse_s < 0) throw InputError(file.string() + ": impulse_s must be >= 0 (0: no impulse responses)");
+  for (const auto& p : s.models)
+    if (!std::filesystem::exists(p)) throw InputError(file.string() + ": model file " + p.string() + " does not exist");
+  for (const auto& p : s.scenarios)
+    if (!std::filesystem::exists(p)) throw InputError(file.string() + ": scenario file " + p.string() + " does not exist");
+  return s;
+}
+
+}  // namespace ishibashi

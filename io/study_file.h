@@ -1,0 +1,26 @@
+// Study files (TOML): the models whose natural frequencies are wanted, the scenarios to
+// run, and what the report shows; a [quick] table gives the short version CI runs.
+// Paths are relative to the study file. Errors name the file, line and key.
+#pragma once
+#include <filesystem>
+#include <string>
+#include <vector>
+
+namespace ishibashi {
+
+struct StudyFile {
+  std::filesystem::path file;
+  std::string name;                               // [study] name, the report's title
+  std::vector<std::filesystem::path> models;      // [study] models: modal and impulse analysis
+  std::vector<std::filesystem::path> scenarios;   // [study] scenarios: seismic runs
+  std::vector<double> snapshot_times_s;           // [study] seconds of shaking rendered in the report
+  double duration_s = -1;                         // [study] seconds of shaking; < 0: each scenario's
+  int modes = 12;                                 // [frequencies] modes
+  double impulse_s = 1.0;                         // [frequencies] impulse response length, s
+};
+
+// With quick = true, the keys of [quick] (models, scenarios, snapshot_times_s,
+// duration_s, modes, impulse_s) replace the others.
+StudyFile read_study(const std::filesystem::path& file, bool quick);
+
+}  // namespace ishibashi
