@@ -1,0 +1,349 @@
+#!/usr/bin/python3
+"""The report of a study made by `ishibashi study`: report.md and a standalone
+report.html (figures embedded) with the frequency and run tables, and PNG figures in
+figures/: the ground motion's three components, the crown unit's vertical displacement
+of every run on one page, the impulse spectra, the energy terms, and snapshots of each
+run at the study's snapshot times (rendered headless from the runs' .vtu files).
+
+    /usr/bin/python3 analysis/report.py OUT        (OUT: the study's output folder)
+
+Needs Debian's python3-matplotlib and python3-vtk9 (scripts/setup.sh installs them).
+"""
+import base64
+import csv
+import html
+import math
+import sys
+import xml.etree.ElementTree as ET
+from pathlib import Path
+
+import matplotlib
+
+matplotlib.use("Agg")  # headless: no display needed
+import matplotlib.pyplot as plt  # noqa: E402
+from mpl_toolkits.mplot3d.art3d import Poly3DCollection  # noqa: E402
+
+G = 9.80665  # m/s^2
+
+
+def read_rows(path):
+    if not path.exists():
+        return []
+    with open(path, newline="") as f:
+        return list(csv.DictReader(f))
+
+
+def number(text, default=math.nan):
+    try:
+        return float(text)
+    except (TypeError, ValueError):
+        return default
+
+
+def columns(rows, *names):
+    return [[number(r[n]) for r in rows] for n in names]
+
+
+def model_letter(scenario):
+    """nishida_a_kobe_dry -> 'nishida_a' (the runs of one model share a panel)."""
+    parts = scenario.split("_")
+    return "_".join(parts[:2]) if len(parts) > 2 else scenario
+
+
+def save(fig, path):
+    fig.savefig(path, dpi=110, bbox_inches="tight")
+    plt.close(fig)
+    return path
+
+
+def ground_motion_figure(out, runs, figures):
+    if not runs:
+        return None
+    first = runs[0]["scenario"]
+    rows = read_rows(out / "runs" / first / "ground_motion.csv")
+    if not rows:
+        return None
+    t, ax, ay, az = columns(rows, "time_s", "ax_m_s2", "ay_m_s2", "az_m_s2")
+    fig, axes = plt.subplots(3, 1, figsize=(9, 6), sharex=True)
+    for a, values, name in zip(axes, (ax, ay, az), ("x (EW)", "y (NS)", "z (UD)")):
+        a.plot(t, [v / G for v in values], lw=0.7, color="k")
+        a.set_ylabel(f"{name} [g]")
+        a.grid(alpha=0.3)
+    axes[0].set_title(f"Ground acceleration as applied ({first} and every run of the same record)")
+    axes[-1].set_xlabel("time of shaking [s]")
+    return save(fig, figures / "ground_motion.png")
+
+
+def shaking_rows(out, scenario):
+    """History rows of the shaking, with the time counted from its start."""
+    rows = read_rows(out / "runs" / scenario / "history.csv")
+    shake = [r for r in rows if r["phase"] != "settle"]
+    settled = [r for r in rows if r["phase"] == "settle"]
+    t0 = number(settled[-1]["time_s"]) if settled else 0.0
+    return shake, t0
+
+
+def crown_figure(out, runs, figures):
+    groups = {}
+    for r in runs:
+        groups.setdefault(model_letter(r["scenario"]), []).append(r)
+    if not groups:
+        return None
+    n = len(groups)
+    cols = 2 if n > 1 else 1
+    fig, axes = plt.subplots(math.ceil(n / cols), cols, figsize=(10, 2.6 * math.ceil(n / cols)), squeeze=False)
+    for a, (model, members) in zip(axes.flat, groups.items()):
+        for r in members:
+            shake, t0 = shaking_rows(out, r["scenario"])
+            block = r["monitored_block"]
+            key = f"block{block}_dz_m"
+            if not shake or key not in shake[0]:
+                continue
+            t = [number(x["time_s"]) - t0 for x in shake]
+            dz = [1000 * number(x[key]) for x in shake]
+            a.plot(t, dz, lw=0.9, label=r["scenario"].replace(model + "_", ""))
+        a.set_title(f"{model}: crown unit, vertical, relative to the ground", fontsize=9)
+        a.set_ylabel("dz [mm]")
+        a.set_xlabel("time of shaking [s]")
+        a.grid(alpha=0.3)
+        a.legend(fontsize=7)
+    for a in list(axes.flat)[n:]:
+        a.set_visible(False)
+    fig.tight_layout()
+    return save(fig, figures / "crown_displacement.png")
+
+
+def spectra_figure(out, frequencies, figures):
+    if not frequencies:
+        return None
+    n = len(frequencies)
+    cols = 2 if n > 1 else 1
+    fig, axes = plt.subplots(math.ceil(n / cols), cols, figsize=(10, 2.8 * math.ceil(n / cols)), squeeze=False)
+    for a, f in zip(axes.flat, frequencies):
+        folder = out / "frequencies" / f["file"]
+        top = 0.0
+        for axis, colour in zip("xyz", ("C0", "C1", "C2")):
+            for spectrum in sorted(folder.glob(f"spectrum_{axis}{axis}_block*.csv")):
+                hz, amplitude = columns(read_rows(spectrum), "frequency_hz", "amplitude_m")
+                a.semilogy(hz, amplitude, lw=0.8, color=colour, label=f"{axis} step, {axis} response")
+                top = max(top, max(amplitude))
+            mode = number(f[f"mode_{axis}_hz"])
+            if mode > 0:
+                a.axvline(mode, color=colour, ls="--", lw=0.7)
+        a.set_xlim(0, 120)
+        if top > 0:
+            a.set_ylim(top * 1e-5, top * 3)
+        a.set_title(f"{f['model']} (dashed: first modes by modal analysis)", fontsize=9)
+        a.set_xlabel("frequency [Hz]")
+        a.set_ylabel("amplitude [m]")
+        a.grid(alpha=0.3)
+        a.legend(fontsize=7)
+    for a in list(axes.flat)[n:]:
+        a.set_visible(False)
+    fig.tight_layout()
+    return save(fig, figures / "impulse_spectra.png")
+
+
+def energy_figure(out, runs, figures):
+    if not runs:
+        return None
+    terms = ("kinetic_j", "elastic_j", "damping_j", "friction_j", "bond_j", "ground_work_j", "balance_error_j")
+    n = len(runs)
+    cols = 2 if n > 1 else 1
+    fig, axes = plt.subplots(math.ceil(n / cols), cols, figsize=(10, 2.6 * math.ceil(n / cols)), squeeze=False)
+    for a, r in zip(axes.flat, runs):
+        shake, t0 = shaking_rows(out, r["scenario"])
+        if not shake:
+            continue
+        t = [number(x["time_s"]) - t0 for x in shake]
+        for term in terms:
+            a.plot(t, [number(x[term]) / 1000 for x in shake], lw=0.9, label=term[:-2].replace("_", " "))
+        a.set_title(f"{r['scenario']}: energy balance {number(r['energy_balance_pct']):.3f} %", fontsize=9)
+        a.set_xlabel("time of shaking [s]")
+        a.set_ylabel("kJ")
+        a.grid(alpha=0.3)
+    list(axes.flat)[0].legend(fontsize=7)
+    for a in list(axes.flat)[n:]:
+        a.set_visible(False)
+    fig.tight_layout()
+    return save(fig, figures / "energy.png")
+
+
+def frames(folder):
+    """(time, file) of each frame of a run's blocks.pvd."""
+    pvd = folder / "blocks.pvd"
+    if not pvd.exists():
+        return []
+    root = ET.parse(pvd).getroot()
+    return [(float(d.get("timestep")), folder / d.get("file")) for d in root.iter("DataSet")]
+
+
+def block_faces(vtu):
+    """The faces of the blocks other than the ground slab, as polygons, with each face's
+    displacement relative to the ground (m)."""
+    from vtkmodules.util.numpy_support import vtk_to_numpy
+    from vtkmodules.vtkFiltersGeometry import vtkDataSetSurfaceFilter
+    from vtkmodules.vtkIOXML import vtkXMLUnstructuredGridReader
+
+    reader = vtkXMLUnstructuredGridReader()
+    reader.SetFileName(str(vtu))
+    reader.Update()
+    if reader.GetOutput().GetNumberOfCells() == 0:
+        raise RuntimeError(f"{vtu}: VTK read no blocks")
+    surface = vtkDataSetSurfaceFilter()
+    surface.SetInputConnection(reader.GetOutputPort())
+    surface.Update()
+    poly = surface.GetOutput()
+    points = vtk_to_numpy(poly.GetPoints().GetData())
+    offsets = vtk_to_numpy(poly.GetPolys().GetOffsetsArray())
+    connectivity = vtk_to_numpy(poly.GetPolys().GetConnectivityArray())
+    moved = vtk_to_numpy(poly.GetCellData().GetArray("displacement_relative_to_ground"))
+    part = vtk_to_numpy(poly.GetCellData().GetArray("part"))  # 0: the ground slab
+    keep = [i for i in range(len(offsets) - 1) if part[i] != 0]
+    faces = [points[connectivity[offsets[i]:offsets[i + 1]]] for i in keep]
+    return faces, [math.sqrt(float(moved[i] @ moved[i])) for i in keep]
+
+
+def snapshot_figure(out, run, shaking_s, figures, limits):
+    folder = out / "runs" / run["scenario"]
+    series = frames(folder)
+    shaking = number(run["shaking_s"], 0.0)
+    if not series or shaking_s > shaking + 0.01:  # within a frame of the end
+        return None
+    t0 = number(run["settle_time_s"], 0.0)
+    time, vtu = min(series, key=lambda f: abs(f[0] - (t0 + shaking_s)))
+    faces, moved = block_faces(vtu)
+    fig = plt.figure(figsize=(9, 4.5))
+    a = fig.add_subplot(projection="3d")
+    top = max(max(moved), 1e-3)
+    colours = plt.cm.viridis([min(m / top, 1.0) for m in moved])
+    a.add_collection3d(Poly3DCollection(faces, facecolors=colours, edgecolors=(0, 0, 0, 0.25), linewidths=0.2))
+    lo, hi = limits
+    a.set_xlim(lo[0], hi[0])
+    a.set_ylim(lo[1], hi[1])
+    a.set_zlim(lo[2], hi[2])
+    a.set_box_aspect([max(hi[i] - lo[i], 1e-3) for i in range(3)])
+    a.view_init(elev=12, azim=-75)
+    a.set_axis_off()
+    mappable = plt.cm.ScalarMappable(cmap="viridis", norm=plt.Normalize(0, 1000 * top))
+    fig.colorbar(mappable, ax=a, shrink=0.6, label="displacement relative to the ground [mm]")
+    a.set_title(f"{run['scenario']} after {time - t0:.2f} s of shaking", fontsize=10)
+    return save(fig, figures / f"snapshot_{run['scenario']}_{shaking_s:g}s.png")
+
+
+def model_limits(out, run):
+    """Bounds of the model in its first frame, with room for stones that fall out."""
+    series = frames(out / "runs" / run["scenario"])
+    faces, _ = block_faces(series[0][1])
+    xs = [p for f in faces for p in f]
+    lo = [min(p[i] for p in xs) for i in range(3)]
+    hi = [max(p[i] for p in xs) for i in range(3)]
+    return lo, hi
+
+
+def table_md(header, rows):
+    lines = ["| " + " | ".join(header) + " |", "|" + "---|" * len(header)]
+    lines += ["| " + " | ".join(str(c) for c in row) + " |" for row in rows]
+    return "\n".join(lines)
+
+
+def table_html(header, rows):
+    head = "".join(f"<th>{html.escape(h)}</th>" for h in header)
+    body = "".join("<tr>" + "".join(f"<td>{html.escape(str(c))}</td>" for c in row) + "</tr>" for row in rows)
+    return f"<table><thead><tr>{head}</tr></thead><tbody>{body}</tbody></table>"
+
+
+def fmt(value, digits=3, scale=1.0):
+    v = number(value)
+    return "-" if math.isnan(v) else f"{v * scale:.{digits}f}"
+
+
+def main():
+    if len(sys.argv) != 2:
+        sys.exit("usage: report.py STUDY_OUTPUT_FOLDER")
+    out = Path(sys.argv[1])
+    if not (out / "study.csv").exists():
+        sys.exit(f"report.py: {out}/study.csv not found: run `ishibashi study` first")
+    about = {row[0]: row[1] for row in csv.reader(open(out / "study.csv")) if len(row) >= 2}
+    snapshot_times = [float(t) for t in about.get("snapshot_times_s", "").split()]
+    runs = read_rows(out / "runs.csv")
+    frequencies = read_rows(out / "frequencies.csv")
+    jobs = read_rows(out / "jobs.csv")
+    figures = out / "figures"
+    figures.mkdir(exist_ok=True)
+
+    sections = []  # (title, text, table (header, rows) or None, figure paths)
+    freq_rows = []
+    for f in frequencies:
+        row = [f["model"], f["subdivision"]]
+        for axis in "xyz":
+            mode, peak = number(f[f"mode_{axis}_hz"]), number(f[f"impulse_{axis}_hz"])
+            row += [fmt(mode), fmt(peak), "-" if not (mode > 0 and peak > 0) else f"{100 * (peak / mode - 1):+.2f} %"]
+        freq_rows.append(row)
+    sections.append(("Natural frequencies",
+                     "First mode with more than 5 % effective mass per axis (modal analysis, joints held linear) "
+                     "and the first clear peak of the impulse response of the crown unit along the same axis.",
+                     (["model", "subdivision", "x modes [Hz]", "x impulse [Hz]", "x diff",
+                       "y modes [Hz]", "y impulse [Hz]", "y diff", "z modes [Hz]", "z impulse [Hz]", "z diff"], freq_rows),
+                     [spectra_figure(out, frequencies, figures)]))
+
+    run_rows = [[r["scenario"], r["settled"], fmt(r["shaking_s"], 2),
+                 "none" if r["first_opening_s"] == "" else fmt(r["first_opening_s"], 3),
+                 fmt(r["largest_crown_drop_m"], 1, 1000), r["fallen_stones"], r["collapse"],
+                 f"{r['joints_cracked']} / {r['joints']}", fmt(r["energy_balance_pct"], 3), fmt(r["wall_s"], 0)]
+                for r in runs]
+    sections.append(("Seismic runs",
+                     "Settled under gravity, then shaken. First opening: seconds of shaking until a joint first "
+                     "opened by more than 1 mm (or lost its bond). Crown drop: the largest downward displacement "
+                     "of the crown unit relative to the ground. Energy balance: the fraction of the energy "
+                     "exchanged (ground work, dashpots, friction, bonds) that the balance misses.",
+                     (["scenario", "settled", "shaking [s]", "first opening [s]", "crown drop [mm]",
+                       "stones fallen", "collapse", "joints cracked", "energy balance [%]", "wall [s]"], run_rows),
+                     [ground_motion_figure(out, runs, figures), crown_figure(out, runs, figures),
+                      energy_figure(out, runs, figures)]))
+
+    snapshots = []
+    for r in runs:
+        if not frames(out / "runs" / r["scenario"]):
+            continue
+        limits = model_limits(out, r)
+        limits = ([limits[0][0], limits[0][1], limits[0][2] - 1.0], limits[1])
+        for t in snapshot_times:
+            snapshots.append(snapshot_figure(out, r, t, figures, limits))
+    sections.append(("Snapshots", "Each run at the study's snapshot times, coloured by each block's displacement "
+                     "relative to the ground (open blocks.pvd in ParaView for the whole series).", None, snapshots))
+
+    failed = [j for j in jobs if j["status"] == "failed"]
+    if failed:
+        sections.append(("Failed jobs", "", (["kind", "input", "error"],
+                                             [[j["kind"], j["input"], j["error"]] for j in failed]), []))
+
+    title = about.get("name", "Study")
+    md = [f"# {title}", "", f"Study file: `{about.get('study_file', '')}`. Made by `ishibashi study`; "
+          f"{len(runs)} runs, {len(frequencies)} frequency analyses.", ""]
+    page = [f"<!DOCTYPE html><html><head><meta charset='utf-8'><title>{html.escape(title)}</title>",
+            "<style>body{font-family:sans-serif;max-width:1100px;margin:auto;padding:1em}"
+            "table{border-collapse:collapse;font-size:90%}td,th{border:1px solid #999;padding:2px 6px}"
+            "img{max-width:100%}</style></head><body>", f"<h1>{html.escape(title)}</h1>",
+            f"<p>Study file: <code>{html.escape(about.get('study_file', ''))}</code>.</p>"]
+    for name, text, table, figs in sections:
+        md += [f"## {name}", "", text, ""]
+        page += [f"<h2>{html.escape(name)}</h2>", f"<p>{html.escape(text)}</p>"]
+        if table:
+            md += [table_md(*table), ""]
+            page.append(table_html(*table))
+        for fig in figs:
+            if fig is None:
+                continue
+            md += [f"![{fig.stem}](figures/{fig.name})", ""]
+            data = base64.b64encode(fig.read_bytes()).decode()
+            page.append(f"<p><img alt='{fig.stem}' src='data:image/png;base64,{data}'></p>")
+    page.append("</body></html>")
+    (out / "report.md").write_text("\n".join(md) + "\n")
+    (out / "report.html").write_text("\n".join(page) + "\n")
+    count = sum(1 for s in sections for f in s[3] if f is not None)
+    print(f"report: {out / 'report.md'}, {out / 'report.html'}, {count} figures in {figures}")
+
+
+if __name__ == "__main__":
+    main()

@@ -1,0 +1,62 @@
+// The seismic run called as a function, as the study calls it: the same result on 1, 2
+// and 4 threads, and two runs at once in one process (a study's jobs) change nothing.
+#include <gtest/gtest.h>
+
+#include <cstring>
+#include <fstream>
+#include <thread>
+
+#include "analysis/seismic_run.h"
+
+namespace ishibashi {
+namespace {
+
+const std::filesystem::path kRoot = ISHIBASHI_SOURCE_DIR;
+
+// Model A through 0.2 s of the strongest Kobe pulses (from 7.6 s of the record).
+Scenario strong_pulses(int threads) {
+  const auto f = std::filesystem::temp_directory_path() / "ishibashi_analysis_short.toml";
+  const auto kobe = kRoot / "data/ground_motions/kobe_1995_jma";
+  std::ofstream(f) << "[model]\nfile = \"" << (kRoot / "models/nishida_a.toml").string() << "\"\n"
+                   << "[run]\nsettle_max_s = 0.1\nduration_s = 0.2\noutput_interval_s = 0.05\n"
+                   << "[ground_motion]\nstart_s = 7.6\n"
+                   << "x = { file = \"" << (kobe / "RSN1106_KOBE_KJM090.AT2").string() << "\" }\n"
+                   << "y = { file = \"" << (kobe / "RSN1106_KOBE_KJM000.AT2").string() << "\" }\n"
+                   << "z = { file = \"" << (kobe / "RSN1106_KOBE_KJM-UP.AT2").string() << "\" }\n";
+  Scenario sc = read_scenario(f);
+  sc.threads = threads;
+  return sc;
+}
+
+SeismicRunResult run_into(const std::string& folder, int threads) {
+  const auto out = std::filesystem::temp_directory_path() / folder;
+  std::filesystem::remove_all(out);
+  SeismicRun run(strong_pulses(threads), SeismicRunOptions{out, 1.0, {}, {}});
+  return run.run();
+}
+
+void expect_identical(const SeismicRunResult& a, const SeismicRunResult& b, const std::string& what) {
+  EXPECT_EQ(a.state_hash, b.state_hash) << what;
+  EXPECT_EQ(std::memcmp(&a.balance_error_j, &b.balance_error_j, sizeof(double)), 0) << what;
+  EXPECT_EQ(a.steps, b.steps) << what;
+  EXPECT_EQ(a.joint_counts.cracked, b.joint_counts.cracked) << what;
+  EXPECT_EQ(a.fallen_stones, b.fallen_stones) << what;
+}
+
+TEST(SeismicRun, BridgeRunIsBitIdenticalOnOneTwoAndFourThreadsAndBesideAnotherRun) {
+  const SeismicRunResult one = run_into("ishibashi_analysis_1", 1);
+  EXPECT_GT(one.steps, 10000);
+  EXPECT_LT(std::abs(one.balance_error_relative), 0.01);
+  expect_identical(one, run_into("ishibashi_analysis_2", 2), "2 threads");
+  expect_identical(one, run_into("ishibashi_analysis_4", 4), "4 threads");
+  // Two runs at once on two threads of this process, as `ishibashi study --jobs 2` runs them.
+  SeismicRunResult left, right;
+  std::thread other([&] { right = run_into("ishibashi_analysis_right", 1); });
+  left = run_into("ishibashi_analysis_left", 2);
+  other.join();
+  expect_identical(one, left, "beside another run, 2 threads");
+  expect_identical(one, right, "beside another run, 1 thread");
+}
+
+}  // namespace
+}  // namespace ishibashi

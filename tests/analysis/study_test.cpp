@@ -1,0 +1,77 @@
+// `ishibashi study --quick` end to end: the tables, a report with every figure, and a
+// second call that keeps the current outputs; a bad study file names its line.
+#include <gtest/gtest.h>
+
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <memory>
+#include <sstream>
+
+namespace ishibashi {
+namespace {
+
+std::string run_command(const std::string& command, int* status) {
+  std::string output;
+  std::unique_ptr<FILE, int (*)(FILE*)> pipe(popen((command + " 2>&1").c_str(), "r"), pclose);
+  char buffer[4096];
+  while (std::fgets(buffer, sizeof buffer, pipe.get())) output += buffer;
+  *status = pclose(pipe.release());
+  return output;
+}
+
+std::string text_of(const std::filesystem::path& file) {
+  std::ifstream in(file);
+  std::stringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+
+int count(const std::string& text, const std::string& what) {
+  int n = 0;
+  for (std::size_t at = text.find(what); at != std::string::npos; at = text.find(what, at + 1)) ++n;
+  return n;
+}
+
+TEST(Study, QuickStudyWritesTablesAndAReportWithEveryFigureThenKeepsCurrentOutputs) {
+  const auto out = std::filesystem::temp_directory_path() / "ishibashi_study_quick";
+  std::filesystem::remove_all(out);
+  int status = 0;
+  const std::string study = std::string(ISHIBASHI_BINARY) + " study --quick --jobs 2 --out " + out.string();
+  const std::string first = run_command(study, &status);
+  ASSERT_EQ(status, 0) << first;
+  EXPECT_EQ(count(first, ": done"), 3) << first;  // two runs and one frequency analysis
+  // The tables: a row per job.
+  EXPECT_EQ(count(text_of(out / "runs.csv"), "\n"), 3);
+  EXPECT_EQ(count(text_of(out / "frequencies.csv"), "\n"), 2);
+  // Model A's first modes by modal analysis: 22.58, 21.02, 42.00 Hz.
+  EXPECT_NE(text_of(out / "frequencies.csv").find(",22.57"), std::string::npos) << text_of(out / "frequencies.csv");
+  // The report: ground motion, crown, spectra, energy and one snapshot per run.
+  const std::string html = text_of(out / "report.html");
+  EXPECT_EQ(count(html, "src='data:image/png;base64,"), 6) << html.substr(0, 500);
+  const std::string md = text_of(out / "report.md");
+  EXPECT_EQ(count(md, "](figures/"), 6);
+  for (const char* figure : {"ground_motion.png", "crown_displacement.png", "impulse_spectra.png", "energy.png"})
+    EXPECT_GT(std::filesystem::file_size(out / "figures" / figure), 10000u) << figure;
+
+  const std::string second = run_command(study, &status);
+  ASSERT_EQ(status, 0) << second;
+  EXPECT_EQ(count(second, "current, kept"), 3) << second;
+  EXPECT_NE(second.find("0 jobs ran, 3 were current"), std::string::npos) << second;
+}
+
+TEST(Study, BadStudyFileNamesTheFileAndLine) {
+  const auto file = std::filesystem::temp_directory_path() / "ishibashi_bad_study.toml";
+  std::ofstream(file) << "[study]\nname = \"x\"\nscenarios = [\"nowhere.toml\"]\n[frequencies]\nmodes = 3\nimpulse = 2\n";
+  int status = 0;
+  const std::string output = run_command(std::string(ISHIBASHI_BINARY) + " study " + file.string(), &status);
+  EXPECT_NE(status, 0);
+  EXPECT_NE(output.find(file.string() + ":6: unknown key 'impulse' in [frequencies]"), std::string::npos) << output;
+  std::ofstream(file) << "[study]\nscenarios = [\"nowhere.toml\"]\n";
+  const std::string missing = run_command(std::string(ISHIBASHI_BINARY) + " study " + file.string(), &status);
+  EXPECT_NE(status, 0);
+  EXPECT_NE(missing.find("nowhere.toml does not exist"), std::string::npos) << missing;
+}
+
+}  // namespace
+}  // namespace ishibashi
