@@ -66,6 +66,7 @@ SeismicRun::SeismicRun(const Scenario& scenario, SeismicRunOptions options)
   dt_ = (scenario_.dt_s > 0 ? scenario_.dt_s : 0.8 * limit_s_) * options_.dt_factor;
   ground_ = prepare_ground_motion(scenario_.ground_motion, dt_);
   world_ = std::make_unique<World>(model, dt_);
+  world_->set_adaptive_threads(options_.adaptive_threads);
   const Model& m = world_->model();
   monitors_ = scenario_.monitor_blocks;
   if (monitors_.empty() && crown_unit(m) >= 0) monitors_.push_back(crown_unit(m));
@@ -174,7 +175,8 @@ SeismicRunResult SeismicRun::run() {
     j << ",\n  \"largest_crown_drop_m\": " << r.largest_crown_drop_m << ",\n  \"monitored_block\": " << crown
       << ",\n  \"energy_balance_error_j\": " << r.balance_error_j
       << ",\n  \"energy_balance_error_relative\": " << r.balance_error_relative << ",\n  \"dt_s\": " << dt
-      << ",\n  \"steps\": " << s.step << ",\n  \"threads\": " << thread_count() << ",\n  \"state_hash\": \"" << std::hex
+      << ",\n  \"steps\": " << s.step << ",\n  \"threads\": " << world.thread_tuner().max_threads()
+      << ",\n  \"mean_team_size\": " << (s.step > 0 ? double(s.profile.thread_steps) / s.step : 0.0) << ",\n  \"state_hash\": \"" << std::hex
       << r.state_hash << std::dec << "\"" << ",\n  \"wall_time_s\": " << r.wall_s << "\n}\n";
     write_text_atomically(out / "summary.json", j.str());
   };

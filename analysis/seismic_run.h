@@ -17,6 +17,7 @@ namespace ishibashi {
 struct SeismicRunOptions {
   std::filesystem::path out;  // output folder (created)
   double dt_factor = 1;       // multiplies the time step (0.5 halves it: convergence studies)
+  bool adaptive_threads = true;  // false: every step on all the scenario's threads (World)
   // Called after every output frame of the shaking with the fraction done (0..1).
   std::function<void(double fraction_done)> on_frame;
   // Warnings worth a user's attention (a block that left the model).

@@ -91,7 +91,7 @@ void run_job(const Job& job, const StudyFile& study, int threads) {
     Scenario sc = read_scenario(job.input);
     if (study.duration_s >= 0) sc.duration_s = sc.ground_motion.duration_s = study.duration_s;
     sc.threads = threads;
-    SeismicRun run(sc, SeismicRunOptions{job.folder, 1.0, {}, {}});
+    SeismicRun run(sc, SeismicRunOptions{job.folder, 1.0, true, {}, {}});
     const SeismicRunResult r = run.run();
     if (r.interrupted) throw std::runtime_error("interrupted");
     // The ground motion as the report plots it: 200 samples per second.

@@ -54,6 +54,8 @@ int main(int argc, char** argv) {
       ->check(CLI::Range(1e-3, 1.0));
   run_cmd->add_option("--subdivision", run.subdivision, "contact subdivision, replacing the scenario's")
       ->check(CLI::Range(1, 16));
+  run_cmd->add_flag("--fixed-threads", run.fixed_threads,
+                    "every step on all threads (default: the team size that is fastest as the run goes)");
 
   ishibashi::ModalOptions modal;
   CLI::App* modal_cmd = app.add_subcommand("modal", "Natural frequencies and mode shapes (modal analysis, joints held linear)");

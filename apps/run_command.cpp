@@ -5,7 +5,6 @@
 #include <string>
 
 #include "analysis/seismic_run.h"
-#include "engine/parallel.h"
 
 namespace ishibashi {
 
@@ -20,6 +19,7 @@ int run_scenario(const RunOptions& o) {
   SeismicRunOptions options;
   options.out = o.out.empty() ? std::filesystem::path("out") / o.scenario.stem() : o.out;
   options.dt_factor = o.dt_factor;
+  options.adaptive_threads = !o.fixed_threads;
   options.on_warning = [](const std::string& text) { std::fprintf(stderr, "\n  warning: %s\n", text.c_str()); };
   const auto shake0 = std::chrono::steady_clock::now();
   if (!o.quiet)
@@ -30,8 +30,8 @@ int run_scenario(const RunOptions& o) {
     };
   SeismicRun run(sc, options);
   const Model& m = run.world().model();
-  std::printf("%s: %d blocks, %zu sub-contacts, dt = %.3g s, %d threads; ground motion %.2f s (from %.2f s of the record)\n",
-              sc.model.name.c_str(), m.block_count, run.world().state().contacts.size(), run.dt_s(), thread_count(),
+  std::printf("%s: %d blocks, %zu sub-contacts, dt = %.3g s, at most %d threads; ground motion %.2f s (from %.2f s of the record)\n",
+              sc.model.name.c_str(), m.block_count, run.world().state().contacts.size(), run.dt_s(), run.world().thread_tuner().max_threads(),
               run.ground_motion().duration_s(), sc.ground_motion.start_s);
   std::printf("  stability limit %.3g s, set by %s and its joints\n", run.stability_limit_s(),
               m.block_label(run.limiting_block()).c_str());
@@ -52,8 +52,9 @@ int run_scenario(const RunOptions& o) {
     for (const auto& [name, t] : {std::pair{"pose", p.pose_s}, {"broadphase", p.broadphase_s}, {"narrowphase", p.narrowphase_s},
                                   {"contact law", p.contact_law_s}, {"gather", p.gather_s}, {"integrate", p.integrate_s}})
       std::printf("%-12s %8.2f  %5.1f %%\n", name, t, 100 * t / total);
-    std::printf("steps %ld, broadphase rebuilds %ld, contact regroups %ld, %.1f steps/s\n", r.steps, p.broadphase_rebuilds,
-                p.contact_regroups, r.steps / total);
+    std::printf("steps %ld, broadphase rebuilds %ld, contact regroups %ld, %.1f steps/s, mean team %.2f of %d threads\n",
+                r.steps, p.broadphase_rebuilds, p.contact_regroups, r.steps / total, double(p.thread_steps) / r.steps,
+                run.world().thread_tuner().max_threads());
   }
   std::printf("outputs in %s: blocks.pvd, contacts.pvd (open in ParaView), history.csv, summary.json\n", options.out.c_str());
   return r.interrupted ? 130 : 0;

@@ -16,6 +16,7 @@ struct RunOptions {
   double dt_s = -1;           // >= 0: replaces the scenario's [run] dt_s (0: 0.8 of the limit)
   double dt_factor = 1;       // multiplies the time step (0.5: half of it, for convergence studies)
   int subdivision = 0;        // > 0: replaces the scenario's [run] subdivision
+  bool fixed_threads = false; // every step on all threads (default: the team size found fastest)
 };
 
 // Returns the exit code: 0 done, 130 interrupted (outputs valid up to that moment).

@@ -74,7 +74,7 @@ bool update_pairs(const Model& m, State& s) {
 
   // Candidates per block a (partners b > a), sorted; chunks in index order keep the
   // concatenated list sorted by (a, b) whatever the thread count.
-  const int chunks = thread_count();
+  const int chunks = kBufferChunks;
   s.chunk_pairs.resize(chunks);
   s.chunk_candidates.resize(chunks);
   parallel_chunks(nb, chunks, [&](std::ptrdiff_t begin, std::ptrdiff_t end, int k) {

@@ -558,7 +558,7 @@ void append_rebuilt(const Model& m, const State& s, const Pair& pair, const Mani
 // gains or loses sub-contacts or the pair list changed.
 void update_contacts(const Model& m, State& s, bool first_detection, double dt_s) {
   const int np = static_cast<int>(s.pairs.size());
-  const int chunks = thread_count();
+  const int chunks = kBufferChunks;
   s.chunk_contacts.resize(chunks);
   s.chunk_regroup.assign(chunks, 0);
   parallel_chunks(np, chunks, [&](std::ptrdiff_t begin, std::ptrdiff_t end, int k) {

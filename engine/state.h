@@ -113,6 +113,7 @@ struct Profile {  // seconds spent in each stage since the start
   double pose_s = 0, broadphase_s = 0, narrowphase_s = 0, contact_law_s = 0, gather_s = 0, integrate_s = 0;
   long broadphase_rebuilds = 0;
   long contact_regroups = 0;  // steps whose sub-contact arrays were regrouped (a count changed)
+  long thread_steps = 0;      // sum over steps of the team size (/ steps: the mean team)
 };
 
 struct State {

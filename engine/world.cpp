@@ -5,6 +5,7 @@
 #include <cstring>
 #include <sstream>
 
+#include "engine/parallel.h"
 #include "engine/pipeline.h"
 
 namespace ishibashi {
@@ -15,7 +16,8 @@ double seconds_since(Clock::time_point t0) { return std::chrono::duration<double
 
 }  // namespace
 
-World::World(Model model, double dt_s) : model_(std::move(model)), state_(make_initial_state(model_)), dt_s_(dt_s) {
+World::World(Model model, double dt_s)
+    : model_(std::move(model)), state_(make_initial_state(model_)), dt_s_(dt_s), tuner_(thread_count()) {
   if (!(dt_s > 0) || !std::isfinite(dt_s)) throw ModelError("the time step dt must be a positive number of seconds");
   update_pose(model_, state_);
   update_pairs(model_, state_);
@@ -99,8 +101,10 @@ void World::step() {
   const Model& m = model_;
   State& s = state_;
   Profile& p = s.profile;
+  const ScopedTeamSize team(tuner_.threads());
+  const auto step0 = Clock::now();
 
-  auto t0 = Clock::now();
+  auto t0 = step0;
   update_pose(m, s);
   p.pose_s += seconds_since(t0);
 
@@ -146,6 +150,8 @@ void World::step() {
 
   s.time_s += dt_s_;
   ++s.step;
+  p.thread_steps += tuner_.threads();
+  tuner_.record(seconds_since(step0));
 }
 
 std::uint64_t World::state_hash() const {

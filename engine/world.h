@@ -6,6 +6,7 @@
 
 #include "engine/model.h"
 #include "engine/state.h"
+#include "engine/thread_tuner.h"
 
 namespace ishibashi {
 
@@ -34,10 +35,17 @@ class World {
   // Hash of positions, orientations and velocities (for determinism checks).
   std::uint64_t state_hash() const;
 
+  // The steps run on at most the threads OpenMP gave the constructing thread, on the team
+  // size found fastest as they go (thread_tuner.h); set_adaptive_threads(false) always
+  // uses them all (scaling benchmarks). The results are the same either way.
+  void set_adaptive_threads(bool adaptive) { tuner_.set_adaptive(adaptive); }
+  const ThreadTuner& thread_tuner() const { return tuner_; }
+
  private:
   Model model_;
   State state_;
   double dt_s_;
+  ThreadTuner tuner_;
 };
 
 }  // namespace ishibashi

@@ -1,16 +1,19 @@
 // Whole-run benchmark: a wall of 1,534 cubes of 0.64 m in two leaves of running bond
 // (30 and 29 stones per course alternately, 26 courses) on a fixed base under gravity,
 // all joints closed, dt = 4e-5 s, Nishida stone with damping ratio 0.1.
-// Usage: wall_benchmark [steps [courses stones_per_course [max_threads]]] (any wall size:
-// the scaling runs). Prints one CSV row per thread count 1, 2, 4, ... up to max_threads:
-// threads,blocks,pairs,subcontacts,steps,seconds,steps_per_s,ns_per_subcontact_step,
-// then the per-stage times and the peak memory.
+// Usage: wall_benchmark [steps [courses stones_per_course [max_threads [adaptive]]]] (any
+// wall size: the scaling runs). Prints one CSV row per thread count 1, 2, 4, ... up to
+// max_threads, each a fixed team: threads,blocks,pairs,subcontacts,steps,seconds,
+// steps_per_s,ns_per_subcontact_step, then the per-stage times, and the peak memory. With
+// a fifth argument "adaptive", one row: at most max_threads, the team size chosen as the
+// run goes (engine/thread_tuner.h; threads = the mean team), as `ishibashi run` runs.
 #include <omp.h>
 #include <sys/resource.h>
 
 #include <chrono>
 #include <cstdio>
 #include <cstdlib>
+#include <string>
 
 #include "engine/world.h"
 #include "geometry/demo_scenes.h"
@@ -22,6 +25,7 @@ int main(int argc, char** argv) {
   const int courses = argc > 2 ? std::atoi(argv[2]) : 26;
   const int stones = argc > 3 ? std::atoi(argv[3]) : 30;
   const int max_threads = argc > 4 ? std::atoi(argv[4]) : omp_get_num_procs();
+  const bool adaptive = argc > 5 && std::string(argv[5]) == "adaptive";
   WallSpec spec;
   spec.courses = courses;
   spec.stones_per_course = stones;
@@ -36,9 +40,10 @@ int main(int argc, char** argv) {
   std::printf("threads,blocks,pairs,subcontacts,steps,seconds,steps_per_s,ns_per_subcontact_step,"
               "pose_s,broadphase_s,narrowphase_s,contact_law_s,gather_s,integrate_s,rebuilds,regroups\n");
   double one_thread = 0;
-  for (int threads = 1; threads <= max_threads; threads *= 2) {
+  for (int threads = adaptive ? max_threads : 1; threads <= max_threads; threads *= 2) {
     omp_set_num_threads(threads);
     World world(model, 4e-5);
+    world.set_adaptive_threads(adaptive);
     world.run(50);  // warm-up: buffers reach their size
     const State& s = world.state();
     const Profile before = s.profile;
@@ -48,12 +53,13 @@ int main(int argc, char** argv) {
     const Profile& p = s.profile;
     const double rate = steps / seconds;
     if (threads == 1) one_thread = rate;
-    std::printf("%d,%d,%zu,%zu,%ld,%.3f,%.1f,%.1f,%.3f,%.3f,%.3f,%.3f,%.3f,%.3f,%ld,%ld\n", threads, model.block_count,
+    const double mean_team = double(p.thread_steps - before.thread_steps) / steps;
+    std::printf("%.2f,%d,%zu,%zu,%ld,%.3f,%.1f,%.1f,%.3f,%.3f,%.3f,%.3f,%.3f,%.3f,%ld,%ld\n", mean_team, model.block_count,
                 s.pairs.size(), s.contacts.size(), steps, seconds, rate, 1e9 * seconds / (steps * double(s.contacts.size())),
                 p.pose_s - before.pose_s, p.broadphase_s - before.broadphase_s, p.narrowphase_s - before.narrowphase_s,
                 p.contact_law_s - before.contact_law_s, p.gather_s - before.gather_s, p.integrate_s - before.integrate_s,
                 p.broadphase_rebuilds - before.broadphase_rebuilds, p.contact_regroups - before.contact_regroups);
-    if (threads > 1) std::printf("# speed-up %d threads / 1 thread: %.2f\n", threads, rate / one_thread);
+    if (threads > 1 && !adaptive) std::printf("# speed-up %d threads / 1 thread: %.2f\n", threads, rate / one_thread);
   }
   rusage usage{};
   getrusage(RUSAGE_SELF, &usage);

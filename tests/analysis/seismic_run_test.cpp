@@ -31,7 +31,7 @@ Scenario strong_pulses(int threads) {
 SeismicRunResult run_into(const std::string& folder, int threads) {
   const auto out = std::filesystem::temp_directory_path() / folder;
   std::filesystem::remove_all(out);
-  SeismicRun run(strong_pulses(threads), SeismicRunOptions{out, 1.0, {}, {}});
+  SeismicRun run(strong_pulses(threads), SeismicRunOptions{out, 1.0, /*adaptive_threads=*/false, {}, {}});
   return run.run();
 }
 

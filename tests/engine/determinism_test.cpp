@@ -10,19 +10,22 @@
 namespace ishibashi {
 namespace {
 
-std::uint64_t shaken_wall_hash(int threads) {
+// adaptive = false: every step on `threads`; true: on the team sizes the tuner picks.
+std::uint64_t shaken_wall_hash(int threads, bool adaptive = false, long* thread_steps = nullptr) {
   omp_set_num_threads(threads);
   WallSpec spec;
   spec.courses = 5;
   spec.stones_per_course = 14;  // 141 blocks: enough for the loops to run on threads
   spec.leaves = 2;
   World w(make_wall_model(spec), 1e-5);
+  w.set_adaptive_threads(adaptive);
   State& s = w.state();
   for (int i = 0; i < 3000; ++i) {
     s.velocity[0].x() += 0.8 * 9.81 * std::sin(2 * M_PI * 5.0 * s.time_s) * w.dt_s();
     w.step();
   }
   EXPECT_GT(s.contacts.size(), 100u);
+  if (thread_steps) *thread_steps = s.profile.thread_steps;
   return w.state_hash();
 }
 
@@ -30,6 +33,17 @@ TEST(Determinism, SameStateHashForOneToFourThreads) {
   const int saved = omp_get_max_threads();
   const std::uint64_t one = shaken_wall_hash(1);
   for (int threads : {2, 3, 4}) EXPECT_EQ(shaken_wall_hash(threads), one) << threads << " threads";
+  omp_set_num_threads(saved);
+}
+
+// The tuner changes the team size during the run (it probes 1, 2 and 4 threads): the
+// state stays bit-identical to one thread's.
+TEST(Determinism, SameStateHashWhenTheTeamSizeChangesDuringTheRun) {
+  const int saved = omp_get_max_threads();
+  const std::uint64_t one = shaken_wall_hash(1);
+  long thread_steps = 0;
+  EXPECT_EQ(shaken_wall_hash(4, true, &thread_steps), one);
+  EXPECT_NE(thread_steps, 4 * 3000L) << "the team size never changed";
   omp_set_num_threads(saved);
 }
 
