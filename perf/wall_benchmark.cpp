@@ -1,12 +1,13 @@
 // Whole-run benchmark: a wall of 1,534 cubes of 0.64 m in two leaves of running bond
 // (30 and 29 stones per course alternately, 26 courses) on a fixed base under gravity,
 // all joints closed, dt = 4e-5 s, Nishida stone with damping ratio 0.1.
-// Usage: wall_benchmark [steps [courses stones_per_course [max_threads [adaptive]]]] (any
+// Usage: wall_benchmark [steps [courses stones_per_course [max_threads [adaptive|fixed]]]] (any
 // wall size: the scaling runs). Prints one CSV row per thread count 1, 2, 4, ... up to
 // max_threads, each a fixed team: threads,blocks,pairs,subcontacts,steps,seconds,
 // steps_per_s,ns_per_subcontact_step, then the per-stage times, and the peak memory. With
-// a fifth argument "adaptive", one row: at most max_threads, the team size chosen as the
-// run goes (engine/thread_tuner.h; threads = the mean team), as `ishibashi run` runs.
+// a fifth argument, one row at max_threads: "fixed", or "adaptive": at most max_threads,
+// the team size chosen as the run goes (engine/thread_tuner.h; threads = the mean team),
+// as `ishibashi run` runs.
 #include <omp.h>
 #include <sys/resource.h>
 
@@ -25,7 +26,8 @@ int main(int argc, char** argv) {
   const int courses = argc > 2 ? std::atoi(argv[2]) : 26;
   const int stones = argc > 3 ? std::atoi(argv[3]) : 30;
   const int max_threads = argc > 4 ? std::atoi(argv[4]) : omp_get_num_procs();
-  const bool adaptive = argc > 5 && std::string(argv[5]) == "adaptive";
+  // A fifth argument: one row at max_threads, "adaptive" or not (e.g. "fixed").
+  const bool one_row = argc > 5, adaptive = one_row && std::string(argv[5]) == "adaptive";
   WallSpec spec;
   spec.courses = courses;
   spec.stones_per_course = stones;
@@ -40,7 +42,7 @@ int main(int argc, char** argv) {
   std::printf("threads,blocks,pairs,subcontacts,steps,seconds,steps_per_s,ns_per_subcontact_step,"
               "pose_s,broadphase_s,narrowphase_s,contact_law_s,gather_s,integrate_s,rebuilds,regroups\n");
   double one_thread = 0;
-  for (int threads = adaptive ? max_threads : 1; threads <= max_threads; threads *= 2) {
+  for (int threads = one_row ? max_threads : 1; threads <= max_threads; threads *= 2) {
     omp_set_num_threads(threads);
     World world(model, 4e-5);
     world.set_adaptive_threads(adaptive);
@@ -59,7 +61,7 @@ int main(int argc, char** argv) {
                 p.pose_s - before.pose_s, p.broadphase_s - before.broadphase_s, p.narrowphase_s - before.narrowphase_s,
                 p.contact_law_s - before.contact_law_s, p.gather_s - before.gather_s, p.integrate_s - before.integrate_s,
                 p.broadphase_rebuilds - before.broadphase_rebuilds, p.contact_regroups - before.contact_regroups);
-    if (threads > 1 && !adaptive) std::printf("# speed-up %d threads / 1 thread: %.2f\n", threads, rate / one_thread);
+    if (threads > 1 && !one_row) std::printf("# speed-up %d threads / 1 thread: %.2f\n", threads, rate / one_thread);
   }
   rusage usage{};
   getrusage(RUSAGE_SELF, &usage);
