@@ -4,9 +4,12 @@
 #include <chrono>
 #include <cmath>
 #include <csignal>
+#include <fstream>
 #include <sstream>
 
+#include "analysis/fingerprint.h"
 #include "analysis/load.h"
+#include "engine/checkpoint.h"
 #include "engine/parallel.h"
 #include "geometry/bridge.h"
 #include "io/atomic_file.h"
@@ -37,6 +40,35 @@ Counts count(const Model& m, const State& s, const JointThresholds& thresholds, 
     }
   }
   return c;
+}
+
+constexpr char kCheckpointMagic[] = "ishibashi checkpoint 1\n";
+
+// What the checkpoint's run was: the program, the input files and the run's settings
+// beyond the scenario file (command-line overrides), so that a resume rebuilds the same run.
+struct CheckpointHeader {
+  std::uint64_t program = 0, inputs = 0;
+  std::string scenario_file;
+  double dt_s = 0, duration_s = 0, motion_duration_s = 0, start_s = 0;
+  int subdivision = 1;
+};
+
+void write_header(CheckpointWriter& out, const CheckpointHeader& h) {
+  out.text(kCheckpointMagic);
+  out.value(h.program), out.value(h.inputs);
+  out.text(h.scenario_file);
+  out.value(h.dt_s), out.value(h.duration_s), out.value(h.motion_duration_s), out.value(h.start_s), out.value(h.subdivision);
+}
+
+CheckpointHeader read_header(CheckpointReader& in, const std::filesystem::path& file) {
+  if (in.text() != kCheckpointMagic) throw InputError(file.string() + ": not a checkpoint of this program");
+  CheckpointHeader h;
+  h.program = in.value<std::uint64_t>();
+  h.inputs = in.value<std::uint64_t>();
+  h.scenario_file = in.text();
+  h.dt_s = in.value<double>(), h.duration_s = in.value<double>(), h.motion_duration_s = in.value<double>();
+  h.start_s = in.value<double>(), h.subdivision = in.value<int>();
+  return h;
 }
 
 }  // namespace
@@ -78,6 +110,38 @@ SeismicRun::SeismicRun(const Scenario& scenario, SeismicRunOptions options)
 
 SeismicRun::~SeismicRun() = default;
 
+std::unique_ptr<SeismicRun> SeismicRun::resume(SeismicRunOptions options) {
+  const std::filesystem::path file = options.out / "checkpoint.bin";
+  std::ifstream in(file, std::ios::binary);
+  if (!in) throw InputError(file.string() + ": no checkpoint to resume from (run with --checkpoint-every or --checkpoint-wall)");
+  CheckpointHeader h;
+  std::string body;
+  try {
+    CheckpointReader reader(in);
+    h = read_header(reader, file);
+    body.assign(std::istreambuf_iterator<char>(in), {});
+  } catch (const CheckpointError& e) {
+    throw InputError(file.string() + ": damaged checkpoint (" + e.what() + ")");
+  }
+  if (h.program != program_fingerprint())
+    throw InputError(file.string() + ": written by another build of ishibashi; resume it with that build, or start the run again");
+  if (!std::filesystem::exists(h.scenario_file))
+    throw InputError(file.string() + ": its scenario " + h.scenario_file + " no longer exists");
+  if (h.inputs != scenario_fingerprint(h.scenario_file))
+    throw InputError(file.string() + ": the scenario " + h.scenario_file +
+                     ", its model file or its records changed since the checkpoint was written; start the run again");
+  Scenario sc = read_scenario(h.scenario_file);
+  sc.dt_s = h.dt_s;
+  sc.duration_s = h.duration_s;
+  sc.ground_motion.duration_s = h.motion_duration_s;
+  sc.ground_motion.start_s = h.start_s;
+  sc.subdivision = h.subdivision;
+  options.dt_factor = 1;  // h.dt_s is the step the run used
+  auto run = std::make_unique<SeismicRun>(sc, std::move(options));
+  run->resume_from_ = std::move(body);
+  return run;
+}
+
 SeismicRunResult SeismicRun::run() {
   const auto wall0 = Clock::now();
   const std::filesystem::path& out = options_.out;
@@ -107,6 +171,8 @@ SeismicRunResult SeismicRun::run() {
   const int crown = monitored_block();
   Vec3 settled_crown = Vec3::Zero();
   std::vector<std::uint8_t> reported_left(m.block_count, 0);
+  bool shaking = false;  // settled: the ground moves
+  long shake_step = 0;   // the next step of the ground motion
 
   auto take_counts = [&](const Counts& c) {
     r.joint_counts = c.joints;
@@ -181,28 +247,89 @@ SeismicRunResult SeismicRun::run() {
     write_text_atomically(out / "summary.json", j.str());
   };
 
+  // ---- checkpoints: everything the rest of the run depends on, at an output frame ----
+  const bool checkpoints = options_.checkpoint_every_s > 0 || options_.checkpoint_wall_s > 0;
+  double checkpoint_time_s = s.time_s;
+  auto checkpoint_wall = Clock::now();
+  auto write_checkpoint = [&] {
+    CheckpointHeader h{program_fingerprint(), scenario_fingerprint(scenario_.file),
+                       std::filesystem::absolute(scenario_.file).string(), dt, scenario_.duration_s,
+                       scenario_.ground_motion.duration_s, scenario_.ground_motion.start_s, scenario_.subdivision};
+    write_atomically(out / "checkpoint.bin", [&](const std::filesystem::path& tmp) {
+      std::ofstream file(tmp, std::ios::binary);
+      CheckpointWriter w(file);
+      write_header(w, h);
+      w.value(shaking), w.value(shake_step), w.value(r);
+      for (int i = 0; i < 3; ++i) w.value(settled_crown[i]);
+      w.array(reported_left), w.text(history.str()), w.array(blocks.frame_times()), w.array(contacts.frame_times());
+      write_joints(w, joints);
+      write_state(w, s);
+      if (!file.flush()) throw std::runtime_error("cannot write " + tmp.string());
+    });
+    checkpoint_time_s = s.time_s;
+    checkpoint_wall = Clock::now();
+  };
+  auto maybe_checkpoint = [&] {
+    const double wall = std::chrono::duration<double>(Clock::now() - checkpoint_wall).count();
+    if ((options_.checkpoint_every_s > 0 && s.time_s - checkpoint_time_s >= options_.checkpoint_every_s - 0.5 * dt) ||
+        (options_.checkpoint_wall_s > 0 && wall >= options_.checkpoint_wall_s))
+      write_checkpoint();
+  };
+  if (!resume_from_.empty()) {
+    std::istringstream body(resume_from_);
+    CheckpointReader in(body);
+    try {
+      shaking = in.value<bool>();
+      shake_step = in.value<long>();
+      r = in.value<SeismicRunResult>();
+      for (int i = 0; i < 3; ++i) settled_crown[i] = in.value<double>();
+      in.array(reported_left);
+      history.str(in.text());
+      history.seekp(0, std::ios::end);
+      std::vector<double> times;
+      in.array(times);
+      blocks.resume(times);
+      in.array(times);
+      contacts.resume(times);
+      read_joints(in, joints);
+      read_state(in, s);
+    } catch (const CheckpointError& e) {
+      throw InputError((out / "checkpoint.bin").string() + ": damaged checkpoint (" + e.what() + ")");
+    }
+    if (reported_left.size() != static_cast<std::size_t>(m.block_count) || s.position.size() != reported_left.size())
+      throw InputError((out / "checkpoint.bin").string() + ": written for a model of another size");
+    checkpoint_time_s = s.time_s;
+  }
+
   // ---- settle under gravity until the kinetic energy is negligible ----
   const double settle_max_s = scenario_.settle_max_s;
   const long steps_per_frame = std::max(1L, std::lround(scenario_.output_interval_s / dt));
-  record("settle", Vec3::Zero(), Vec3::Zero());
-  while (!stop_requested() && s.time_s < settle_max_s) {
-    world.run(std::min<long>(steps_per_frame, std::lround((settle_max_s - s.time_s) / dt) + 1));
-    record("settle", Vec3::Zero(), Vec3::Zero());
-    if (s.energy.kinetic_j < scenario_.settle_kinetic_j) {
-      r.settled = true;
-      break;
+  if (!shaking) {
+    if (s.step == 0) record("settle", Vec3::Zero(), Vec3::Zero());
+    while (!stop_requested() && s.time_s < settle_max_s) {
+      world.run(std::min<long>(steps_per_frame, std::lround((settle_max_s - s.time_s) / dt) + 1));
+      record("settle", Vec3::Zero(), Vec3::Zero());
+      if (s.energy.kinetic_j < scenario_.settle_kinetic_j) {
+        r.settled = true;
+        break;
+      }
+      if (checkpoints) maybe_checkpoint();
+    }
+    if (!stop_requested()) {
+      r.settle_time_s = s.time_s;
+      r.bonds_broken_settling = set_joint_reference(s, joints);  // cracks of the shaking, from the settled pose
+      if (crown >= 0) settled_crown = s.position[crown];
+      shaking = true;
+      write_summary(false);
     }
   }
-  r.settle_time_s = s.time_s;
-  r.bonds_broken_settling = set_joint_reference(s, joints);  // cracks of the shaking, from the settled pose
-  if (crown >= 0) settled_crown = s.position[crown];
-  write_summary(false);
 
   // ---- shake: the prescribed blocks move with the ground ----
   const GroundMotion& ground = ground_;
   const long n = static_cast<long>(ground.accel_m_s2.size()) - 1;
   Vec3 ground_accel = Vec3::Zero(), ground_displacement = Vec3::Zero();  // at the last step
-  for (long k = 0; k < n && !stop_requested(); ++k) {
+  if (shake_step > 0) ground_accel = ground.accel_m_s2[shake_step], ground_displacement = ground.displacement_m[shake_step];
+  for (long k = shake_step; shaking && k < n && !stop_requested(); ++k) {
     const Vec3 v = 0.5 * (ground.velocity_m_s[k] + ground.velocity_m_s[k + 1]);  // exact displacement per step
     for (int b = 0; b < m.block_count; ++b)
       if (m.motion[b] == Motion::prescribed) s.velocity[b] = v;
@@ -214,14 +341,19 @@ SeismicRunResult SeismicRun::run() {
     if (crown >= 0)  // the crown's drop relative to the ground since settling
       r.largest_crown_drop_m =
           std::max(r.largest_crown_drop_m, settled_crown.z() - s.position[crown].z() + ground_displacement.z());
+    shake_step = k + 1;
     if ((k + 1) % steps_per_frame == 0 || k + 1 == n) {
       record("shake", ground_accel, ground_displacement);
       write_summary(false);
       if (options_.on_frame) options_.on_frame(double(k + 1) / n);
+      if (checkpoints && k + 1 < n) maybe_checkpoint();
     }
   }
   r.interrupted = stop_requested();
-  if (r.interrupted) record("interrupted", ground_accel, ground_displacement);
+  if (r.interrupted) {
+    if (checkpoints) write_checkpoint();  // before the extra frame: the resumed run writes its own
+    record("interrupted", ground_accel, ground_displacement);
+  }
   write_summary(!r.interrupted);
   return r;
 }

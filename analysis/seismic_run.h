@@ -18,6 +18,11 @@ struct SeismicRunOptions {
   std::filesystem::path out;  // output folder (created)
   double dt_factor = 1;       // multiplies the time step (0.5 halves it: convergence studies)
   bool adaptive_threads = true;  // false: every step on all the scenario's threads (World)
+  // Checkpoints (checkpoint.bin in `out`, replaced atomically at an output frame) every
+  // this many simulated seconds and/or wall-clock seconds; 0: none. A run stopped by a
+  // signal writes one too, when either is set.
+  double checkpoint_every_s = 0;
+  double checkpoint_wall_s = 0;
   // Called after every output frame of the shaking with the fraction done (0..1).
   std::function<void(double fraction_done)> on_frame;
   // Warnings worth a user's attention (a block that left the model).
@@ -56,6 +61,12 @@ class SeismicRun {
   SeismicRun(const Scenario& scenario, SeismicRunOptions options);
   ~SeismicRun();
 
+  // The run whose checkpoint is options.out / "checkpoint.bin", ready to continue where
+  // it was written: run() then appends to its series and history and ends bit-identical
+  // to a run never stopped. Throws InputError when there is no checkpoint, or when it was
+  // written by another build of the program or for other input files.
+  static std::unique_ptr<SeismicRun> resume(SeismicRunOptions options);
+
   const Scenario& scenario() const { return scenario_; }
   const World& world() const { return *world_; }
   double dt_s() const { return dt_; }
@@ -68,7 +79,6 @@ class SeismicRun {
   SeismicRunResult run();
 
  private:
-  struct Recorder;
   Scenario scenario_;
   SeismicRunOptions options_;
   double limit_s_ = 0, dt_ = 0;
@@ -76,6 +86,7 @@ class SeismicRun {
   GroundMotion ground_;
   std::unique_ptr<World> world_;
   std::vector<int> monitors_;
+  std::string resume_from_;  // the checkpoint's body (after its header); empty: a new run
 };
 
 // The fraction of the energy exchanged (the ground's work, dashpots, friction and broken

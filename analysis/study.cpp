@@ -11,6 +11,7 @@
 #include <thread>
 #include <vector>
 
+#include "analysis/fingerprint.h"
 #include "analysis/frequencies.h"
 #include "analysis/load.h"
 #include "analysis/seismic_run.h"
@@ -21,25 +22,6 @@ namespace ishibashi {
 namespace {
 
 namespace fs = std::filesystem;
-
-std::string file_bytes(const fs::path& p) {
-  std::ifstream in(p, std::ios::binary);
-  std::ostringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
-
-// FNV-1a, 64 bits: a fingerprint of a job's inputs, not a security hash.
-std::uint64_t fnv1a(const std::string& bytes, std::uint64_t h = 1469598103934665603ull) {
-  for (unsigned char c : bytes) h = (h ^ c) * 1099511628211ull;
-  return h;
-}
-
-// The program itself is an input: a rebuilt engine makes every output stale.
-std::uint64_t program_fingerprint() {
-  static const std::uint64_t h = fnv1a(file_bytes("/proc/self/exe"));
-  return h;
-}
 
 enum class JobKind { frequencies, run };
 
@@ -54,16 +36,13 @@ struct Job {
 
 std::string job_key(const Job& job, const StudyFile& study) {
   std::ostringstream in;
-  in << program_fingerprint() << (job.kind == JobKind::run ? " run " : " frequencies ") << file_bytes(job.input);
-  if (is_scenario_file(job.input)) {  // its model file and ground motion records too
-    const Scenario sc = read_scenario(job.input);
-    in << file_bytes(sc.model_file);
-    if (job.kind == JobKind::run) {
-      for (const auto& c : sc.ground_motion.component)
-        if (c) in << file_bytes(c->file);
-      in << " duration " << study.duration_s;
-    }
-  }
+  in << program_fingerprint() << (job.kind == JobKind::run ? " run " : " frequencies ");
+  if (job.kind == JobKind::run)  // the scenario, its model file and records
+    in << scenario_fingerprint(job.input) << " duration " << study.duration_s;
+  else if (is_scenario_file(job.input))
+    in << file_bytes(job.input) << file_bytes(read_scenario(job.input).model_file);
+  else
+    in << file_bytes(job.input);
   if (job.kind == JobKind::frequencies) in << " modes " << study.modes << " impulse " << study.impulse_s;
   char hex[17];
   std::snprintf(hex, sizeof hex, "%016llx", static_cast<unsigned long long>(fnv1a(in.str())));
@@ -91,7 +70,9 @@ void run_job(const Job& job, const StudyFile& study, int threads) {
     Scenario sc = read_scenario(job.input);
     if (study.duration_s >= 0) sc.duration_s = sc.ground_motion.duration_s = study.duration_s;
     sc.threads = threads;
-    SeismicRun run(sc, SeismicRunOptions{job.folder, 1.0, true, {}, {}});
+    SeismicRunOptions options;
+    options.out = job.folder;
+    SeismicRun run(sc, options);
     const SeismicRunResult r = run.run();
     if (r.interrupted) throw std::runtime_error("interrupted");
     // The ground motion as the report plots it: 200 samples per second.

@@ -38,7 +38,8 @@ int main(int argc, char** argv) {
 
   ishibashi::RunOptions run;
   CLI::App* run_cmd = app.add_subcommand("run", "Settle a bridge under gravity, then shake it with a recorded ground motion");
-  run_cmd->add_option("scenario", run.scenario, "scenario file (TOML), e.g. scenarios/nishida_a_kobe.toml")->required();
+  CLI::Option* run_scenario_file =
+      run_cmd->add_option("scenario", run.scenario, "scenario file (TOML), e.g. scenarios/nishida_a_kobe_dry.toml");
   run_cmd->add_option("--out", run.out, "output folder (default: out/<scenario name>)");
   run_cmd->add_flag("--profile", run.profile, "print the time spent in each stage of the step");
   run_cmd->add_flag("--quiet", run.quiet, "no progress bar");
@@ -56,6 +57,18 @@ int main(int argc, char** argv) {
       ->check(CLI::Range(1, 16));
   run_cmd->add_flag("--fixed-threads", run.fixed_threads,
                     "every step on all threads (default: the team size that is fastest as the run goes)");
+  run_cmd->add_option("--checkpoint-every", run.checkpoint_every_s, "write a checkpoint every this many simulated seconds")
+      ->check(CLI::NonNegativeNumber);
+  run_cmd->add_option("--checkpoint-wall", run.checkpoint_wall_s, "write a checkpoint every this many wall-clock seconds")
+      ->check(CLI::NonNegativeNumber);
+  CLI::Option* resume = run_cmd->add_option(
+      "--resume", run.resume, "continue the run in this output folder from its checkpoint (bit-identical to an unbroken run)");
+  resume->excludes(run_scenario_file);
+  for (const char* setting : {"--out", "--duration", "--start", "--dt", "--dt-factor", "--subdivision"})
+    resume->excludes(run_cmd->get_option(setting));  // a resumed run is the run it was
+  run_cmd->callback([&] {
+    if (run.scenario.empty() && run.resume.empty()) throw CLI::RequiredError("a scenario file or --resume DIR");
+  });
 
   ishibashi::ModalOptions modal;
   CLI::App* modal_cmd = app.add_subcommand("modal", "Natural frequencies and mode shapes (modal analysis, joints held linear)");

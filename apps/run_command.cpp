@@ -9,17 +9,12 @@
 namespace ishibashi {
 
 int run_scenario(const RunOptions& o) {
-  Scenario sc = read_scenario(o.scenario);
-  if (o.duration_s >= 0) sc.duration_s = sc.ground_motion.duration_s = o.duration_s;
-  if (o.threads >= 0) sc.threads = o.threads;
-  if (o.start_s >= 0) sc.ground_motion.start_s = o.start_s;
-  if (o.dt_s >= 0) sc.dt_s = o.dt_s;
-  if (o.subdivision > 0) sc.subdivision = o.subdivision;
-
   SeismicRunOptions options;
-  options.out = o.out.empty() ? std::filesystem::path("out") / o.scenario.stem() : o.out;
+  options.out = !o.resume.empty() ? o.resume : o.out.empty() ? std::filesystem::path("out") / o.scenario.stem() : o.out;
   options.dt_factor = o.dt_factor;
   options.adaptive_threads = !o.fixed_threads;
+  options.checkpoint_every_s = o.checkpoint_every_s;
+  options.checkpoint_wall_s = o.checkpoint_wall_s;
   options.on_warning = [](const std::string& text) { std::fprintf(stderr, "\n  warning: %s\n", text.c_str()); };
   const auto shake0 = std::chrono::steady_clock::now();
   if (!o.quiet)
@@ -28,8 +23,23 @@ int run_scenario(const RunOptions& o) {
       std::fprintf(stderr, "\r  shaking [%-30s] %5.1f%%  ETA %4.0f s ", std::string(static_cast<int>(30 * done), '#').c_str(),
                    100 * done, elapsed * (1 - done) / done);
     };
-  SeismicRun run(sc, options);
+  std::unique_ptr<SeismicRun> resumed;
+  if (!o.resume.empty()) {
+    if (o.threads >= 0) omp_set_num_threads(o.threads);  // the only setting a resume may change
+    resumed = SeismicRun::resume(options);
+  } else {
+    Scenario sc = read_scenario(o.scenario);
+    if (o.duration_s >= 0) sc.duration_s = sc.ground_motion.duration_s = o.duration_s;
+    if (o.threads >= 0) sc.threads = o.threads;
+    if (o.start_s >= 0) sc.ground_motion.start_s = o.start_s;
+    if (o.dt_s >= 0) sc.dt_s = o.dt_s;
+    if (o.subdivision > 0) sc.subdivision = o.subdivision;
+    resumed = std::make_unique<SeismicRun>(sc, options);
+  }
+  SeismicRun& run = *resumed;
+  const Scenario& sc = run.scenario();
   const Model& m = run.world().model();
+  if (!o.resume.empty()) std::printf("resuming %s from its checkpoint\n", options.out.c_str());
   std::printf("%s: %d blocks, %zu sub-contacts, dt = %.3g s, at most %d threads; ground motion %.2f s (from %.2f s of the record)\n",
               sc.model.name.c_str(), m.block_count, run.world().state().contacts.size(), run.dt_s(), run.world().thread_tuner().max_threads(),
               run.ground_motion().duration_s(), sc.ground_motion.start_s);

@@ -17,9 +17,13 @@ struct RunOptions {
   double dt_factor = 1;       // multiplies the time step (0.5: half of it, for convergence studies)
   int subdivision = 0;        // > 0: replaces the scenario's [run] subdivision
   bool fixed_threads = false; // every step on all threads (default: the team size found fastest)
+  double checkpoint_every_s = 0;   // > 0: a checkpoint every this many simulated seconds
+  double checkpoint_wall_s = 0;    // > 0: a checkpoint every this many wall-clock seconds
+  std::filesystem::path resume;    // continue the run in this folder from its checkpoint
 };
 
-// Returns the exit code: 0 done, 130 interrupted (outputs valid up to that moment).
+// Returns the exit code: 0 done, 130 interrupted (outputs valid up to that moment, and
+// resumable when checkpoints were asked for).
 int run_scenario(const RunOptions& options);
 
 }  // namespace ishibashi

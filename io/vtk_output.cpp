@@ -228,6 +228,17 @@ VtkSeriesWriter::VtkSeriesWriter(std::filesystem::path directory, std::string na
   if (ec) throw std::runtime_error("cannot create output folder " + directory_.string() + ": " + ec.message());
 }
 
+void VtkSeriesWriter::resume(const std::vector<double>& times) {
+  times_.clear();
+  files_.clear();
+  for (double t : times) {
+    char file[64];
+    std::snprintf(file, sizeof file, "_%06d.vtu", frame_count());
+    times_.push_back(t);
+    files_.push_back(name_ + file);
+  }
+}
+
 void VtkSeriesWriter::write(const Model& model, const State& state, const Vec3& ground_displacement_m,
                             const Joints* joints) {
   char file[64];

@@ -43,6 +43,10 @@ class VtkSeriesWriter {
              const Joints* joints = nullptr);
   std::filesystem::path pvd_path() const { return directory_ / (name_ + ".pvd"); }
   int frame_count() const { return static_cast<int>(times_.size()); }
+  const std::vector<double>& frame_times() const { return times_; }
+  // A resumed run's series: its first frames (and their files) are those of `times`;
+  // the next write is frame times.size().
+  void resume(const std::vector<double>& times);
 
  private:
   std::filesystem::path directory_;

@@ -31,7 +31,10 @@ Scenario strong_pulses(int threads) {
 SeismicRunResult run_into(const std::string& folder, int threads) {
   const auto out = std::filesystem::temp_directory_path() / folder;
   std::filesystem::remove_all(out);
-  SeismicRun run(strong_pulses(threads), SeismicRunOptions{out, 1.0, /*adaptive_threads=*/false, {}, {}});
+  SeismicRunOptions options;
+  options.out = out;
+  options.adaptive_threads = false;
+  SeismicRun run(strong_pulses(threads), options);
   return run.run();
 }
 

@@ -1,0 +1,70 @@
+#include "engine/checkpoint.h"
+
+namespace ishibashi {
+namespace {
+
+// Every array of the sub-contacts, in one place for writing and reading.
+template <class Fn>
+void for_each_array(SubContacts& c, Fn&& fn) {
+  fn(c.block_a), fn(c.block_b), fn(c.key), fn(c.point), fn(c.normal), fn(c.gap_m), fn(c.gap_change_m), fn(c.area_m2);
+  fn(c.normal_stiffness_n_m), fn(c.shear_stiffness_n_m), fn(c.normal_damping_n_s_m), fn(c.shear_damping_n_s_m);
+  fn(c.normal_stretch_m), fn(c.shear_stretch_m), fn(c.damping_force_n), fn(c.slip_m), fn(c.incident_local), fn(c.flags);
+}
+
+template <class Fn>
+void for_each_array(Joints& j, Fn&& fn) {
+  fn(j.block_a), fn(j.block_b), fn(j.point_begin), fn(j.point_on_a), fn(j.point_on_b), fn(j.centre_on_a);
+  fn(j.centre_on_b), fn(j.normal_on_a), fn(j.reference_on_a), fn(j.centre_reference_on_a), fn(j.opening_m);
+  fn(j.slip_m), fn(j.broken_at_reference), fn(j.bond_broken), fn(j.cracked);
+}
+
+}  // namespace
+
+std::size_t CheckpointReader::size(std::size_t element_bytes) {
+  const auto n = value<std::uint64_t>();
+  if (n > (std::uint64_t{1} << 40) / element_bytes) throw CheckpointError("an array of " + std::to_string(n) + " elements");
+  return static_cast<std::size_t>(n);
+}
+
+void CheckpointReader::read(void* data, std::size_t bytes) {
+  in_.read(static_cast<char*>(data), static_cast<std::streamsize>(bytes));
+  if (static_cast<std::size_t>(in_.gcount()) != bytes) throw CheckpointError("the file ends early");
+}
+
+void write_state(CheckpointWriter& out, const State& s) {
+  out.value(s.time_s), out.value(s.step);
+  out.array(s.position), out.array(s.orientation), out.array(s.velocity), out.array(s.angular_velocity);
+  out.array(s.applied_force), out.array(s.applied_torque), out.array(s.left_model);
+  out.array(s.pairs), out.value(s.pairs_changed), out.array(s.position_at_rebuild), out.value(s.pairs_valid);
+  for_each_array(const_cast<SubContacts&>(s.contacts), [&](const auto& v) { out.array(v); });
+  out.value(s.energy), out.value(s.last_gravitational_j), out.value(s.last_elastic_j), out.value(s.energy_started);
+  out.value(s.profile);
+}
+
+void read_state(CheckpointReader& in, State& s) {
+  s.time_s = in.value<double>();
+  s.step = in.value<long>();
+  in.array(s.position), in.array(s.orientation), in.array(s.velocity), in.array(s.angular_velocity);
+  in.array(s.applied_force), in.array(s.applied_torque), in.array(s.left_model);
+  in.array(s.pairs);
+  s.pairs_changed = in.value<bool>();
+  in.array(s.position_at_rebuild);
+  s.pairs_valid = in.value<bool>();
+  for_each_array(s.contacts, [&](auto& v) { in.array(v); });
+  s.energy = in.value<Energy>();
+  s.last_gravitational_j = in.value<double>();
+  s.last_elastic_j = in.value<double>();
+  s.energy_started = in.value<bool>();
+  s.profile = in.value<Profile>();
+  s.gather_index_valid = false;  // the gather index follows the restored pair list
+}
+
+void write_joints(CheckpointWriter& out, const Joints& joints) {
+  for_each_array(const_cast<Joints&>(joints), [&](const auto& v) { out.array(v); });
+}
+
+void read_joints(CheckpointReader& in, Joints& joints) {
+  for_each_array(joints, [&](auto& v) { in.array(v); });
+}
+
+}  // namespace ishibashi

@@ -1,0 +1,116 @@
+// Checkpoint and restart of `ishibashi run`: a run killed (SIGKILL) at a random moment and
+// resumed from its last checkpoint ends bit-identical to a run never stopped, with the
+// same history and series; a checkpoint of another build or of changed inputs is refused.
+#include <gtest/gtest.h>
+
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <memory>
+#include <random>
+#include <sstream>
+
+namespace ishibashi {
+namespace {
+
+const std::filesystem::path kRoot = ISHIBASHI_SOURCE_DIR;
+const std::filesystem::path kTmp = std::filesystem::temp_directory_path();
+
+std::string run_command(const std::string& command, int* status) {
+  std::string output;
+  std::unique_ptr<FILE, int (*)(FILE*)> pipe(popen((command + " 2>&1").c_str(), "r"), pclose);
+  char buffer[4096];
+  while (std::fgets(buffer, sizeof buffer, pipe.get())) output += buffer;
+  *status = pclose(pipe.release());
+  return output;
+}
+
+std::string text_of(const std::filesystem::path& file) {
+  std::ifstream in(file, std::ios::binary);
+  std::stringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+
+std::string summary_field(const std::filesystem::path& out, const std::string& key) {
+  std::istringstream summary(text_of(out / "summary.json"));
+  std::string line;
+  while (std::getline(summary, line))
+    if (line.find("\"" + key + "\"") != std::string::npos) return line.substr(line.find(':') + 2);
+  return "";
+}
+
+// Model A from 7.5 s of the Kobe record (the strongest pulses), 0.4 s of shaking.
+std::filesystem::path scenario(const std::string& name, double settle_max_s = 1.0) {
+  const auto f = kTmp / name;
+  const auto kobe = kRoot / "data/ground_motions/kobe_1995_jma";
+  std::ofstream(f) << "[model]\nfile = \"" << (kRoot / "models/nishida_a.toml").string() << "\"\n"
+                   << "[run]\nsettle_max_s = " << settle_max_s << "\nsettle_kinetic_j = 0.01\nduration_s = 0.4\n"
+                   << "[ground_motion]\nstart_s = 7.5\n"
+                   << "x = { file = \"" << (kobe / "RSN1106_KOBE_KJM090.AT2").string() << "\" }\n"
+                   << "y = { file = \"" << (kobe / "RSN1106_KOBE_KJM000.AT2").string() << "\" }\n"
+                   << "z = { file = \"" << (kobe / "RSN1106_KOBE_KJM-UP.AT2").string() << "\" }\n";
+  return f;
+}
+
+const std::string kRun = std::string(ISHIBASHI_BINARY) + " run --quiet ";
+
+TEST(Checkpoint, RunKilledAtARandomMomentResumesBitIdentical) {
+  const auto file = scenario("ishibashi_checkpoint.toml");
+  const auto whole = kTmp / "ishibashi_cp_whole", killed = kTmp / "ishibashi_cp_killed";
+  std::filesystem::remove_all(whole);
+  std::filesystem::remove_all(killed);
+  int status = 0;
+  ASSERT_EQ((run_command(kRun + file.string() + " --out " + whole.string(), &status), status), 0);
+
+  std::random_device device;
+  const unsigned seed = device();
+  std::mt19937 random(seed);
+  const double kill_after_s = std::uniform_real_distribution<double>(1.5, 4.5)(random);
+  SCOPED_TRACE("killed after " + std::to_string(kill_after_s) + " s (seed " + std::to_string(seed) + ")");
+  char kill[64];
+  std::snprintf(kill, sizeof kill, "timeout -s KILL %.2f ", kill_after_s);
+  run_command(kill + kRun + file.string() + " --checkpoint-every 0.05 --out " + killed.string(), &status);
+  ASSERT_TRUE(std::filesystem::exists(killed / "checkpoint.bin"));
+  const std::string resumed = run_command(kRun + "--resume " + killed.string(), &status);
+  ASSERT_EQ(status, 0) << resumed;
+
+  EXPECT_EQ(summary_field(killed, "state_hash"), summary_field(whole, "state_hash"));
+  EXPECT_EQ(summary_field(killed, "energy_balance_error_j"), summary_field(whole, "energy_balance_error_j"));
+  EXPECT_EQ(summary_field(killed, "finished"), "true,");
+  EXPECT_EQ(text_of(killed / "history.csv"), text_of(whole / "history.csv"));
+  EXPECT_EQ(text_of(killed / "blocks.pvd"), text_of(whole / "blocks.pvd"));
+  EXPECT_EQ(text_of(killed / "contacts.pvd"), text_of(whole / "contacts.pvd"));
+}
+
+TEST(Checkpoint, CheckpointOfAnotherBuildOrOfChangedInputsIsRefused) {
+  const auto file = scenario("ishibashi_checkpoint_refused.toml", 0.1);
+  const auto out = kTmp / "ishibashi_cp_refused";
+  std::filesystem::remove_all(out);
+  int status = 0;
+  // A run stopped by SIGINT writes a checkpoint too.
+  run_command("timeout -s INT 3 " + kRun + file.string() + " --checkpoint-wall 1000 --out " + out.string(), &status);
+  ASSERT_TRUE(std::filesystem::exists(out / "checkpoint.bin"));
+  const std::string good = text_of(out / "checkpoint.bin");
+
+  std::string other_build = good;
+  other_build[std::string("ishibashi checkpoint 1\n").size() + 8] ^= 1;  // the program's fingerprint
+  std::ofstream(out / "checkpoint.bin", std::ios::binary) << other_build;
+  std::string message = run_command(kRun + "--resume " + out.string(), &status);
+  EXPECT_NE(status, 0);
+  EXPECT_NE(message.find("written by another build of ishibashi"), std::string::npos) << message;
+
+  std::ofstream(out / "checkpoint.bin", std::ios::binary) << good;
+  std::ofstream(file, std::ios::app) << "# edited\n";
+  message = run_command(kRun + "--resume " + out.string(), &status);
+  EXPECT_NE(status, 0);
+  EXPECT_NE(message.find("changed since the checkpoint was written"), std::string::npos) << message;
+
+  std::ofstream(out / "checkpoint.bin", std::ios::binary) << good.substr(0, good.size() / 2);
+  message = run_command(kRun + "--resume " + out.string(), &status);
+  EXPECT_NE(status, 0);
+  EXPECT_NE(message.find("checkpoint"), std::string::npos) << message;
+}
+
+}  // namespace
+}  // namespace ishibashi
