@@ -228,4 +228,11 @@ GroundMotion prepare_ground_motion(const GroundMotionSpec& spec, double dt_s) {
   return g;
 }
 
+double horizontal_pga_m_s2(const GroundMotionSpec& spec) {
+  const GroundMotion g = prepare_ground_motion(spec, 0.005);  // interpolation never exceeds a sample
+  double peak = 0;
+  for (const Vec3& a : g.accel_m_s2) peak = std::max({peak, std::abs(a.x()), std::abs(a.y())});
+  return peak;
+}
+
 }  // namespace ishibashi

@@ -60,4 +60,8 @@ struct GroundMotion {
 
 GroundMotion prepare_ground_motion(const GroundMotionSpec& spec, double dt_s);
 
+// The peak ground acceleration of the horizontal components (the larger of x and y) of
+// the motion as prepared (window, scale, baseline correction), m/s^2.
+double horizontal_pga_m_s2(const GroundMotionSpec& spec);
+
 }  // namespace ishibashi

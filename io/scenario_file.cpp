@@ -4,6 +4,28 @@
 
 namespace ishibashi {
 
+void read_ground_motion_components(TableReader& table, const std::filesystem::path& file, const std::filesystem::path& base,
+                                   const std::string& name, GroundMotionSpec& spec) {
+  const char* axes[3] = {"x", "y", "z"};
+  for (int c = 0; c < 3; ++c) {
+    const toml::table* t = table.subtable(axes[c]);
+    if (!t) continue;
+    TableReader comp(file, t, name + "." + axes[c]);
+    ComponentSpec cs;
+    std::string path, unit = "g";
+    comp.text("file", path);
+    comp.text("format", cs.format, {"at2", "knet", "columns"});
+    comp.text("unit", unit, {"g", "gal", "m/s2"});
+    comp.number("dt_s", cs.dt_s);
+    comp.number("scale", cs.scale);
+    comp.finish();
+    if (path.empty()) throw InputError(file.string() + ": [" + name + "] " + axes[c] + " needs file = \"...\"");
+    cs.file = base / path;
+    cs.unit = unit == "gal" ? AccelerationUnit::gal : unit == "m/s2" ? AccelerationUnit::m_s2 : AccelerationUnit::g;
+    spec.component[c] = cs;
+  }
+}
+
 bool is_scenario_file(const std::filesystem::path& file) {
   try {
     const toml::table root = toml::parse_file(file.string());
@@ -42,24 +64,7 @@ Scenario read_scenario(const std::filesystem::path& file) {
     throw InputError(file.string() + ": [run] times must be >= 0 and output_interval_s > 0");
 
   TableReader gm(file, root, "ground_motion");
-  const char* axes[3] = {"x", "y", "z"};
-  for (int c = 0; c < 3; ++c) {
-    const toml::table* t = gm.subtable(axes[c]);
-    if (!t) continue;
-    TableReader comp(file, t, std::string("ground_motion.") + axes[c]);
-    ComponentSpec cs;
-    std::string path, unit = "g";
-    comp.text("file", path);
-    comp.text("format", cs.format, {"at2", "knet", "columns"});
-    comp.text("unit", unit, {"g", "gal", "m/s2"});
-    comp.number("dt_s", cs.dt_s);
-    comp.number("scale", cs.scale);
-    comp.finish();
-    if (path.empty()) throw InputError(file.string() + ": [ground_motion] " + axes[c] + " needs file = \"...\"");
-    cs.file = base / path;
-    cs.unit = unit == "gal" ? AccelerationUnit::gal : unit == "m/s2" ? AccelerationUnit::m_s2 : AccelerationUnit::g;
-    sc.ground_motion.component[c] = cs;
-  }
+  read_ground_motion_components(gm, file, base, "ground_motion", sc.ground_motion);
   gm.number("start_s", sc.ground_motion.start_s);
   gm.boolean("baseline_correction", sc.ground_motion.baseline_correction);
   gm.finish();

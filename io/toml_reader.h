@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "engine/model.h"
+#include "io/ground_motion.h"
 #include "io/model_file.h"
 
 namespace ishibashi {
@@ -143,6 +144,11 @@ class TableReader {
 
 // Parses a TOML file whose top level may only hold the tables in `allowed`; errors name
 // the file and the line.
+// The x, y and z = { file, format, unit, dt_s, scale } keys of a ground-motion table
+// (paths relative to `base`), into spec.component.
+void read_ground_motion_components(TableReader& table, const std::filesystem::path& file, const std::filesystem::path& base,
+                                   const std::string& name, GroundMotionSpec& spec);
+
 inline toml::table parse_toml_file(const std::filesystem::path& file, std::initializer_list<const char*> allowed) {
   if (!std::filesystem::exists(file)) throw InputError(file.string() + ": no such file");
   toml::table root;

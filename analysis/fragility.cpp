@@ -1,0 +1,92 @@
+#include "analysis/fragility.h"
+
+#include <Eigen/Dense>
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+namespace ishibashi {
+namespace {
+
+double normal_cdf(double z) { return 0.5 * std::erfc(-z / std::sqrt(2.0)); }
+double normal_pdf(double z) { return std::exp(-0.5 * z * z) / std::sqrt(2 * M_PI); }
+
+// Log-likelihood of probit outcomes with z_i = a + b ln x_i; gradient and Hessian in (a, b).
+double log_likelihood(const std::vector<double>& lnx, const std::vector<int>& y, double a, double b, Eigen::Vector2d* grad,
+                      Eigen::Matrix2d* hess) {
+  double l = 0;
+  if (grad) grad->setZero();
+  if (hess) hess->setZero();
+  for (std::size_t i = 0; i < lnx.size(); ++i) {
+    const double z = a + b * lnx[i];
+    // y = 1: ln Phi(z); y = 0: ln Phi(-z). With s = +-1, ln Phi(s z); d/dz = s lambda,
+    // d2/dz2 = -lambda (lambda + s z), lambda = phi(z) / Phi(s z).
+    const double s = y[i] ? 1.0 : -1.0;
+    const double p = std::max(normal_cdf(s * z), 1e-300);
+    l += std::log(p);
+    const double lambda = normal_pdf(z) / p;
+    const double d1 = s * lambda, d2 = -lambda * (lambda + s * z);
+    const Eigen::Vector2d dz(1.0, lnx[i]);
+    if (grad) *grad += d1 * dz;
+    if (hess) *hess += d2 * dz * dz.transpose();
+  }
+  return l;
+}
+
+}  // namespace
+
+FragilityFit fit_lognormal_fragility(const std::vector<double>& intensity, const std::vector<int>& failed) {
+  FragilityFit fit;
+  fit.outcomes = static_cast<int>(intensity.size());
+  std::vector<double> lnx;
+  double mean = 0;
+  for (std::size_t i = 0; i < intensity.size(); ++i) {
+    lnx.push_back(std::log(intensity[i]));
+    mean += lnx.back() / intensity.size();
+    fit.failures += failed[i] != 0;
+  }
+  double highest_survival = -std::numeric_limits<double>::infinity(), lowest_failure = -highest_survival;
+  for (std::size_t i = 0; i < lnx.size(); ++i) {
+    if (failed[i]) lowest_failure = std::min(lowest_failure, lnx[i]);
+    else highest_survival = std::max(highest_survival, lnx[i]);
+  }
+  if (fit.failures == 0 || fit.failures == fit.outcomes || lowest_failure > highest_survival) {
+    // No finite maximum: the median lies between the highest survival and the lowest failure.
+    fit.degenerate = true;
+    const double lo = std::isfinite(highest_survival) ? highest_survival : lowest_failure;
+    const double hi = std::isfinite(lowest_failure) ? lowest_failure : highest_survival;
+    fit.median = std::exp(0.5 * (lo + hi));
+    fit.beta = 0;
+    return fit;
+  }
+  // Newton's method from beta = 0.5 at the mean intensity, halving steps that do not
+  // raise the likelihood (it is concave in (a, b), so this converges).
+  double b = 2.0, a = -b * mean;
+  Eigen::Vector2d grad;
+  Eigen::Matrix2d hess;
+  double l = log_likelihood(lnx, failed, a, b, &grad, &hess);
+  for (int iteration = 0; iteration < 100 && grad.norm() > 1e-10 * fit.outcomes; ++iteration) {
+    const Eigen::Vector2d step = hess.ldlt().solve(-grad);
+    double t = 1.0;
+    for (int halving = 0; halving < 40; ++halving, t *= 0.5) {
+      const double trial = log_likelihood(lnx, failed, a + t * step[0], b + t * step[1], nullptr, nullptr);
+      if (trial >= l) break;
+    }
+    a += t * step[0];
+    b += t * step[1];
+    l = log_likelihood(lnx, failed, a, b, &grad, &hess);
+  }
+  fit.log_likelihood = l;
+  fit.median = std::exp(-a / b);
+  fit.beta = 1.0 / b;
+  fit.degenerate = !(b > 0);
+  return fit;
+}
+
+double failure_probability(const FragilityFit& fit, double intensity) {
+  if (fit.beta <= 0) return intensity >= fit.median ? 1.0 : 0.0;
+  return normal_cdf(std::log(intensity / fit.median) / fit.beta);
+}
+
+}  // namespace ishibashi

@@ -1,0 +1,65 @@
+#include "io/sweep_file.h"
+
+#include <set>
+
+#include "io/toml_reader.h"
+
+namespace ishibashi {
+
+SweepFile read_sweep(const std::filesystem::path& file) {
+  const toml::table root = parse_toml_file(file, {"sweep", "failure", "record"});
+  const std::filesystem::path base = std::filesystem::absolute(file).parent_path();
+  SweepFile s;
+  s.file = file;
+
+  TableReader sweep(file, root, "sweep");
+  std::string scenario;
+  sweep.text("scenario", scenario);
+  sweep.number("duration_s", s.duration_s);
+  std::vector<double> pga, scale;
+  sweep.non_negative_numbers("pga_g", pga);
+  sweep.non_negative_numbers("scale", scale);
+  sweep.finish();
+  if (scenario.empty()) throw InputError(file.string() + ": [sweep] scenario = \"...\" is required (the model and how to run it)");
+  s.scenario = base / scenario;
+  if (!std::filesystem::exists(s.scenario)) throw InputError(file.string() + ": scenario " + s.scenario.string() + " does not exist");
+  if (pga.empty() == scale.empty())
+    throw InputError(file.string() + ": [sweep] needs either pga_g = [...] (target PGAs, g) or scale = [...] (factors)");
+  s.scale_to_pga = !pga.empty();
+  s.levels = s.scale_to_pga ? pga : scale;
+  for (double level : s.levels)
+    if (!(level > 0)) throw InputError(file.string() + ": [sweep] intensity levels must be > 0");
+
+  TableReader failure(file, root, "failure");
+  failure.boolean("collapse", s.failure.collapse);
+  failure.number("crown_drop_m", s.failure.crown_drop_m);
+  failure.integer("fallen_stones", s.failure.fallen_stones);
+  failure.finish();
+
+  const toml::node* records = root.get("record");
+  const toml::array* list = records ? records->as_array() : nullptr;
+  if (!list || list->empty())
+    throw InputError(file.string() + ": no [[record]] tables (each: name, start_s, x/y/z = { file, format })");
+  std::set<std::string> names;
+  for (const toml::node& node : *list) {
+    const toml::table* table = node.as_table();
+    if (!table) throw InputError(file.string() + ":" + std::to_string(node.source().begin.line) + ": [[record]] must be a table");
+    TableReader record(file, table, "record");
+    SweepRecord r;
+    record.text("name", r.name);
+    record.number("start_s", r.motion.start_s);
+    read_ground_motion_components(record, file, base, "record", r.motion);
+    record.finish();
+    const auto line = std::to_string(node.source().begin.line);
+    if (r.name.empty() || r.name.find_first_not_of("abcdefghijklmnopqrstuvwxyzABCDEFGHIJKLMNOPQRSTUVWXYZ0123456789_-.") !=
+                              std::string::npos)
+      throw InputError(file.string() + ":" + line + ": [[record]] name must be letters, digits, '_', '-' or '.' (it names folders)");
+    if (!names.insert(r.name).second) throw InputError(file.string() + ":" + line + ": record name '" + r.name + "' is used twice");
+    if (!r.motion.component[0] && !r.motion.component[1] && !r.motion.component[2])
+      throw InputError(file.string() + ":" + line + ": record '" + r.name + "' has no component (x, y or z)");
+    s.records.push_back(std::move(r));
+  }
+  return s;
+}
+
+}  // namespace ishibashi

@@ -1,0 +1,54 @@
+// Sweep files (TOML): one scenario (the model, its damping, settling), any number of
+// three-component ground-motion records, intensity levels (target PGAs or scale factors)
+// and what counts as failure. `ishibashi sweep` runs every (record, level) pair: an
+// incremental dynamic analysis per record and a fragility curve over all of them.
+// Paths are relative to the sweep file. Errors name the file, line and key.
+//
+//   [sweep]
+//   scenario = "nishida_a_kobe_dry.toml"
+//   duration_s = 10            # seconds of shaking (default: the scenario's)
+//   pga_g = [0.2, 0.4, 0.6]    # scale each record to these PGAs (larger horizontal), or
+//   # scale = [0.5, 1.0]       # multiply each record by these factors
+//   [failure]                  # any of these is failure
+//   collapse = true            # a ring stone fell, or more than 5 % of the blocks
+//   crown_drop_m = 0.05        # the crown unit dropped by more than this
+//   fallen_stones = 10         # at least this many stones fell
+//   [[record]]
+//   name = "kobe_jma"
+//   start_s = 4.0
+//   x = { file = "...", format = "at2" }   # as a scenario's [ground_motion]
+//   y = { ... }
+//   z = { ... }
+#pragma once
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include "io/ground_motion.h"
+
+namespace ishibashi {
+
+struct SweepRecord {
+  std::string name;          // letters, digits, '_', '-' and '.': it names the run folders
+  GroundMotionSpec motion;   // components and start_s; scale 1 (the sweep scales)
+};
+
+struct FailureCriteria {
+  bool collapse = true;
+  double crown_drop_m = -1;  // < 0: not a criterion
+  int fallen_stones = -1;    // < 0: not a criterion
+};
+
+struct SweepFile {
+  std::filesystem::path file;
+  std::filesystem::path scenario;
+  double duration_s = -1;        // < 0: the scenario's
+  bool scale_to_pga = true;      // levels are target PGAs in g; false: scale factors
+  std::vector<double> levels;
+  FailureCriteria failure;
+  std::vector<SweepRecord> records;
+};
+
+SweepFile read_sweep(const std::filesystem::path& file);
+
+}  // namespace ishibashi
