@@ -9,6 +9,7 @@
 #include "apps/modal_command.h"
 #include "apps/run_command.h"
 #include "apps/study_command.h"
+#include "apps/sweep_command.h"
 #include "io/model_file.h"
 #include "engine/model.h"
 #include "engine/parallel.h"
@@ -95,6 +96,16 @@ int main(int argc, char** argv) {
   study_cmd->add_flag("--force", study.force, "rerun analyses whose outputs are current");
   study_cmd->add_flag("--no-report", study.no_report, "skip the report (needs python3 with matplotlib)");
 
+  ishibashi::SweepCommandOptions sweep;
+  CLI::App* sweep_cmd = app.add_subcommand(
+      "sweep", "Every (record, intensity) run of a sweep file, then IDA and fragility curves (mpirun -np N for clusters)");
+  sweep_cmd->add_option("file", sweep.file, "sweep file (TOML), e.g. scenarios/nishida_a_sweep.toml")->required();
+  sweep_cmd->add_option("--out", sweep.out, "output folder (default: out/<sweep file name>)");
+  sweep_cmd->add_option("--jobs", sweep.jobs, "runs at once on this machine (under mpirun: one per rank)")
+      ->check(CLI::Range(1, 256));
+  sweep_cmd->add_option("--threads-per-job", sweep.threads_per_job, "threads of each run (default: the node's cores shared)")
+      ->check(CLI::Range(0, 1024));
+
   CLI11_PARSE(app, argc, argv);
   if (threads > 0) omp_set_num_threads(threads);
   try {
@@ -103,6 +114,7 @@ int main(int argc, char** argv) {
     if (*run_cmd) return ishibashi::run_scenario(run);
     if (*modal_cmd) return ishibashi::run_modal(modal);
     if (*study_cmd) return ishibashi::run_study_command(study);
+    if (*sweep_cmd) return ishibashi::run_sweep_command(sweep);
   } catch (const ishibashi::InputError& e) {
     std::fprintf(stderr, "ishibashi: input error: %s\n", e.what());
     return 2;

@@ -12,6 +12,7 @@ packages=(
   libspectra-dev                       # sparse eigensolver (modal analysis)
   libgtest-dev libgmock-dev libbenchmark-dev    # tests and benchmarks
   python3-matplotlib python3-vtk9      # the study's report: figures, snapshots read from the .vtu
+  libopenmpi-dev openmpi-bin           # sweeps across machines (mpirun)
 )
 
 missing=()

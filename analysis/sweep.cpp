@@ -1,0 +1,279 @@
+#include "analysis/sweep.h"
+
+#include <mpi.h>
+#include <omp.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdlib>
+#include <fstream>
+#include <map>
+#include <mutex>
+#include <set>
+#include <sstream>
+#include <thread>
+#include <vector>
+
+#include "analysis/fingerprint.h"
+#include "analysis/seismic_run.h"
+#include "io/atomic_file.h"
+#include "io/scenario_file.h"
+
+namespace ishibashi {
+namespace {
+
+namespace fs = std::filesystem;
+constexpr double kG = 9.80665;
+constexpr const char* kHeader =
+    "record,level,scale_factor,pga_g,first_opening_s,crown_drop_m,fallen_stones,collapse,failed,energy_balance_pct,wall_s,"
+    "host\n";
+constexpr int kRowTag = 1, kCaseTag = 2;  // worker -> rank 0: a finished row; rank 0 -> worker: the next case
+
+struct Case {
+  int record, level;
+  std::string key;  // "record,level": the first two fields of its row
+};
+
+std::string level_label(double level) {
+  char text[32];
+  std::snprintf(text, sizeof text, "%g", level);
+  return text;
+}
+
+std::string host_name() {
+  char name[256] = "";
+  gethostname(name, sizeof name - 1);
+  return name;
+}
+
+// One run of the sweep; returns its row (with the newline).
+std::string run_case(const SweepFile& sweep, const Case& c, int threads, const fs::path& out) {
+  const SweepRecord& record = sweep.records[c.record];
+  const double level = sweep.levels[c.level];
+  Scenario sc = read_scenario(sweep.scenario);
+  if (sweep.duration_s >= 0) sc.duration_s = sweep.duration_s;
+  GroundMotionSpec motion = record.motion;
+  motion.duration_s = sc.duration_s;
+  motion.baseline_correction = sc.ground_motion.baseline_correction;
+  const double record_pga_g = horizontal_pga_m_s2(motion) / kG;
+  if (sweep.scale_to_pga && !(record_pga_g > 0))
+    throw InputError(sweep.file.string() + ": record '" + record.name + "' has no horizontal acceleration to scale to a PGA");
+  const double factor = sweep.scale_to_pga ? level / record_pga_g : level;
+  for (auto& component : motion.component)
+    if (component) component->scale *= factor;
+  sc.ground_motion = motion;
+  sc.threads = threads;
+
+  SeismicRunOptions options;
+  options.out = out / "runs" / (record.name + "_" + level_label(level));
+  fs::remove_all(options.out);  // a run that died half-way starts again
+  SeismicRun run(sc, options);
+  const SeismicRunResult r = run.run();
+  if (r.interrupted) throw std::runtime_error("interrupted");
+  const FailureCriteria& f = sweep.failure;
+  const bool failed = (f.collapse && r.collapse) || (f.crown_drop_m >= 0 && r.largest_crown_drop_m > f.crown_drop_m) ||
+                      (f.fallen_stones >= 0 && r.fallen_stones >= f.fallen_stones);
+  std::ostringstream row;
+  row.precision(9);
+  row << c.key << "," << factor << "," << record_pga_g * factor << ",";
+  if (r.first_opening_s >= 0) row << r.first_opening_s;
+  row << "," << r.largest_crown_drop_m << "," << r.fallen_stones << "," << (r.collapse ? 1 : 0) << "," << (failed ? 1 : 0)
+      << "," << 100 * r.balance_error_relative << "," << r.wall_s << "," << host_name() << "\n";
+  return row.str();
+}
+
+// The complete rows of sweep.csv (a row cut short by a crash is dropped).
+std::vector<std::string> finished_rows(const fs::path& file) {
+  std::vector<std::string> rows;
+  std::ifstream in(file);
+  std::string text((std::istreambuf_iterator<char>(in)), {});
+  std::size_t at = text.find('\n');  // past the header
+  while (at != std::string::npos && at + 1 < text.size()) {
+    const std::size_t end = text.find('\n', at + 1);
+    if (end == std::string::npos) break;
+    rows.push_back(text.substr(at + 1, end - at));
+    at = end;
+  }
+  return rows;
+}
+
+std::vector<std::string> fields(const std::string& row) {
+  std::vector<std::string> out;
+  std::stringstream s(row.substr(0, row.find('\n')));
+  for (std::string f; std::getline(s, f, ',');) out.push_back(f);
+  return out;
+}
+
+// The IDA curves and the fragility fit over every row.
+FragilityFit write_curves(const fs::path& out, const std::vector<std::string>& rows) {
+  std::map<std::string, std::vector<std::pair<double, double>>> ida;  // record -> (PGA, crown drop)
+  std::vector<double> pga;
+  std::vector<int> failed;
+  for (const std::string& row : rows) {
+    const std::vector<std::string> f = fields(row);
+    if (f.size() < 12) continue;
+    ida[f[0]].push_back({std::stod(f[3]), std::stod(f[5])});
+    pga.push_back(std::stod(f[3]));
+    failed.push_back(std::stoi(f[8]));
+  }
+  std::ostringstream curves;
+  curves.precision(9);
+  curves << "record,pga_g,crown_drop_m\n";
+  for (auto& [record, points] : ida) {
+    std::sort(points.begin(), points.end());
+    for (const auto& [x, drop] : points) curves << record << "," << x << "," << drop << "\n";
+  }
+  write_text_atomically(out / "ida.csv", curves.str());
+  const FragilityFit fit = fit_lognormal_fragility(pga, failed);
+  std::ostringstream fragility;
+  fragility.precision(9);
+  fragility << "median_g,beta,degenerate,outcomes,failures,log_likelihood\n"
+            << fit.median << "," << fit.beta << "," << (fit.degenerate ? 1 : 0) << "," << fit.outcomes << "," << fit.failures
+            << "," << fit.log_likelihood << "\n";
+  write_text_atomically(out / "fragility_fit.csv", fragility.str());
+  std::ostringstream curve;
+  curve << "pga_g,failure_probability\n";
+  const double top = pga.empty() ? 1.0 : 1.5 * *std::max_element(pga.begin(), pga.end());
+  for (int k = 1; k <= 150; ++k) curve << top * k / 150 << "," << failure_probability(fit, top * k / 150) << "\n";
+  write_text_atomically(out / "fragility.csv", curve.str());
+  return fit;
+}
+
+}  // namespace
+
+MpiSession::MpiSession() {
+  active_ = std::getenv("OMPI_COMM_WORLD_SIZE") || std::getenv("PMI_RANK") || std::getenv("PMIX_RANK");
+  if (!active_) return;
+  int provided = 0;
+  MPI_Init_thread(nullptr, nullptr, MPI_THREAD_FUNNELED, &provided);  // MPI only on the main thread
+  MPI_Comm_rank(MPI_COMM_WORLD, &rank_);
+  MPI_Comm_size(MPI_COMM_WORLD, &size_);
+  MPI_Comm node;
+  MPI_Comm_split_type(MPI_COMM_WORLD, MPI_COMM_TYPE_SHARED, rank_, MPI_INFO_NULL, &node);
+  MPI_Comm_size(node, &local_size_);
+  MPI_Comm_free(&node);
+}
+
+MpiSession::~MpiSession() {
+  if (active_) MPI_Finalize();
+}
+
+SweepOutcome run_sweep(const SweepFile& sweep, const SweepOptions& o, const MpiSession& mpi) {
+  const bool root = mpi.rank() == 0;
+  auto event = [&](const std::string& text) {
+    if (o.on_event) o.on_event(text);
+  };
+  std::vector<Case> cases;
+  for (int r = 0; r < static_cast<int>(sweep.records.size()); ++r)
+    for (int l = 0; l < static_cast<int>(sweep.levels.size()); ++l)
+      cases.push_back({r, l, sweep.records[r].name + "," + level_label(sweep.levels[l])});
+  const int runs_here = mpi.size() > 1 ? 1 : std::max(1, o.jobs);
+  const int node_share = mpi.size() > 1 ? mpi.ranks_on_this_node() : runs_here;
+  const int threads = o.threads_per_job > 0 ? o.threads_per_job : std::max(1, omp_get_num_procs() / node_share);
+  SweepOutcome outcome;
+
+  if (!root) {  // a worker rank: ask for a case, run it, send its row with the next request
+    std::string message;
+    for (;;) {
+      MPI_Send(message.data(), static_cast<int>(message.size()), MPI_CHAR, 0, kRowTag, MPI_COMM_WORLD);
+      int next = -1;
+      MPI_Recv(&next, 1, MPI_INT, 0, kCaseTag, MPI_COMM_WORLD, MPI_STATUS_IGNORE);
+      if (next < 0) break;
+      try {
+        message = run_case(sweep, cases[next], threads, o.out);
+        ++outcome.ran;
+      } catch (const std::exception& e) {
+        message = "!" + cases[next].key + ": " + e.what();
+        ++outcome.failed;
+      }
+    }
+    return outcome;
+  }
+
+  // ---- rank 0 (or the only process): the queue, sweep.csv and the curves ----
+  fs::create_directories(o.out);
+  const fs::path table = o.out / "sweep.csv";
+  std::vector<std::string> rows = finished_rows(table);
+  std::set<std::string> done;
+  for (const std::string& row : rows) {
+    const std::vector<std::string> f = fields(row);
+    if (f.size() >= 2) done.insert(f[0] + "," + f[1]);
+  }
+  std::string kept = kHeader;
+  for (const std::string& row : rows) kept += row;
+  write_text_atomically(table, kept);  // drops a row a crash cut short
+  std::vector<int> pending;
+  for (int i = 0; i < static_cast<int>(cases.size()); ++i)
+    if (!done.count(cases[i].key)) pending.push_back(i);
+  outcome.kept = static_cast<int>(cases.size() - pending.size());
+  event("sweep: " + std::to_string(cases.size()) + " runs (" + std::to_string(sweep.records.size()) + " records x " +
+        std::to_string(sweep.levels.size()) + " levels), " + std::to_string(outcome.kept) + " done before; " +
+        std::to_string(mpi.size() > 1 ? mpi.size() : runs_here) + (mpi.size() > 1 ? " MPI ranks" : " at a time") + ", " +
+        std::to_string(threads) + " threads each");
+
+  std::mutex lock;  // the queue, sweep.csv and the counts; outside any time step
+  std::size_t next_pending = 0;
+  std::ofstream append(table, std::ios::app);
+  auto take = [&]() -> int {
+    const std::lock_guard<std::mutex> guard(lock);
+    return next_pending < pending.size() && !stop_requested() ? pending[next_pending++] : -1;
+  };
+  auto finish = [&](const std::string& message, int rank) {
+    const std::lock_guard<std::mutex> guard(lock);
+    if (message.empty()) return;
+    if (message[0] == '!') {
+      ++outcome.failed;
+      event("FAILED " + message.substr(1) + " (rank " + std::to_string(rank) + ")");
+      return;
+    }
+    append << message << std::flush;  // one complete row at a time
+    ++outcome.ran;
+    event(message.substr(0, message.find(',', message.find(',') + 1)) + ": done (rank " + std::to_string(rank) + ")");
+  };
+  auto local_worker = [&] {
+    for (int i = take(); i >= 0; i = take()) {
+      event(cases[i].key + ": started");
+      try {
+        finish(run_case(sweep, cases[i], threads, o.out), 0);
+      } catch (const std::exception& e) {
+        finish("!" + cases[i].key + ": " + e.what(), 0);
+      }
+    }
+  };
+  std::vector<std::thread> pool;
+  for (int w = 0; w < runs_here; ++w) pool.emplace_back(local_worker);
+  // The other ranks' requests, on this (the main) thread; it polls, so that it does not
+  // take a core from this rank's own run.
+  for (int remote = mpi.size() - 1; remote > 0;) {
+    int flag = 0;
+    MPI_Status status;
+    MPI_Iprobe(MPI_ANY_SOURCE, kRowTag, MPI_COMM_WORLD, &flag, &status);
+    if (!flag) {
+      std::this_thread::sleep_for(std::chrono::milliseconds(20));
+      continue;
+    }
+    int length = 0;
+    MPI_Get_count(&status, MPI_CHAR, &length);
+    std::string message(static_cast<std::size_t>(length), '\0');
+    MPI_Recv(message.data(), length, MPI_CHAR, status.MPI_SOURCE, kRowTag, MPI_COMM_WORLD, MPI_STATUS_IGNORE);
+    finish(message, status.MPI_SOURCE);
+    const int next = take();
+    if (next >= 0) event(cases[next].key + ": started on rank " + std::to_string(status.MPI_SOURCE));
+    MPI_Send(&next, 1, MPI_INT, status.MPI_SOURCE, kCaseTag, MPI_COMM_WORLD);
+    if (next < 0) --remote;
+  }
+  for (std::thread& t : pool) t.join();
+  append.close();
+
+  outcome.fragility = write_curves(o.out, finished_rows(table));
+  if (!stop_requested()) {
+    const std::string python = fs::exists("/usr/bin/python3") ? "/usr/bin/python3" : "python3";
+    const std::string command = python + " " + ISHIBASHI_SOURCE_DIR "/analysis/sweep_plots.py \"" + o.out.string() + "\"";
+    outcome.plots_written = std::system(command.c_str()) == 0;
+  }
+  return outcome;
+}
+
+}  // namespace ishibashi

@@ -1,0 +1,57 @@
+// Parameter sweeps: every (record, intensity level) pair of a sweep file as a seismic run,
+// on one machine (several runs at once) or across machines with MPI (one run per rank at
+// a time, dynamic assignment: a rank that finishes takes the next run). Each finished run
+// is a row of sweep.csv, appended as it finishes by one writer (rank 0), so a sweep that
+// dies resumes where it stopped: runs with a row are never redone.
+//
+// Outputs in the sweep's folder:
+//   runs/<record>_<level>/   each run's series, history and summary
+//   sweep.csv                record,level,scale_factor,pga_g,first_opening_s,crown_drop_m,
+//                            fallen_stones,collapse,failed,energy_balance_pct,wall_s,host
+//   ida.csv                  the IDA curves: per record, PGA against crown drop
+//   fragility.csv            the fitted lognormal curve (median, beta) and its points
+//   ida.png, fragility.png   (analysis/sweep_plots.py, matplotlib)
+#pragma once
+#include <filesystem>
+#include <functional>
+#include <string>
+
+#include "analysis/fragility.h"
+#include "io/sweep_file.h"
+
+namespace ishibashi {
+
+// MPI for the lifetime of a sweep when the program was started by mpirun (or another
+// launcher that sets PMI_RANK / OMPI_COMM_WORLD_SIZE); otherwise a single process.
+class MpiSession {
+ public:
+  MpiSession();
+  ~MpiSession();
+  MpiSession(const MpiSession&) = delete;
+  MpiSession& operator=(const MpiSession&) = delete;
+  int rank() const { return rank_; }
+  int size() const { return size_; }
+  int ranks_on_this_node() const { return local_size_; }
+
+ private:
+  bool active_ = false;
+  int rank_ = 0, size_ = 1, local_size_ = 1;
+};
+
+struct SweepOptions {
+  std::filesystem::path out;
+  int jobs = 1;             // runs at once on this machine (per MPI rank: 1)
+  int threads_per_job = 0;  // 0: this node's cores shared among its runs
+  std::function<void(const std::string&)> on_event;
+};
+
+struct SweepOutcome {
+  int ran = 0, kept = 0, failed = 0;  // runs done now, rows kept from before, runs that threw
+  FragilityFit fragility;             // over every row of sweep.csv (rank 0 only)
+  bool plots_written = false;
+};
+
+// Every rank calls it; rank 0 assigns the runs, writes sweep.csv and the curves.
+SweepOutcome run_sweep(const SweepFile& sweep, const SweepOptions& options, const MpiSession& mpi);
+
+}  // namespace ishibashi
