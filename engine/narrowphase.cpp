@@ -227,15 +227,23 @@ void face_manifold(const Model& m, const State& s, const PairWorld& w, int a, in
   const double d = s.face_offset_world[f];
   const double tol = m.contact_tolerance_m(a, b);
 
-  // Incident face: the one most anti-parallel to the reference normal.
-  int g = m.face_begin[inc];
+  // Incident face: of the faces around the incident block's deepest vertex, the one most
+  // anti-parallel to the reference normal. (The most anti-parallel face of the whole
+  // block may lie elsewhere: a corner poking through a face would then find no contact.)
+  int deepest_vertex = m.vertex_begin[inc];
+  for (int v = m.vertex_begin[inc]; v < m.vertex_begin[inc + 1]; ++v)
+    if (n.dot(w.vertex(v)) < n.dot(w.vertex(deepest_vertex)) - 1e-12) deepest_vertex = v;
+  int g = -1;
   double lowest = 2.0;
   for (int h = m.face_begin[inc]; h < m.face_begin[inc + 1]; ++h) {
     const double c = n.dot(s.face_normal_world[h]);
-    if (c < lowest - 1e-12) {
-      lowest = c;
-      g = h;
-    }
+    if (c >= lowest - 1e-12) continue;
+    for (int k = m.face_vertex_begin[h]; k < m.face_vertex_begin[h + 1]; ++k)
+      if (m.face_vertex[k] == deepest_vertex) {
+        lowest = c;
+        g = h;
+        break;
+      }
   }
   Polygon buffers[2];  // clipping ping-pongs between the two (swapping pointers, not 2 KB)
   Polygon* in = &buffers[0];
