@@ -26,28 +26,28 @@ ModelFile read_model_file(const std::filesystem::path& file) {
   model.finish();
 
   TableReader ring(file, root, "ring");
-  ring.number("span_m", b.ring.span_m);
-  ring.number("rise_m", b.ring.rise_m);
-  ring.number("thickness_m", b.ring.thickness_m);
-  ring.number("width_m", b.ring.width_m);
-  ring.number("stone_m", b.ring.stone_m);
-  ring.integer("voussoirs", b.ring.voussoirs);
+  ring.positive("span_m", b.ring.span_m);
+  ring.positive("rise_m", b.ring.rise_m);
+  ring.positive("thickness_m", b.ring.thickness_m);
+  ring.positive("width_m", b.ring.width_m);
+  ring.positive("stone_m", b.ring.stone_m);
+  ring.integer_at_least("voussoirs", b.ring.voussoirs, 1);
   std::string bond = "stack";
   ring.text("bond", bond, {"stack", "running"});
   b.ring.bond = bond == "running" ? Bond::running : Bond::stack;
   ring.finish();
 
   TableReader bridge(file, root, "bridge");
-  bridge.integer("spans", b.spans);
-  bridge.number("pier_width_m", b.pier_width_m);
-  bridge.number("fill_height_m", b.fill_height_m);
-  bridge.number("length_m", b.length_m);
+  bridge.integer_at_least("spans", b.spans, 1);
+  bridge.non_negative("pier_width_m", b.pier_width_m);
+  bridge.non_negative("fill_height_m", b.fill_height_m);
+  bridge.non_negative("length_m", b.length_m);
   std::string backfill = "stone";
   bridge.text("backfill", backfill, {"stone", "soil"});
   b.backfill = backfill == "soil" ? Backfill::soil : Backfill::stone;
-  bridge.number("side_wall_width_m", b.side_wall_width_m);
-  bridge.number("ground_thickness_m", b.ground_thickness_m);
-  bridge.number("mortar_pa", b.mortar_pa);
+  bridge.non_negative("side_wall_width_m", b.side_wall_width_m);
+  bridge.positive("ground_thickness_m", b.ground_thickness_m);
+  bridge.non_negative("mortar_pa", b.mortar_pa);
   bridge.finish();
 
   TableReader import(file, root, "import");

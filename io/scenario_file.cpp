@@ -44,7 +44,7 @@ Scenario read_scenario(const std::filesystem::path& file) {
   TableReader model(file, root, "model");
   std::string model_file;
   model.text("file", model_file);
-  model.number("mortar_pa", sc.mortar_pa);
+  model.number("mortar_pa", sc.mortar_pa);  // < 0: as the model file says
   model.finish();
   if (model_file.empty()) throw InputError(file.string() + ": [model] file = \"...\" is required (a model file, e.g. models/nishida_a.toml)");
   sc.model_file = base / model_file;
@@ -52,16 +52,14 @@ Scenario read_scenario(const std::filesystem::path& file) {
   if (sc.mortar_pa >= 0) sc.model.bridge.mortar_pa = sc.mortar_pa;
 
   TableReader run(file, root, "run");
-  run.number("dt_s", sc.dt_s);
-  run.number("settle_max_s", sc.settle_max_s);
-  run.number("settle_kinetic_j", sc.settle_kinetic_j);
-  run.number("duration_s", sc.duration_s);
-  run.number("output_interval_s", sc.output_interval_s);
-  run.integer("threads", sc.threads);
-  run.integer("subdivision", sc.subdivision);
+  run.non_negative("dt_s", sc.dt_s);
+  run.non_negative("settle_max_s", sc.settle_max_s);
+  run.non_negative("settle_kinetic_j", sc.settle_kinetic_j);
+  run.non_negative("duration_s", sc.duration_s);
+  run.positive("output_interval_s", sc.output_interval_s);
+  run.integer_at_least("threads", sc.threads, 0);
+  run.integer_at_least("subdivision", sc.subdivision, 1);
   run.finish();
-  if (sc.dt_s < 0 || sc.settle_max_s < 0 || sc.duration_s < 0 || sc.output_interval_s <= 0 || sc.threads < 0)
-    throw InputError(file.string() + ": [run] times must be >= 0 and output_interval_s > 0");
 
   TableReader gm(file, root, "ground_motion");
   read_ground_motion_components(gm, file, base, "ground_motion", sc.ground_motion);

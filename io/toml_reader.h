@@ -37,6 +37,24 @@ class TableReader {
       else fail(*n, std::string("'") + key + "' must be a number");
     }
   }
+  // A number that must lie in a range: the error names the line and the range.
+  void positive(const char* key, double& out) { number_in(key, out, 0.0, 1e300, true); }
+  void non_negative(const char* key, double& out) { number_in(key, out, 0.0, 1e300, false); }
+  void number_in(const char* key, double& out, double min, double max, bool min_excluded = false) {
+    number(key, out);
+    if (const toml::node* n = find(key)) {
+      if ((min_excluded ? out > min : out >= min) && out <= max) return;
+      std::ostringstream s;
+      s << "'" << key << "' is " << out << "; it must be " << (min_excluded ? "> " : ">= ") << min;
+      if (max < 1e300) s << " and <= " << max;
+      fail(*n, s.str());
+    }
+  }
+  void integer_at_least(const char* key, int& out, int min) {
+    integer(key, out);
+    if (const toml::node* n = find(key); n && out < min)
+      fail(*n, std::string("'") + key + "' is " + std::to_string(out) + "; it must be at least " + std::to_string(min));
+  }
   void integer(const char* key, int& out) {
     if (const toml::node* n = find(key)) {
       if (auto v = n->as_integer()) out = static_cast<int>(v->get());
@@ -108,12 +126,12 @@ class TableReader {
   }
   void material(Material& m) {
     text("name", m.name);
-    number("density_kg_m3", m.density_kg_m3);
-    number("young_pa", m.young_pa);
-    number("poisson", m.poisson);
-    number("friction_deg", m.friction_deg);
-    number("damping_normal", m.damping_normal);
-    number("damping_shear", m.damping_shear);
+    positive("density_kg_m3", m.density_kg_m3);
+    positive("young_pa", m.young_pa);
+    number_in("poisson", m.poisson, 0.0, 0.4999);
+    number_in("friction_deg", m.friction_deg, 0.0, 89.9);
+    non_negative("damping_normal", m.damping_normal);
+    non_negative("damping_shear", m.damping_shear);
   }
   // Every key of the table must have been read.
   void finish() {

@@ -44,5 +44,12 @@ TEST(ModelFile, WrongTypeAndBadChoiceAreErrors) {
   EXPECT_THAT(error_of("[ring\n"), HasSubstr("ishibashi_model_test.toml:1"));
 }
 
+TEST(ModelFile, NumbersOutOfRangeNameTheirLine) {
+  EXPECT_THAT(error_of("[ring]\nrise_m = 3.0\nspan_m = -3.0\n"), HasSubstr(":3: 'span_m' is -3; it must be > 0"));
+  EXPECT_THAT(error_of("[ring]\nvoussoirs = 0\n"), HasSubstr(":2: 'voussoirs' is 0; it must be at least 1"));
+  EXPECT_THAT(error_of("[stone]\n\npoisson = 0.7\n"), HasSubstr(":3: 'poisson' is 0.7; it must be >= 0 and <= 0.4999"));
+  EXPECT_THAT(error_of("[bridge]\nmortar_pa = -1\n"), HasSubstr(":2: 'mortar_pa' is -1; it must be >= 0"));
+}
+
 }  // namespace
 }  // namespace ishibashi
