@@ -56,6 +56,23 @@ def save(fig, path):
     return path
 
 
+def panels(n, height):
+    """A figure of n panels in two columns (one when n is 1); the panels in order."""
+    cols = 2 if n > 1 else 1
+    rows = math.ceil(n / cols)
+    fig, axes = plt.subplots(rows, cols, figsize=(10, height * rows), squeeze=False)
+    for a in list(axes.flat)[n:]:
+        a.set_visible(False)
+    return fig, list(axes.flat)[:n]
+
+
+def finish_panel(a, title, xlabel, ylabel):
+    a.set_title(title, fontsize=9)
+    a.set_xlabel(xlabel)
+    a.set_ylabel(ylabel)
+    a.grid(alpha=0.3)
+
+
 def ground_motion_figure(out, runs, figures):
     if not runs:
         return None
@@ -89,10 +106,8 @@ def crown_figure(out, runs, figures):
         groups.setdefault(model_letter(r["scenario"]), []).append(r)
     if not groups:
         return None
-    n = len(groups)
-    cols = 2 if n > 1 else 1
-    fig, axes = plt.subplots(math.ceil(n / cols), cols, figsize=(10, 2.6 * math.ceil(n / cols)), squeeze=False)
-    for a, (model, members) in zip(axes.flat, groups.items()):
+    fig, axes = panels(len(groups), 2.6)
+    for a, (model, members) in zip(axes, groups.items()):
         for r in members:
             shake, t0 = shaking_rows(out, r["scenario"])
             block = r["monitored_block"]
@@ -102,13 +117,8 @@ def crown_figure(out, runs, figures):
             t = [number(x["time_s"]) - t0 for x in shake]
             dz = [1000 * number(x[key]) for x in shake]
             a.plot(t, dz, lw=0.9, label=r["scenario"].replace(model + "_", ""))
-        a.set_title(f"{model}: crown unit, vertical, relative to the ground", fontsize=9)
-        a.set_ylabel("dz [mm]")
-        a.set_xlabel("time of shaking [s]")
-        a.grid(alpha=0.3)
+        finish_panel(a, f"{model}: crown unit, vertical, relative to the ground", "time of shaking [s]", "dz [mm]")
         a.legend(fontsize=7)
-    for a in list(axes.flat)[n:]:
-        a.set_visible(False)
     fig.tight_layout()
     return save(fig, figures / "crown_displacement.png")
 
@@ -116,10 +126,8 @@ def crown_figure(out, runs, figures):
 def spectra_figure(out, frequencies, figures):
     if not frequencies:
         return None
-    n = len(frequencies)
-    cols = 2 if n > 1 else 1
-    fig, axes = plt.subplots(math.ceil(n / cols), cols, figsize=(10, 2.8 * math.ceil(n / cols)), squeeze=False)
-    for a, f in zip(axes.flat, frequencies):
+    fig, axes = panels(len(frequencies), 2.8)
+    for a, f in zip(axes, frequencies):
         folder = out / "frequencies" / f["file"]
         top = 0.0
         for axis, colour in zip("xyz", ("C0", "C1", "C2")):
@@ -133,13 +141,8 @@ def spectra_figure(out, frequencies, figures):
         a.set_xlim(0, 120)
         if top > 0:
             a.set_ylim(top * 1e-5, top * 3)
-        a.set_title(f"{f['model']} (dashed: first modes by modal analysis)", fontsize=9)
-        a.set_xlabel("frequency [Hz]")
-        a.set_ylabel("amplitude [m]")
-        a.grid(alpha=0.3)
+        finish_panel(a, f"{f['model']} (dashed: first modes by modal analysis)", "frequency [Hz]", "amplitude [m]")
         a.legend(fontsize=7)
-    for a in list(axes.flat)[n:]:
-        a.set_visible(False)
     fig.tight_layout()
     return save(fig, figures / "impulse_spectra.png")
 
@@ -148,23 +151,16 @@ def energy_figure(out, runs, figures):
     if not runs:
         return None
     terms = ("kinetic_j", "elastic_j", "damping_j", "friction_j", "bond_j", "ground_work_j", "balance_error_j")
-    n = len(runs)
-    cols = 2 if n > 1 else 1
-    fig, axes = plt.subplots(math.ceil(n / cols), cols, figsize=(10, 2.6 * math.ceil(n / cols)), squeeze=False)
-    for a, r in zip(axes.flat, runs):
+    fig, axes = panels(len(runs), 2.6)
+    for a, r in zip(axes, runs):
         shake, t0 = shaking_rows(out, r["scenario"])
         if not shake:
             continue
         t = [number(x["time_s"]) - t0 for x in shake]
         for term in terms:
             a.plot(t, [number(x[term]) / 1000 for x in shake], lw=0.9, label=term[:-2].replace("_", " "))
-        a.set_title(f"{r['scenario']}: energy balance {number(r['energy_balance_pct']):.3f} %", fontsize=9)
-        a.set_xlabel("time of shaking [s]")
-        a.set_ylabel("kJ")
-        a.grid(alpha=0.3)
-    list(axes.flat)[0].legend(fontsize=7)
-    for a in list(axes.flat)[n:]:
-        a.set_visible(False)
+        finish_panel(a, f"{r['scenario']}: energy balance {number(r['energy_balance_pct']):.3f} %", "time of shaking [s]", "kJ")
+    axes[0].legend(fontsize=7)
     fig.tight_layout()
     return save(fig, figures / "energy.png")
 

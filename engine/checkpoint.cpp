@@ -1,5 +1,7 @@
 #include "engine/checkpoint.h"
 
+#include <algorithm>
+
 namespace ishibashi {
 namespace {
 
@@ -20,9 +22,18 @@ void for_each_array(Joints& j, Fn&& fn) {
 
 }  // namespace
 
+CheckpointReader::CheckpointReader(std::istream& in) : in_(in) {
+  const std::streampos here = in_.tellg();
+  in_.seekg(0, std::ios::end);
+  end_ = in_.tellg();
+  in_.seekg(here);
+}
+
 std::size_t CheckpointReader::size(std::size_t element_bytes) {
   const auto n = value<std::uint64_t>();
-  if (n > (std::uint64_t{1} << 40) / element_bytes) throw CheckpointError("an array of " + std::to_string(n) + " elements");
+  const auto left = static_cast<std::uint64_t>(std::max<std::streamoff>(0, end_ - in_.tellg()));
+  if (n > left / element_bytes)
+    throw CheckpointError("an array of " + std::to_string(n) + " elements where " + std::to_string(left) + " bytes are left");
   return static_cast<std::size_t>(n);
 }
 

@@ -45,7 +45,7 @@ struct CheckpointError : std::runtime_error {
 
 class CheckpointReader {
  public:
-  explicit CheckpointReader(std::istream& in) : in_(in) {}
+  explicit CheckpointReader(std::istream& in);
   template <class T>
   T value() {
     static_assert(std::is_trivially_copyable_v<T>);
@@ -68,6 +68,7 @@ class CheckpointReader {
   std::size_t size(std::size_t element_bytes);
   void read(void* data, std::size_t bytes);
   std::istream& in_;
+  std::streamoff end_ = 0;  // the stream's length: no array may claim more bytes than are left
 };
 
 void write_state(CheckpointWriter& out, const State& state);

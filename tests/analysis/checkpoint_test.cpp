@@ -10,27 +10,12 @@
 #include <random>
 #include <sstream>
 
+#include "command_line.h"
+
 namespace ishibashi {
 namespace {
 
-const std::filesystem::path kRoot = ISHIBASHI_SOURCE_DIR;
-const std::filesystem::path kTmp = std::filesystem::temp_directory_path();
-
-std::string run_command(const std::string& command, int* status) {
-  std::string output;
-  std::unique_ptr<FILE, int (*)(FILE*)> pipe(popen((command + " 2>&1").c_str(), "r"), pclose);
-  char buffer[4096];
-  while (std::fgets(buffer, sizeof buffer, pipe.get())) output += buffer;
-  *status = pclose(pipe.release());
-  return output;
-}
-
-std::string text_of(const std::filesystem::path& file) {
-  std::ifstream in(file, std::ios::binary);
-  std::stringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
+using namespace test;  // run_command, text_of, count_of, kRoot, kTmp
 
 std::string summary_field(const std::filesystem::path& out, const std::string& key) {
   std::istringstream summary(text_of(out / "summary.json"));

@@ -13,12 +13,13 @@ namespace {
 
 const std::filesystem::path kRoot = ISHIBASHI_SOURCE_DIR;
 
-// Model A through 0.2 s of the strongest Kobe pulses (from 7.6 s of the record).
-Scenario strong_pulses(int threads) {
-  const auto f = std::filesystem::temp_directory_path() / "ishibashi_analysis_short.toml";
+// A model through the strongest Kobe pulses (from 7.6 s of the record): model A settles
+// for 0.1 s and is shaken for 0.2 s.
+Scenario strong_pulses(int threads, const char* model = "nishida_a", double settle_s = 0.1, double shake_s = 0.2) {
+  const auto f = std::filesystem::temp_directory_path() / (std::string("ishibashi_analysis_") + model + ".toml");
   const auto kobe = kRoot / "data/ground_motions/kobe_1995_jma";
-  std::ofstream(f) << "[model]\nfile = \"" << (kRoot / "models/nishida_a.toml").string() << "\"\n"
-                   << "[run]\nsettle_max_s = 0.1\nduration_s = 0.2\noutput_interval_s = 0.05\n"
+  std::ofstream(f) << "[model]\nfile = \"" << (kRoot / "models" / (std::string(model) + ".toml")).string() << "\"\n"
+                   << "[run]\nsettle_max_s = " << settle_s << "\nduration_s = " << shake_s << "\noutput_interval_s = 0.05\n"
                    << "[ground_motion]\nstart_s = 7.6\n"
                    << "x = { file = \"" << (kobe / "RSN1106_KOBE_KJM090.AT2").string() << "\" }\n"
                    << "y = { file = \"" << (kobe / "RSN1106_KOBE_KJM000.AT2").string() << "\" }\n"
@@ -28,15 +29,17 @@ Scenario strong_pulses(int threads) {
   return sc;
 }
 
-SeismicRunResult run_into(const std::string& folder, int threads) {
+SeismicRunResult run_into(const std::string& folder, const Scenario& scenario) {
   const auto out = std::filesystem::temp_directory_path() / folder;
   std::filesystem::remove_all(out);
   SeismicRunOptions options;
   options.out = out;
   options.adaptive_threads = false;
-  SeismicRun run(strong_pulses(threads), options);
+  SeismicRun run(scenario, options);
   return run.run();
 }
+
+SeismicRunResult run_into(const std::string& folder, int threads) { return run_into(folder, strong_pulses(threads)); }
 
 void expect_identical(const SeismicRunResult& a, const SeismicRunResult& b, const std::string& what) {
   EXPECT_EQ(a.state_hash, b.state_hash) << what;
@@ -59,6 +62,17 @@ TEST(SeismicRun, BridgeRunIsBitIdenticalOnOneTwoAndFourThreadsAndBesideAnotherRu
   other.join();
   expect_identical(one, left, "beside another run, 2 threads");
   expect_identical(one, right, "beside another run, 1 thread");
+}
+
+// Model B (1,000 blocks: walls and a stone fill on the ring), 0.02 s settling and 0.02 s
+// of the strongest pulses: the same state on 1, 2, 3 and 4 threads and run twice.
+TEST(SeismicRun, ModelBIsBitIdenticalOnOneToFourThreadsAndRunTwice) {
+  const SeismicRunResult one = run_into("ishibashi_analysis_b1", strong_pulses(1, "nishida_b", 0.02, 0.02));
+  EXPECT_GT(one.joints, 1000);
+  for (int threads : {2, 3, 4})
+    expect_identical(one, run_into("ishibashi_analysis_b" + std::to_string(threads), strong_pulses(threads, "nishida_b", 0.02, 0.02)),
+                     std::to_string(threads) + " threads");
+  expect_identical(one, run_into("ishibashi_analysis_b1_again", strong_pulses(1, "nishida_b", 0.02, 0.02)), "again");
 }
 
 }  // namespace

@@ -8,30 +8,12 @@
 #include <memory>
 #include <sstream>
 
+#include "command_line.h"
+
 namespace ishibashi {
 namespace {
 
-std::string run_command(const std::string& command, int* status) {
-  std::string output;
-  std::unique_ptr<FILE, int (*)(FILE*)> pipe(popen((command + " 2>&1").c_str(), "r"), pclose);
-  char buffer[4096];
-  while (std::fgets(buffer, sizeof buffer, pipe.get())) output += buffer;
-  *status = pclose(pipe.release());
-  return output;
-}
-
-std::string text_of(const std::filesystem::path& file) {
-  std::ifstream in(file);
-  std::stringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
-
-int count(const std::string& text, const std::string& what) {
-  int n = 0;
-  for (std::size_t at = text.find(what); at != std::string::npos; at = text.find(what, at + 1)) ++n;
-  return n;
-}
+using namespace test;  // run_command, text_of, count_of, kRoot, kTmp
 
 TEST(Study, QuickStudyWritesTablesAndAReportWithEveryFigureThenKeepsCurrentOutputs) {
   const auto out = std::filesystem::temp_directory_path() / "ishibashi_study_quick";
@@ -40,23 +22,23 @@ TEST(Study, QuickStudyWritesTablesAndAReportWithEveryFigureThenKeepsCurrentOutpu
   const std::string study = std::string(ISHIBASHI_BINARY) + " study --quick --jobs 2 --out " + out.string();
   const std::string first = run_command(study, &status);
   ASSERT_EQ(status, 0) << first;
-  EXPECT_EQ(count(first, ": done"), 3) << first;  // two runs and one frequency analysis
+  EXPECT_EQ(count_of(first, ": done"), 3) << first;  // two runs and one frequency analysis
   // The tables: a row per job.
-  EXPECT_EQ(count(text_of(out / "runs.csv"), "\n"), 3);
-  EXPECT_EQ(count(text_of(out / "frequencies.csv"), "\n"), 2);
+  EXPECT_EQ(count_of(text_of(out / "runs.csv"), "\n"), 3);
+  EXPECT_EQ(count_of(text_of(out / "frequencies.csv"), "\n"), 2);
   // Model A's first modes by modal analysis: 22.58, 21.02, 42.00 Hz.
   EXPECT_NE(text_of(out / "frequencies.csv").find(",22.57"), std::string::npos) << text_of(out / "frequencies.csv");
   // The report: ground motion, crown, spectra, energy and one snapshot per run.
   const std::string html = text_of(out / "report.html");
-  EXPECT_EQ(count(html, "src='data:image/png;base64,"), 6) << html.substr(0, 500);
+  EXPECT_EQ(count_of(html, "src='data:image/png;base64,"), 6) << html.substr(0, 500);
   const std::string md = text_of(out / "report.md");
-  EXPECT_EQ(count(md, "](figures/"), 6);
+  EXPECT_EQ(count_of(md, "](figures/"), 6);
   for (const char* figure : {"ground_motion.png", "crown_displacement.png", "impulse_spectra.png", "energy.png"})
     EXPECT_GT(std::filesystem::file_size(out / "figures" / figure), 10000u) << figure;
 
   const std::string second = run_command(study, &status);
   ASSERT_EQ(status, 0) << second;
-  EXPECT_EQ(count(second, "current, kept"), 3) << second;
+  EXPECT_EQ(count_of(second, "current, kept"), 3) << second;
   EXPECT_NE(second.find("0 jobs ran, 3 were current"), std::string::npos) << second;
 }
 

@@ -11,20 +11,12 @@
 #include <sstream>
 #include <vector>
 
+#include "command_line.h"
+
 namespace ishibashi {
 namespace {
 
-const std::filesystem::path kRoot = ISHIBASHI_SOURCE_DIR;
-const std::filesystem::path kTmp = std::filesystem::temp_directory_path();
-
-std::string run_command(const std::string& command, int* status) {
-  std::string output;
-  std::unique_ptr<FILE, int (*)(FILE*)> pipe(popen((command + " 2>&1").c_str(), "r"), pclose);
-  char buffer[4096];
-  while (std::fgets(buffer, sizeof buffer, pipe.get())) output += buffer;
-  *status = pclose(pipe.release());
-  return output;
-}
+using namespace test;  // run_command, text_of, count_of, kRoot, kTmp
 
 // The rows of sweep.csv without the wall time and host (they differ between machines),
 // sorted (runs finish in any order).
@@ -36,12 +28,6 @@ std::vector<std::string> rows(const std::filesystem::path& out) {
   while (std::getline(in, line)) result.push_back(line.substr(0, line.rfind(',', line.rfind(',') - 1)));
   std::sort(result.begin(), result.end());
   return result;
-}
-
-int count(const std::string& text, const std::string& what) {
-  int n = 0;
-  for (std::size_t at = text.find(what); at != std::string::npos; at = text.find(what, at + 1)) ++n;
-  return n;
 }
 
 // Model A, 0.1 s of shaking, two records (the Kobe record's horizontal components
@@ -74,7 +60,7 @@ TEST(Sweep, OneMachineAndMpirunGiveTheSameRows) {
   int status = 0;
   const std::string one = run_command(kSweep + file.string() + " --jobs 2 --threads-per-job 1 --out " + local.string(), &status);
   ASSERT_EQ(status, 0) << one;
-  EXPECT_EQ(count(one, ": done (rank 0)"), 4) << one;
+  EXPECT_EQ(count_of(one, ": done (rank 0)"), 4) << one;
   ASSERT_EQ(rows(local).size(), 4u);
   for (const char* output : {"ida.csv", "fragility.csv", "fragility_fit.csv", "ida.png", "fragility.png"})
     EXPECT_TRUE(std::filesystem::exists(local / output)) << output;
@@ -84,8 +70,8 @@ TEST(Sweep, OneMachineAndMpirunGiveTheSameRows) {
   const std::string two = run_command(launcher + kSweep + file.string() + " --threads-per-job 1 --out " + mpi.string(), &status);
   ASSERT_EQ(status, 0) << two;
   EXPECT_NE(two.find("2 MPI ranks"), std::string::npos) << two;
-  EXPECT_EQ(count(two, ": done (rank"), 4) << two;
-  EXPECT_GE(count(two, ": done (rank 1)"), 1) << "rank 1 took no run: " << two;
+  EXPECT_EQ(count_of(two, ": done (rank"), 4) << two;
+  EXPECT_GE(count_of(two, ": done (rank 1)"), 1) << "rank 1 took no run: " << two;
   EXPECT_EQ(rows(mpi), rows(local));
 }
 
@@ -106,7 +92,7 @@ TEST(Sweep, KilledSweepResumesWithoutRedoingFinishedRuns) {
   const std::string resumed = run_command(sweep, &status);
   ASSERT_EQ(status, 0) << resumed;
   EXPECT_NE(resumed.find(std::to_string(before) + " done before"), std::string::npos) << resumed;
-  EXPECT_EQ(count(resumed, ": done (rank 0)"), static_cast<int>(4 - before)) << resumed;
+  EXPECT_EQ(count_of(resumed, ": done (rank 0)"), static_cast<int>(4 - before)) << resumed;
   EXPECT_EQ(rows(out).size(), 4u);
 }
 

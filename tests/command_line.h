@@ -1,0 +1,39 @@
+// Running the program from a test, as a user would: its output and exit status, and the
+// files it wrote.
+#pragma once
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <memory>
+#include <sstream>
+#include <string>
+
+namespace ishibashi::test {
+
+inline const std::filesystem::path kRoot = ISHIBASHI_SOURCE_DIR;
+inline const std::filesystem::path kTmp = std::filesystem::temp_directory_path();
+
+// stdout and stderr of a shell command; *status its exit status (as pclose returns it).
+inline std::string run_command(const std::string& command, int* status) {
+  std::string output;
+  std::unique_ptr<FILE, int (*)(FILE*)> pipe(popen((command + " 2>&1").c_str(), "r"), pclose);
+  char buffer[4096];
+  while (std::fgets(buffer, sizeof buffer, pipe.get())) output += buffer;
+  *status = pclose(pipe.release());
+  return output;
+}
+
+inline std::string text_of(const std::filesystem::path& file) {
+  std::ifstream in(file, std::ios::binary);
+  std::stringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+
+inline int count_of(const std::string& text, const std::string& what) {
+  int n = 0;
+  for (std::size_t at = text.find(what); at != std::string::npos; at = text.find(what, at + 1)) ++n;
+  return n;
+}
+
+}  // namespace ishibashi::test

@@ -1,0 +1,90 @@
+// Fuzz target of one input reader (ISHIBASHI_FUZZ_READER names it): every input must end
+// in a valid result or a clear error (an exception with a message), never a crash, a hang
+// or an unbounded allocation. Built with libFuzzer (clang, scripts/fuzz.sh), and with a
+// replay main (any compiler) that runs the committed corpus as a test.
+#include <unistd.h>
+
+#include <cstdint>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <stdexcept>
+#include <string>
+
+#include "engine/checkpoint.h"
+#include "geometry/block_files.h"
+#include "io/ground_motion.h"
+#include "io/model_file.h"
+#include "io/scenario_file.h"
+#include "io/study_file.h"
+#include "io/sweep_file.h"
+
+namespace {
+
+using namespace ishibashi;
+
+// The readers take paths: each input goes to a file named like the format wants.
+std::filesystem::path input_file(const char* extension) {
+  static const std::filesystem::path dir = [] {
+    auto d = std::filesystem::temp_directory_path() / ("ishibashi_fuzz_" + std::to_string(getpid()));
+    std::filesystem::create_directories(d);
+    return d;
+  }();
+  return dir / (std::string("input.") + extension);
+}
+
+void read_input(const std::string& reader, const std::uint8_t* data, std::size_t size) {
+  if (reader == "checkpoint") {  // the checkpoint's body reader (State and joints)
+    std::istringstream in(std::string(reinterpret_cast<const char*>(data), size));
+    CheckpointReader r(in);
+    State state;
+    Joints joints;
+    read_joints(r, joints);
+    read_state(r, state);
+    return;
+  }
+  const char* extension = reader == "at2" ? "AT2" : reader == "knet" ? "EW" : reader == "columns" ? "csv"
+                        : reader == "off" ? "off" : reader == "obj" ? "obj" : reader == "stl" ? "stl" : "toml";
+  const std::filesystem::path file = input_file(extension);
+  std::ofstream(file, std::ios::binary).write(reinterpret_cast<const char*>(data), static_cast<std::streamsize>(size));
+  if (reader == "at2") read_at2(file);
+  else if (reader == "knet") read_knet(file);
+  else if (reader == "columns") read_columns(file, AccelerationUnit::g, 0.01);
+  else if (reader == "model") read_model_file(file);
+  else if (reader == "scenario") read_scenario(file);
+  else if (reader == "study") read_study(file, false);
+  else if (reader == "sweep") read_sweep(file);
+  else if (reader == "off" || reader == "obj" || reader == "stl") read_block_file(file);
+  else throw std::logic_error("unknown reader " + reader);
+}
+
+}  // namespace
+
+extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
+  try {
+    read_input(ISHIBASHI_FUZZ_READER, data, size);
+  } catch (const std::logic_error& e) {
+    if (std::strstr(e.what(), "unknown reader")) throw;
+  } catch (const std::exception& e) {
+    if (std::strlen(e.what()) == 0) __builtin_trap();  // an error must say what is wrong
+  }
+  return 0;
+}
+
+#ifdef ISHIBASHI_FUZZ_REPLAY
+// Replays files (the committed corpus) through the target: a test in every build.
+int main(int argc, char** argv) {
+  int count = 0;
+  for (int i = 1; i < argc; ++i)
+    for (const auto& entry : std::filesystem::recursive_directory_iterator(argv[i])) {
+      if (!entry.is_regular_file()) continue;
+      std::ifstream in(entry.path(), std::ios::binary);
+      const std::string bytes((std::istreambuf_iterator<char>(in)), {});
+      LLVMFuzzerTestOneInput(reinterpret_cast<const std::uint8_t*>(bytes.data()), bytes.size());
+      ++count;
+    }
+  std::printf("%s: %d inputs replayed\n", ISHIBASHI_FUZZ_READER, count);
+  return count > 0 ? 0 : 1;
+}
+#endif
