@@ -1,10 +1,12 @@
 // Fuzz target of one input reader (ISHIBASHI_FUZZ_READER names it): every input must end
 // in a valid result or a clear error (an exception with a message), never a crash, a hang
-// or an unbounded allocation. Built with libFuzzer (clang, scripts/fuzz.sh), and with a
-// replay main (any compiler) that runs the committed corpus as a test.
+// or an unbounded allocation. Built with libFuzzer (clang, scripts/fuzz.sh), and as a
+// replay program (any compiler; ISHIBASHI_FUZZ_REPLAY): `replay_corpus READER DIR...`
+// runs the committed corpus of a reader as a test.
 #include <unistd.h>
 
 #include <cstdint>
+#include <cstdio>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
@@ -24,10 +26,19 @@ namespace {
 
 using namespace ishibashi;
 
+#ifdef ISHIBASHI_FUZZ_READER
+const std::string reader_name = ISHIBASHI_FUZZ_READER;
+#else
+std::string reader_name;  // the replay's first argument
+#endif
+
 // The readers take paths: each input goes to a file named like the format wants.
 std::filesystem::path input_file(const char* extension) {
   static const std::filesystem::path dir = [] {
-    auto d = std::filesystem::temp_directory_path() / ("ishibashi_fuzz_" + std::to_string(getpid()));
+    // In memory where there is a tmpfs: a million files written and read.
+    const std::filesystem::path shm = "/dev/shm";
+    auto d = (std::filesystem::is_directory(shm) ? shm : std::filesystem::temp_directory_path()) /
+             ("ishibashi_fuzz_" + std::to_string(getpid()));
     std::filesystem::create_directories(d);
     return d;
   }();
@@ -63,7 +74,7 @@ void read_input(const std::string& reader, const std::uint8_t* data, std::size_t
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   try {
-    read_input(ISHIBASHI_FUZZ_READER, data, size);
+    read_input(reader_name, data, size);
   } catch (const std::logic_error& e) {
     if (std::strstr(e.what(), "unknown reader")) throw;
   } catch (const std::exception& e) {
@@ -75,8 +86,13 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
 #ifdef ISHIBASHI_FUZZ_REPLAY
 // Replays files (the committed corpus) through the target: a test in every build.
 int main(int argc, char** argv) {
+  if (argc < 3) {
+    std::fprintf(stderr, "usage: replay_corpus READER DIR...\n");
+    return 2;
+  }
+  reader_name = argv[1];
   int count = 0;
-  for (int i = 1; i < argc; ++i)
+  for (int i = 2; i < argc; ++i)
     for (const auto& entry : std::filesystem::recursive_directory_iterator(argv[i])) {
       if (!entry.is_regular_file()) continue;
       std::ifstream in(entry.path(), std::ios::binary);
@@ -84,7 +100,7 @@ int main(int argc, char** argv) {
       LLVMFuzzerTestOneInput(reinterpret_cast<const std::uint8_t*>(bytes.data()), bytes.size());
       ++count;
     }
-  std::printf("%s: %d inputs replayed\n", ISHIBASHI_FUZZ_READER, count);
+  std::printf("%s: %d inputs replayed\n", reader_name.c_str(), count);
   return count > 0 ? 0 : 1;
 }
 #endif
