@@ -259,7 +259,7 @@ SeismicRunResult SeismicRun::run() {
       std::ofstream file(tmp, std::ios::binary);
       CheckpointWriter w(file);
       write_header(w, h);
-      w.value(shaking), w.value(shake_step), w.value(r);
+      w.value<std::uint8_t>(shaking), w.value(shake_step), w.value(r);
       for (int i = 0; i < 3; ++i) w.value(settled_crown[i]);
       w.array(reported_left), w.text(history.str()), w.array(blocks.frame_times()), w.array(contacts.frame_times());
       write_joints(w, joints);
@@ -279,7 +279,7 @@ SeismicRunResult SeismicRun::run() {
     std::istringstream body(resume_from_);
     CheckpointReader in(body);
     try {
-      shaking = in.value<bool>();
+      shaking = in.value<std::uint8_t>() != 0;
       shake_step = in.value<long>();
       r = in.value<SeismicRunResult>();
       for (int i = 0; i < 3; ++i) settled_crown[i] = in.value<double>();

@@ -46,9 +46,12 @@ void write_state(CheckpointWriter& out, const State& s) {
   out.value(s.time_s), out.value(s.step);
   out.array(s.position), out.array(s.orientation), out.array(s.velocity), out.array(s.angular_velocity);
   out.array(s.applied_force), out.array(s.applied_torque), out.array(s.left_model);
-  out.array(s.pairs), out.value(s.pairs_changed), out.array(s.position_at_rebuild), out.value(s.pairs_valid);
+  // bools as bytes: a byte read back must not become an invalid bool
+  out.array(s.pairs), out.value<std::uint8_t>(s.pairs_changed), out.array(s.position_at_rebuild);
+  out.value<std::uint8_t>(s.pairs_valid);
   for_each_array(const_cast<SubContacts&>(s.contacts), [&](const auto& v) { out.array(v); });
-  out.value(s.energy), out.value(s.last_gravitational_j), out.value(s.last_elastic_j), out.value(s.energy_started);
+  out.value(s.energy), out.value(s.last_gravitational_j), out.value(s.last_elastic_j);
+  out.value<std::uint8_t>(s.energy_started);
   out.value(s.profile);
 }
 
@@ -58,14 +61,14 @@ void read_state(CheckpointReader& in, State& s) {
   in.array(s.position), in.array(s.orientation), in.array(s.velocity), in.array(s.angular_velocity);
   in.array(s.applied_force), in.array(s.applied_torque), in.array(s.left_model);
   in.array(s.pairs);
-  s.pairs_changed = in.value<bool>();
+  s.pairs_changed = in.value<std::uint8_t>() != 0;
   in.array(s.position_at_rebuild);
-  s.pairs_valid = in.value<bool>();
+  s.pairs_valid = in.value<std::uint8_t>() != 0;
   for_each_array(s.contacts, [&](auto& v) { in.array(v); });
   s.energy = in.value<Energy>();
   s.last_gravitational_j = in.value<double>();
   s.last_elastic_j = in.value<double>();
-  s.energy_started = in.value<bool>();
+  s.energy_started = in.value<std::uint8_t>() != 0;
   s.profile = in.value<Profile>();
   s.gather_index_valid = false;  // the gather index follows the restored pair list
 }

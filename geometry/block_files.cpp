@@ -5,6 +5,9 @@
 #include <CGAL/Polygon_mesh_processing/repair_polygon_soup.h>
 
 #include <algorithm>
+#include <cmath>
+#include <fstream>
+#include <sstream>
 #include <map>
 #include <numeric>
 
@@ -20,18 +23,84 @@ int find(std::vector<int>& parent, int i) {
   return i;
 }
 
+// Plain OFF, read here: CGAL 5.5's reader overruns a buffer on malformed colour entries
+// (found by fuzzing). "OFF", the counts (vertices, faces, edges), x y z per vertex, then
+// n i1 ... in per face; '#' starts a comment; anything after a vertex's z or a face's
+// last index (a colour) is ignored.
+bool read_off(const std::filesystem::path& file, std::vector<Point>& points, std::vector<std::vector<std::size_t>>& polygons) {
+  std::ifstream in(file);
+  std::string line, header;
+  int line_number = 0;
+  auto next = [&](std::istringstream& fields) {  // the next line with content
+    while (std::getline(in, line)) {
+      ++line_number;
+      line = line.substr(0, line.find('#'));
+      if (line.find_first_not_of(" \t\r") != std::string::npos) {
+        fields = std::istringstream(line);
+        return true;
+      }
+    }
+    throw std::runtime_error(file.string() + ": the file ends at line " + std::to_string(line_number) + " before the OFF data does");
+  };
+  auto fail = [&](const std::string& what) {
+    throw std::runtime_error(file.string() + ":" + std::to_string(line_number) + ": " + what);
+  };
+  std::istringstream fields;
+  next(fields);
+  fields >> header;
+  if (header != "OFF") fail("an OFF file starts with \"OFF\" (not " + header + "; coloured or other OFF variants are not read)");
+  long nv = -1, nf = -1;
+  if (!(fields >> nv)) next(fields), fields >> nv;
+  if (!(fields >> nf) || nv < 0 || nf < 0 || nv > 10000000 || nf > 10000000)
+    fail("expected the counts of vertices and faces (0 to 10,000,000 each)");
+  for (long v = 0; v < nv; ++v) {
+    next(fields);
+    double x, y, z;
+    if (!(fields >> x >> y >> z)) fail("expected the x y z of vertex " + std::to_string(v + 1));
+    points.emplace_back(x, y, z);
+  }
+  for (long f = 0; f < nf; ++f) {
+    next(fields);
+    long n = 0;
+    if (!(fields >> n) || n < 0 || n > 1000) fail("expected the corner count of face " + std::to_string(f + 1) + " (3 to 1,000)");
+    std::vector<std::size_t> face;
+    for (long k = 0; k < n; ++k) {
+      long index = -1;
+      if (!(fields >> index) || index < 0 || index >= nv)
+        fail("face " + std::to_string(f + 1) + ": expected " + std::to_string(n) + " vertex indices from 0 to " + std::to_string(nv - 1));
+      face.push_back(static_cast<std::size_t>(index));
+    }
+    polygons.push_back(face);
+  }
+  return true;
+}
+
 }  // namespace
 
 std::vector<Polyhedron> read_block_file(const std::filesystem::path& file) {
   if (!std::filesystem::exists(file)) throw std::runtime_error(file.string() + ": no such file");
   std::vector<Point> points;
   std::vector<std::vector<std::size_t>> polygons;
-  if (!CGAL::IO::read_polygon_soup(file.string(), points, polygons) || polygons.empty())
-    throw std::runtime_error(file.string() + ": not a readable OFF, OBJ or STL mesh (or it holds no faces)");
-  // STL repeats every corner: merge equal points so that faces share vertices. (OFF and
-  // OBJ index their vertices; merging there would weld touching blocks together.)
   std::string ext = file.extension().string();
   std::transform(ext.begin(), ext.end(), ext.begin(), ::tolower);
+  const bool read = ext == ".off" ? read_off(file, points, polygons) : CGAL::IO::read_polygon_soup(file.string(), points, polygons);
+  if (!read || polygons.empty())
+    throw std::runtime_error(file.string() + ": not a readable OFF, OBJ or STL mesh (or it holds no faces)");
+  // CGAL reads what the file says: a face may name a vertex the file does not have.
+  for (std::size_t i = 0; i < polygons.size(); ++i) {
+    if (polygons[i].size() < 3)
+      throw std::runtime_error(file.string() + ": face " + std::to_string(i + 1) + " has " +
+                               std::to_string(polygons[i].size()) + " corners; a face needs at least 3");
+    for (std::size_t v : polygons[i])
+      if (v >= points.size())
+        throw std::runtime_error(file.string() + ": face " + std::to_string(i + 1) + " names vertex " + std::to_string(v + 1) +
+                                 " of " + std::to_string(points.size()));
+  }
+  for (std::size_t v = 0; v < points.size(); ++v)
+    if (!std::isfinite(points[v].x()) || !std::isfinite(points[v].y()) || !std::isfinite(points[v].z()))
+      throw std::runtime_error(file.string() + ": vertex " + std::to_string(v + 1) + " has a coordinate that is not a number");
+  // STL repeats every corner: merge equal points so that faces share vertices. (OFF and
+  // OBJ index their vertices; merging there would weld touching blocks together.)
   if (ext == ".stl") CGAL::Polygon_mesh_processing::merge_duplicate_points_in_polygon_soup(points, polygons);
 
   // Components: faces joined through shared vertices (union-find over the vertices).

@@ -28,5 +28,6 @@ for reader in "${readers[@]}"; do
     -rss_limit_mb=2048 -print_final_stats=1 "$work" "$corpus" 2>&1 | grep -E "stat::number_of_executed_units|ERROR|Done" || true
   "./tests/fuzz/fuzz_$reader" -merge=1 "$corpus" "$work" > /dev/null 2>&1  # keep what covers new code
 done
-ls crash-* timeout-* oom-* 2> /dev/null && { echo "fuzz: findings above"; exit 1; }
+findings=$(find . -maxdepth 1 \( -name 'crash-*' -o -name 'timeout-*' -o -name 'oom-*' -o -name 'leak-*' \) -newer "$build/build.ninja")
+if [ -n "$findings" ]; then echo "fuzz: findings: $findings"; exit 1; fi
 echo "fuzz: no crash, hang or runaway allocation"

@@ -18,6 +18,7 @@ cmake -S "$root" -B "$build" -G Ninja -DCMAKE_BUILD_TYPE=None -DISHIBASHI_BUILD_
 # The physics, geometry and file tests, the program they run and the fuzz corpus replay;
 # the end-to-end analyses (study, sweeps, checkpoints: minutes of runs) are left out.
 cmake --build "$build" --target engine_tests io_tests replay_corpus ishibashi
-export ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1
+export ASAN_OPTIONS=detect_leaks=1:abort_on_error=1
+export UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1:suppressions=$root/scripts/ubsan.supp
 cd "$build" && ctest --output-on-failure --timeout 900 \
   -E 'ArchRing\..*Stands|Impact.EdgeAndCornerDrops|Impact.RandomDrops|LimitState\.|Checkpoint\.|Sweep\.|Study\.|SeismicRun\.|Fragility\.|Run.InterruptedRun|NOT_BUILT'
