@@ -42,7 +42,7 @@ Counts count(const Model& m, const State& s, const JointThresholds& thresholds, 
   return c;
 }
 
-constexpr char kCheckpointMagic[] = "ishibashi checkpoint 1\n";
+constexpr char kCheckpointMagic[] = "ishibashi checkpoint 2\n";
 
 // What the checkpoint's run was: the program, the input files and the run's settings
 // beyond the scenario file (command-line overrides), so that a resume rebuilds the same run.
@@ -69,6 +69,30 @@ CheckpointHeader read_header(CheckpointReader& in, const std::filesystem::path& 
   h.dt_s = in.value<double>(), h.duration_s = in.value<double>(), h.motion_duration_s = in.value<double>();
   h.start_s = in.value<double>(), h.subdivision = in.value<int>();
   return h;
+}
+
+// Every field of a result, for the checkpoint: written one by one, flags as checked bytes.
+template <class Result, class Fn>
+void for_each_field(Result& r, Fn&& fn) {
+  fn(r.settled), fn(r.interrupted), fn(r.settle_time_s), fn(r.shaking_time_s), fn(r.first_opening_s);
+  fn(r.largest_crown_drop_m), fn(r.fallen_stones), fn(r.fallen_ring_stones), fn(r.blocks_left_model);
+  fn(r.collapse), fn(r.joints), fn(r.bonds_broken_settling), fn(r.joint_counts), fn(r.balance_error_j);
+  fn(r.balance_error_relative), fn(r.steps), fn(r.state_hash), fn(r.wall_s);
+}
+
+void write_result(CheckpointWriter& out, const SeismicRunResult& r) {
+  for_each_field(r, [&](const auto& v) {
+    if constexpr (std::is_same_v<std::decay_t<decltype(v)>, bool>) out.flag(v);
+    else out.value(v);
+  });
+}
+
+void read_result(CheckpointReader& in, SeismicRunResult& r) {
+  for_each_field(r, [&](auto& v) {
+    using T = std::decay_t<decltype(v)>;
+    if constexpr (std::is_same_v<T, bool>) v = in.flag();
+    else v = in.value<T>();
+  });
 }
 
 }  // namespace
@@ -259,7 +283,7 @@ SeismicRunResult SeismicRun::run() {
       std::ofstream file(tmp, std::ios::binary);
       CheckpointWriter w(file);
       write_header(w, h);
-      w.value<std::uint8_t>(shaking), w.value(shake_step), w.value(r);
+      w.flag(shaking), w.value(shake_step), write_result(w, r);
       for (int i = 0; i < 3; ++i) w.value(settled_crown[i]);
       w.array(reported_left), w.text(history.str()), w.array(blocks.frame_times()), w.array(contacts.frame_times());
       write_joints(w, joints);
@@ -279,9 +303,9 @@ SeismicRunResult SeismicRun::run() {
     std::istringstream body(resume_from_);
     CheckpointReader in(body);
     try {
-      shaking = in.value<std::uint8_t>() != 0;
+      shaking = in.flag();
       shake_step = in.value<long>();
-      r = in.value<SeismicRunResult>();
+      read_result(in, r);
       for (int i = 0; i < 3; ++i) settled_crown[i] = in.value<double>();
       in.array(reported_left);
       history.str(in.text());

@@ -29,7 +29,8 @@ struct SeismicRunOptions {
   std::function<void(const std::string&)> on_warning;
 };
 
-// What a run found; also written to summary.json.
+// What a run found; also written to summary.json. (A new field also goes into
+// for_each_field in seismic_run.cpp, which writes it to the checkpoint.)
 struct SeismicRunResult {
   bool settled = false;           // the kinetic energy fell below the scenario's threshold
   bool interrupted = false;       // stopped by SIGINT/SIGTERM (outputs valid up to then)

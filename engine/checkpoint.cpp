@@ -37,6 +37,12 @@ std::size_t CheckpointReader::size(std::size_t element_bytes) {
   return static_cast<std::size_t>(n);
 }
 
+bool CheckpointReader::flag() {
+  const auto byte = value<std::uint8_t>();
+  if (byte > 1) throw CheckpointError("a flag byte of " + std::to_string(byte) + " where 0 or 1 belongs");
+  return byte == 1;
+}
+
 void CheckpointReader::read(void* data, std::size_t bytes) {
   in_.read(static_cast<char*>(data), static_cast<std::streamsize>(bytes));
   if (static_cast<std::size_t>(in_.gcount()) != bytes) throw CheckpointError("the file ends early");
@@ -46,12 +52,11 @@ void write_state(CheckpointWriter& out, const State& s) {
   out.value(s.time_s), out.value(s.step);
   out.array(s.position), out.array(s.orientation), out.array(s.velocity), out.array(s.angular_velocity);
   out.array(s.applied_force), out.array(s.applied_torque), out.array(s.left_model);
-  // bools as bytes: a byte read back must not become an invalid bool
-  out.array(s.pairs), out.value<std::uint8_t>(s.pairs_changed), out.array(s.position_at_rebuild);
-  out.value<std::uint8_t>(s.pairs_valid);
+  out.array(s.pairs), out.flag(s.pairs_changed), out.array(s.position_at_rebuild);
+  out.flag(s.pairs_valid);
   for_each_array(const_cast<SubContacts&>(s.contacts), [&](const auto& v) { out.array(v); });
   out.value(s.energy), out.value(s.last_gravitational_j), out.value(s.last_elastic_j);
-  out.value<std::uint8_t>(s.energy_started);
+  out.flag(s.energy_started);
   out.value(s.profile);
 }
 
@@ -61,14 +66,14 @@ void read_state(CheckpointReader& in, State& s) {
   in.array(s.position), in.array(s.orientation), in.array(s.velocity), in.array(s.angular_velocity);
   in.array(s.applied_force), in.array(s.applied_torque), in.array(s.left_model);
   in.array(s.pairs);
-  s.pairs_changed = in.value<std::uint8_t>() != 0;
+  s.pairs_changed = in.flag();
   in.array(s.position_at_rebuild);
-  s.pairs_valid = in.value<std::uint8_t>() != 0;
+  s.pairs_valid = in.flag();
   for_each_array(s.contacts, [&](auto& v) { in.array(v); });
   s.energy = in.value<Energy>();
   s.last_gravitational_j = in.value<double>();
   s.last_elastic_j = in.value<double>();
-  s.energy_started = in.value<std::uint8_t>() != 0;
+  s.energy_started = in.flag();
   s.profile = in.value<Profile>();
   s.gather_index_valid = false;  // the gather index follows the restored pair list
 }

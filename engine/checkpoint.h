@@ -21,9 +21,11 @@ class CheckpointWriter {
   explicit CheckpointWriter(std::ostream& out) : out_(out) {}
   template <class T>
   void value(const T& v) {
-    static_assert(std::is_trivially_copyable_v<T>);
+    static_assert(std::is_trivially_copyable_v<T> && !std::is_same_v<T, bool>, "flags go through flag()");
     out_.write(reinterpret_cast<const char*>(&v), sizeof(T));
   }
+  // A bool as one byte, 0 or 1 (a damaged byte read back as a bool would be undefined).
+  void flag(bool v) { value<std::uint8_t>(v ? 1 : 0); }
   template <class T>
   void array(const std::vector<T>& v) {
     value<std::uint64_t>(v.size());
@@ -48,11 +50,12 @@ class CheckpointReader {
   explicit CheckpointReader(std::istream& in);
   template <class T>
   T value() {
-    static_assert(std::is_trivially_copyable_v<T>);
+    static_assert(std::is_trivially_copyable_v<T> && !std::is_same_v<T, bool>, "flags go through flag()");
     T v;
     read(&v, sizeof(T));
     return v;
   }
+  bool flag();  // throws unless the byte is 0 or 1
   template <class T>
   void array(std::vector<T>& v) {
     v.resize(size(sizeof(T)));

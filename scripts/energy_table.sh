@@ -8,7 +8,8 @@
 # Environment: START (6), DURATION (5), THREADS (0: all cores), EXTRA (more `run` options,
 # e.g. "--dt-factor 0.5" or "--subdivision 2"), TAG (appended to the run folders' names),
 # ISHIBASHI (a program to run instead of building this tree: a copy keeps long runs going
-# while the tree is rebuilt).
+# while the tree is rebuilt). Each run writes a checkpoint every 10 min of wall time: an
+# interrupted one goes on with `ishibashi run --resume out/energy/NAME`.
 set -euo pipefail
 root=$(cd "$(dirname "$0")/.." && pwd)
 table=${1:-$root/out/energy_table.csv}
@@ -26,7 +27,7 @@ for name in "${scenarios[@]}"; do
   out="$root/out/energy/$name${TAG:-}"
   # shellcheck disable=SC2086
   "$bin" run "$root/scenarios/$name.toml" --out "$out" --start "$start" --duration "$duration" \
-    --threads "$threads" --quiet ${EXTRA:-} > "$out.log" 2>&1 || { echo "$name failed: $(tail -3 "$out.log")"; continue; }
+    --threads "$threads" --checkpoint-wall 600 --quiet ${EXTRA:-} > "$out.log" 2>&1 || { echo "$name failed: $(tail -3 "$out.log")"; continue; }
   python3 "$root/scripts/run_row.py" "$out" "$name" "${EXTRA:-}" "$start" "$duration" >> "$table"
   tail -1 "$table"
 done
