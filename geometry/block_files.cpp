@@ -27,7 +27,7 @@ int find(std::vector<int>& parent, int i) {
 // (found by fuzzing). "OFF", the counts (vertices, faces, edges), x y z per vertex, then
 // n i1 ... in per face; '#' starts a comment; anything after a vertex's z or a face's
 // last index (a colour) is ignored.
-bool read_off(const std::filesystem::path& file, std::vector<Point>& points, std::vector<std::vector<std::size_t>>& polygons) {
+void read_off(const std::filesystem::path& file, std::vector<Point>& points, std::vector<std::vector<std::size_t>>& polygons) {
   std::ifstream in(file);
   std::string line, header;
   int line_number = 0;
@@ -62,7 +62,7 @@ bool read_off(const std::filesystem::path& file, std::vector<Point>& points, std
   for (long f = 0; f < nf; ++f) {
     next(fields);
     long n = 0;
-    if (!(fields >> n) || n < 0 || n > 1000) fail("expected the corner count of face " + std::to_string(f + 1) + " (3 to 1,000)");
+    if (!(fields >> n) || n < 3 || n > 1000) fail("expected the corner count of face " + std::to_string(f + 1) + " (3 to 1,000)");
     std::vector<std::size_t> face;
     for (long k = 0; k < n; ++k) {
       long index = -1;
@@ -72,7 +72,6 @@ bool read_off(const std::filesystem::path& file, std::vector<Point>& points, std
     }
     polygons.push_back(face);
   }
-  return true;
 }
 
 }  // namespace
@@ -83,8 +82,9 @@ std::vector<Polyhedron> read_block_file(const std::filesystem::path& file) {
   std::vector<std::vector<std::size_t>> polygons;
   std::string ext = file.extension().string();
   std::transform(ext.begin(), ext.end(), ext.begin(), ::tolower);
-  const bool read = ext == ".off" ? read_off(file, points, polygons) : CGAL::IO::read_polygon_soup(file.string(), points, polygons);
-  if (!read || polygons.empty())
+  if (ext == ".off") read_off(file, points, polygons);  // throws with the line on bad input
+  else if (!CGAL::IO::read_polygon_soup(file.string(), points, polygons)) polygons.clear();
+  if (polygons.empty())
     throw std::runtime_error(file.string() + ": not a readable OFF, OBJ or STL mesh (or it holds no faces)");
   // CGAL reads what the file says: a face may name a vertex the file does not have.
   for (std::size_t i = 0; i < polygons.size(); ++i) {
