@@ -3,7 +3,7 @@
 30 / 29 stones per course, 26 courses, on a fixed base) as an input for Rockable, the
 public sphero-polyhedral DEM code, for the side-by-side of perf/results/README.md.
 Nothing of Rockable is in this project: build it from its own source to run this.
-    python3 perf/rockable_wall.py OUT_DIR [STEPS] [STEPS_PER_REPORT]
+    [VERLET_STEPS=250] python3 perf/rockable_wall.py OUT_DIR [STEPS] [STEPS_PER_REPORT]
 writes OUT_DIR/input.txt and OUT_DIR/shapes.shp; then `rockable -j THREADS input.txt`
 in OUT_DIR, and perf.txt there holds simulated seconds per wall second per report.
 
@@ -12,7 +12,8 @@ wall_benchmark. Rockable's stones are sphero-polyhedra: the cube's corners sit 0
 inside and a 0.02 m sphere sweeps them, so the outer faces are where ishibashi's are.
 Its contact law is one linear spring per vertex-face / edge-edge point (no areas), so
 the stiffness is set per point (1e9 N/m, about ishibashi's face stiffness of 9e9 N/m
-shared by its points); only the cost per step is compared, not the physics."""
+shared by its points) with restitution^2 0.1; only the cost per step is compared, not
+the physics. VERLET_STEPS: steps between Rockable's neighbour-list updates."""
 import math
 import os
 import sys
