@@ -1,6 +1,7 @@
 #include "io/ground_motion.h"
 
 #include <algorithm>
+#include <cctype>
 #include <cmath>
 #include <fstream>
 #include <regex>
@@ -39,6 +40,28 @@ void numbers_of(const std::filesystem::path& file, int line_no, const std::strin
   }
 }
 
+// A header number: the whole of `text` must be a finite number, else an error naming the
+// line and what it should hold (std::stod would throw a bare "stod").
+double header_number(const std::filesystem::path& file, int line_no, const std::string& text, const std::string& what) {
+  char* end = nullptr;
+  const double v = std::strtod(text.c_str(), &end);
+  if (text.empty() || end != text.c_str() + text.size() || !std::isfinite(v))
+    fail(file, line_no, "'" + text + "' is not a number: expected " + what);
+  return v;
+}
+
+// The run of digits and points that ends just before `pos` / starts at `pos` of a line.
+std::string digits_before(const std::string& line, std::size_t pos) {
+  std::size_t begin = pos;
+  while (begin > 0 && (std::isdigit(static_cast<unsigned char>(line[begin - 1])) || line[begin - 1] == '.')) --begin;
+  return line.substr(begin, pos - begin);
+}
+std::string digits_from(const std::string& line, std::size_t pos) {
+  std::size_t end = pos;
+  while (end < line.size() && (std::isdigit(static_cast<unsigned char>(line[end])) || line[end] == '.')) ++end;
+  return line.substr(pos, end - pos);
+}
+
 double unit_factor(AccelerationUnit u) {
   switch (u) {
     case AccelerationUnit::g: return kG;
@@ -69,10 +92,12 @@ Record read_at2(const std::filesystem::path& file) {
   static const std::regex header(R"(NPTS\s*=\s*([0-9]+)\s*,\s*DT\s*=\s*([0-9.eE+-]+)\s*SEC)", std::regex::icase);
   std::smatch m;
   if (!std::regex_search(line, m, header)) fail(file, 4, "expected 'NPTS = n, DT = dt SEC' in the AT2 header");
-  const long npts = std::stol(m[1].str());
+  const double npts_read = header_number(file, 4, m[1].str(), "the number of points NPTS");
+  if (npts_read > 1e9) fail(file, 4, "NPTS = " + m[1].str() + " is beyond any record (at most 10^9 points)");
+  const long npts = static_cast<long>(npts_read);
   Record r;
   r.source = file.filename().string();
-  r.dt_s = std::stod(m[2].str());
+  r.dt_s = header_number(file, 4, m[2].str(), "the time step DT in seconds");
   if (r.dt_s <= 0 || npts <= 1) fail(file, 4, "NPTS must exceed 1 and DT must be positive");
   std::string upper = units;
   std::transform(upper.begin(), upper.end(), upper.begin(), ::toupper);
@@ -102,15 +127,23 @@ Record read_knet(const std::filesystem::path& file) {
   while (std::getline(in, line)) {
     ++line_no;
     if (!data) {
-      if (line.rfind("Sampling Freq(Hz)", 0) == 0) {
-        std::smatch m;
-        if (!std::regex_search(line, m, std::regex(R"(([0-9.]+)\s*Hz)"))) fail(file, line_no, "cannot read the sampling frequency");
-        frequency = std::stod(m[1].str());
+      // Read by hand rather than by std::regex, whose backtracking recurses once per
+      // character and could overflow the stack on a long damaged line.
+      const std::string frequency_label = "Sampling Freq(Hz)";
+      if (line.rfind(frequency_label, 0) == 0) {
+        const std::size_t label = frequency_label.size(), hz = line.rfind("Hz");
+        std::size_t end = hz;
+        while (end > label && line[end - 1] == ' ') --end;  // "100 Hz" as well as "100Hz"
+        if (hz <= label || end == label) fail(file, line_no, "cannot read the sampling frequency (expected like '100Hz')");
+        frequency = header_number(file, line_no, digits_before(line, end), "the sampling frequency in Hz");
       } else if (line.rfind("Scale Factor", 0) == 0) {
-        std::smatch m;
-        if (!std::regex_search(line, m, std::regex(R"(([0-9.]+)\(gal\)/([0-9.]+))")))
-          fail(file, line_no, "cannot read the scale factor (expected like '7845(gal)/8223790')");
-        scale = std::stod(m[1].str()) / std::stod(m[2].str());
+        const std::size_t gal = line.find("(gal)/");
+        if (gal == std::string::npos) fail(file, line_no, "cannot read the scale factor (expected like '7845(gal)/8223790')");
+        const std::string what = "the scale factor like '7845(gal)/8223790'";
+        const double numerator = header_number(file, line_no, digits_before(line, gal), what);
+        const double denominator = header_number(file, line_no, digits_from(line, gal + 6), what);
+        if (denominator <= 0) fail(file, line_no, "the scale factor's divisor must be positive");
+        scale = numerator / denominator;
       } else if (line.rfind("Memo.", 0) == 0) {
         data = true;
       }

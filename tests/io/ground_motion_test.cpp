@@ -52,6 +52,19 @@ TEST(GroundMotion, MalformedFilesAreClearErrors) {
   EXPECT_THAT(error_of([&] { read_at2(headless); }), HasSubstr("AT2 header is incomplete"));
   const auto knet = write("gm.knet", "Origin Time 1995/01/17\n1 2 3\n");
   EXPECT_THAT(error_of([&] { read_knet(knet); }), HasSubstr("not a K-NET"));
+  // Header numbers that are only points or out of range: the line and what belongs there,
+  // not the bare "stod" of the standard library.
+  const auto dot_dt = write("gm_dot.AT2", header + "NPTS = 3, DT = . SEC\n 0.1 0.2 0.3\n");
+  EXPECT_THAT(error_of([&] { read_at2(dot_dt); }), HasSubstr("gm_dot.AT2:4: '.' is not a number: expected the time step DT"));
+  const auto huge = write("gm_huge.AT2", header + "NPTS = 99999999999999999999999, DT = .01 SEC\n 0.1\n");
+  EXPECT_THAT(error_of([&] { read_at2(huge); }), HasSubstr("gm_huge.AT2:4: NPTS = 99999999999999999999999 is beyond any record"));
+  const std::string knet_tail = "Memo.\n1 2 3\n";
+  const auto dot_hz = write("gm_hz.knet", "Sampling Freq(Hz)  .Hz\nScale Factor 7845(gal)/8223790\n" + knet_tail);
+  EXPECT_THAT(error_of([&] { read_knet(dot_hz); }), HasSubstr("gm_hz.knet:1: '.' is not a number: expected the sampling frequency"));
+  const auto no_hz = write("gm_nohz.knet", "Sampling Freq(Hz)  100\nScale Factor 7845(gal)/8223790\n" + knet_tail);
+  EXPECT_THAT(error_of([&] { read_knet(no_hz); }), HasSubstr("gm_nohz.knet:1: cannot read the sampling frequency"));
+  const auto zero_scale = write("gm_scale.knet", "Sampling Freq(Hz)  100Hz\nScale Factor 7845(gal)/0\n" + knet_tail);
+  EXPECT_THAT(error_of([&] { read_knet(zero_scale); }), HasSubstr("gm_scale.knet:2: the scale factor's divisor must be positive"));
   const auto uneven = write("gm.csv", "0.0, 0.1\n0.01, 0.2\n0.03, 0.1\n");
   EXPECT_THAT(error_of([&] { read_columns(uneven, AccelerationUnit::gal); }), HasSubstr("not uniform"));
 }
