@@ -75,6 +75,14 @@ void read_input(const std::string& reader, const std::uint8_t* data, std::size_t
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   try {
     read_input(reader_name, data, size);
+  } catch (const std::invalid_argument& e) {
+    // std::stod and friends: their message is only the function's name ("stod"), which
+    // tells a user neither the file nor the line. Readers must check numbers themselves.
+    std::fprintf(stderr, "bare conversion error: %s\n", e.what());
+    __builtin_trap();
+  } catch (const std::out_of_range& e) {
+    std::fprintf(stderr, "bare conversion error: %s\n", e.what());
+    __builtin_trap();
   } catch (const std::logic_error& e) {
     if (std::strstr(e.what(), "unknown reader")) throw;
   } catch (const std::exception& e) {
