@@ -26,27 +26,30 @@ std::ifstream open(const std::filesystem::path& file) {
   return in;
 }
 
+// True when the whole of `text` is one finite number (then in `value`).
+bool parse_finite(const std::string& text, double& value) {
+  char* end = nullptr;
+  value = std::strtod(text.c_str(), &end);
+  return !text.empty() && end == text.c_str() + text.size() && std::isfinite(value);
+}
+
 // Parses every whitespace-separated number of a line; a word that is not a number is an
 // error naming the line.
 void numbers_of(const std::filesystem::path& file, int line_no, const std::string& line, std::vector<double>& out) {
   std::istringstream s(line);
   std::string word;
+  double v = 0;
   while (s >> word) {
-    char* end = nullptr;
-    const double v = std::strtod(word.c_str(), &end);
-    if (end == word.c_str() || *end != '\0' || !std::isfinite(v))
-      fail(file, line_no, "'" + word + "' is not a number");
+    if (!parse_finite(word, v)) fail(file, line_no, "'" + word + "' is not a number");
     out.push_back(v);
   }
 }
 
-// A header number: the whole of `text` must be a finite number, else an error naming the
-// line and what it should hold (std::stod would throw a bare "stod").
+// A header number: an error naming the line and what it should hold (std::stod would
+// throw a bare "stod").
 double header_number(const std::filesystem::path& file, int line_no, const std::string& text, const std::string& what) {
-  char* end = nullptr;
-  const double v = std::strtod(text.c_str(), &end);
-  if (text.empty() || end != text.c_str() + text.size() || !std::isfinite(v))
-    fail(file, line_no, "'" + text + "' is not a number: expected " + what);
+  double v = 0;
+  if (!parse_finite(text, v)) fail(file, line_no, "'" + text + "' is not a number: expected " + what);
   return v;
 }
 
@@ -129,8 +132,10 @@ Record read_knet(const std::filesystem::path& file) {
     if (!data) {
       // Read by hand rather than by std::regex, whose backtracking recurses once per
       // character and could overflow the stack on a long damaged line.
-      const std::string frequency_label = "Sampling Freq(Hz)";
+      static const std::string frequency_label = "Sampling Freq(Hz)";
       if (line.rfind(frequency_label, 0) == 0) {
+        // The label itself holds "Hz", so rfind always finds one; at or before the label's
+        // end, the value has none.
         const std::size_t label = frequency_label.size(), hz = line.rfind("Hz");
         std::size_t end = hz;
         while (end > label && line[end - 1] == ' ') --end;  // "100 Hz" as well as "100Hz"
