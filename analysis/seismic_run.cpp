@@ -42,7 +42,7 @@ Counts count(const Model& m, const State& s, const JointThresholds& thresholds, 
   return c;
 }
 
-constexpr char kCheckpointMagic[] = "ishibashi checkpoint 2\n";
+constexpr char kCheckpointMagic[] = "ishibashi checkpoint 3\n";
 
 // What the checkpoint's run was: the program, the input files and the run's settings
 // beyond the scenario file (command-line overrides), so that a resume rebuilds the same run.
@@ -51,6 +51,7 @@ struct CheckpointHeader {
   std::string scenario_file;
   double dt_s = 0, duration_s = 0, motion_duration_s = 0, start_s = 0;
   int subdivision = 1;
+  bool cap_damping = false;
 };
 
 void write_header(CheckpointWriter& out, const CheckpointHeader& h) {
@@ -58,6 +59,7 @@ void write_header(CheckpointWriter& out, const CheckpointHeader& h) {
   out.value(h.program), out.value(h.inputs);
   out.text(h.scenario_file);
   out.value(h.dt_s), out.value(h.duration_s), out.value(h.motion_duration_s), out.value(h.start_s), out.value(h.subdivision);
+  out.flag(h.cap_damping);
 }
 
 CheckpointHeader read_header(CheckpointReader& in, const std::filesystem::path& file) {
@@ -68,6 +70,7 @@ CheckpointHeader read_header(CheckpointReader& in, const std::filesystem::path& 
   h.scenario_file = in.text();
   h.dt_s = in.value<double>(), h.duration_s = in.value<double>(), h.motion_duration_s = in.value<double>();
   h.start_s = in.value<double>(), h.subdivision = in.value<int>();
+  h.cap_damping = in.flag();
   return h;
 }
 
@@ -116,10 +119,12 @@ SeismicRun::SeismicRun(const Scenario& scenario, SeismicRunOptions options)
   // The fixed blocks move with the ground (kinematic drive).
   Model model = load_model(scenario_.model, scenario_.model_file);
   model.contact.subdivision = scenario_.subdivision;
+  model.contact.cap_damping = scenario_.cap_damping;
   for (Motion& motion : model.motion)
     if (motion == Motion::fixed) motion = Motion::prescribed;
   limit_s_ = World(model, 1e-9).critical_time_step_s(&limiting_block_);
-  dt_ = (scenario_.dt_s > 0 ? scenario_.dt_s : 0.8 * limit_s_) * options_.dt_factor;
+  const double share = scenario_.cap_damping ? kCappedDtShare : kStudyDtShare;
+  dt_ = (scenario_.dt_s > 0 ? scenario_.dt_s : share * limit_s_) * options_.dt_factor;
   ground_ = prepare_ground_motion(scenario_.ground_motion, dt_);
   world_ = std::make_unique<World>(model, dt_);
   world_->set_adaptive_threads(options_.adaptive_threads);
@@ -160,6 +165,7 @@ std::unique_ptr<SeismicRun> SeismicRun::resume(SeismicRunOptions options) {
   sc.ground_motion.duration_s = h.motion_duration_s;
   sc.ground_motion.start_s = h.start_s;
   sc.subdivision = h.subdivision;
+  sc.cap_damping = h.cap_damping;
   options.dt_factor = 1;  // h.dt_s is the step the run used
   auto run = std::make_unique<SeismicRun>(sc, std::move(options));
   run->resume_from_ = std::move(body);
@@ -265,6 +271,7 @@ SeismicRunResult SeismicRun::run() {
     j << ",\n  \"largest_crown_drop_m\": " << r.largest_crown_drop_m << ",\n  \"monitored_block\": " << crown
       << ",\n  \"energy_balance_error_j\": " << r.balance_error_j
       << ",\n  \"energy_balance_error_relative\": " << r.balance_error_relative << ",\n  \"dt_s\": " << dt
+      << ",\n  \"damping\": \"" << (scenario_.cap_damping ? "capped" : "study") << "\""
       << ",\n  \"steps\": " << s.step << ",\n  \"threads\": " << world.thread_tuner().max_threads()
       << ",\n  \"mean_team_size\": " << (s.step > 0 ? double(s.profile.thread_steps) / s.step : 0.0) << ",\n  \"state_hash\": \"" << std::hex
       << r.state_hash << std::dec << "\"" << ",\n  \"wall_time_s\": " << r.wall_s << "\n}\n";
@@ -278,7 +285,8 @@ SeismicRunResult SeismicRun::run() {
   auto write_checkpoint = [&] {
     CheckpointHeader h{program_fingerprint(), scenario_fingerprint(scenario_.file),
                        std::filesystem::absolute(scenario_.file).string(), dt, scenario_.duration_s,
-                       scenario_.ground_motion.duration_s, scenario_.ground_motion.start_s, scenario_.subdivision};
+                       scenario_.ground_motion.duration_s, scenario_.ground_motion.start_s, scenario_.subdivision,
+                       scenario_.cap_damping};
     write_atomically(out / "checkpoint.bin", [&](const std::filesystem::path& tmp) {
       std::ofstream file(tmp, std::ios::binary);
       CheckpointWriter w(file);
@@ -320,7 +328,8 @@ SeismicRunResult SeismicRun::run() {
     } catch (const CheckpointError& e) {
       throw InputError((out / "checkpoint.bin").string() + ": damaged checkpoint (" + e.what() + ")");
     }
-    if (reported_left.size() != static_cast<std::size_t>(m.block_count) || s.position.size() != reported_left.size())
+    if (reported_left.size() != static_cast<std::size_t>(m.block_count) || s.position.size() != reported_left.size() ||
+        s.damping_scale.size() != reported_left.size())
       throw InputError((out / "checkpoint.bin").string() + ": written for a model of another size");
     checkpoint_time_s = s.time_s;
   }

@@ -56,6 +56,10 @@ int main(int argc, char** argv) {
       ->check(CLI::Range(1e-3, 1.0));
   run_cmd->add_option("--subdivision", run.subdivision, "contact subdivision, replacing the scenario's")
       ->check(CLI::Range(1, 16));
+  run_cmd->add_option("--damping", run.damping,
+                      "dashpots, replacing the scenario's: \"study\" (as specified; dt set by them) or \"capped\" "
+                      "(scaled down where dt would not resolve them; dt set by the springs)")
+      ->check(CLI::IsMember({"study", "capped"}));
   run_cmd->add_flag("--fixed-threads", run.fixed_threads,
                     "every step on all threads (default: the team size that is fastest as the run goes)");
   run_cmd->add_option("--checkpoint-every", run.checkpoint_every_s, "write a checkpoint every this many simulated seconds")
@@ -65,7 +69,7 @@ int main(int argc, char** argv) {
   CLI::Option* resume = run_cmd->add_option(
       "--resume", run.resume, "continue the run in this output folder from its checkpoint (bit-identical to an unbroken run)");
   resume->excludes(run_scenario_file);
-  for (const char* setting : {"--out", "--duration", "--start", "--dt", "--dt-factor", "--subdivision"})
+  for (const char* setting : {"--out", "--duration", "--start", "--dt", "--dt-factor", "--subdivision", "--damping"})
     resume->excludes(run_cmd->get_option(setting));  // a resumed run is the run it was
   run_cmd->callback([&] {
     if (run.scenario.empty() && run.resume.empty()) throw CLI::RequiredError("a scenario file or --resume DIR");

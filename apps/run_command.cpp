@@ -1,5 +1,6 @@
 #include "apps/run_command.h"
 
+#include <algorithm>
 #include <chrono>
 #include <cstdio>
 #include <string>
@@ -34,6 +35,7 @@ int run_scenario(const RunOptions& o) {
     if (o.start_s >= 0) sc.ground_motion.start_s = o.start_s;
     if (o.dt_s >= 0) sc.dt_s = o.dt_s;
     if (o.subdivision > 0) sc.subdivision = o.subdivision;
+    if (!o.damping.empty()) sc.cap_damping = o.damping == "capped";
     resumed = std::make_unique<SeismicRun>(sc, options);
   }
   SeismicRun& run = *resumed;
@@ -43,8 +45,14 @@ int run_scenario(const RunOptions& o) {
   std::printf("%s: %d blocks, %zu sub-contacts, dt = %.3g s, at most %d threads; ground motion %.2f s (from %.2f s of the record)\n",
               sc.model.name.c_str(), m.block_count, run.world().state().contacts.size(), run.dt_s(), run.world().thread_tuner().max_threads(),
               run.ground_motion().duration_s(), sc.ground_motion.start_s);
-  std::printf("  stability limit %.3g s, set by %s and its joints\n", run.stability_limit_s(),
-              m.block_label(run.limiting_block()).c_str());
+  std::printf("  stability limit %.3g s, set by %s and its joints%s\n", run.stability_limit_s(),
+              m.block_label(run.limiting_block()).c_str(),
+              sc.cap_damping ? " (springs alone: dashpots capped where dt would not resolve them)" : "");
+  if (sc.cap_damping) {
+    const std::vector<double>& scale = run.world().state().damping_scale;
+    const long capped = std::count_if(scale.begin(), scale.end(), [](double f) { return f < 1; });
+    std::printf("  dashpots capped on %ld blocks (smallest factor %.3f)\n", capped, *std::min_element(scale.begin(), scale.end()));
+  }
   stop_runs_on_interrupt();
   const SeismicRunResult r = run.run();
   if (!o.quiet) std::fprintf(stderr, "\n");
@@ -57,10 +65,12 @@ int run_scenario(const RunOptions& o) {
   std::printf("energy balance error %.3g %% of the energy exchanged\n", 100 * r.balance_error_relative);
   if (o.profile) {
     const Profile& p = run.world().state().profile;
-    const double total = p.pose_s + p.broadphase_s + p.narrowphase_s + p.contact_law_s + p.gather_s + p.integrate_s;
+    const double total =
+        p.pose_s + p.broadphase_s + p.narrowphase_s + p.contact_law_s + p.gather_s + p.integrate_s + p.damping_caps_s;
     std::printf("stage         seconds   share\n");
     for (const auto& [name, t] : {std::pair{"pose", p.pose_s}, {"broadphase", p.broadphase_s}, {"narrowphase", p.narrowphase_s},
-                                  {"contact law", p.contact_law_s}, {"gather", p.gather_s}, {"integrate", p.integrate_s}})
+                                  {"contact law", p.contact_law_s}, {"gather", p.gather_s}, {"integrate", p.integrate_s},
+                                  {"damping caps", p.damping_caps_s}})
       std::printf("%-12s %8.2f  %5.1f %%\n", name, t, 100 * t / total);
     std::printf("steps %ld, broadphase rebuilds %ld, contact regroups %ld, %.1f steps/s, mean team %.2f of %d threads\n",
                 r.steps, p.broadphase_rebuilds, p.contact_regroups, r.steps / total, double(p.thread_steps) / r.steps,

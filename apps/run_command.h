@@ -2,6 +2,7 @@
 // recorded ground motion, writing the ParaView series, history.csv and summary.json.
 #pragma once
 #include <filesystem>
+#include <string>
 
 namespace ishibashi {
 
@@ -16,6 +17,7 @@ struct RunOptions {
   double dt_s = -1;           // >= 0: replaces the scenario's [run] dt_s (0: 0.8 of the limit)
   double dt_factor = 1;       // multiplies the time step (0.5: half of it, for convergence studies)
   int subdivision = 0;        // > 0: replaces the scenario's [run] subdivision
+  std::string damping;        // non-empty: replaces the scenario's [run] damping ("study", "capped")
   bool fixed_threads = false; // every step on all threads (default: the team size found fastest)
   double checkpoint_every_s = 0;   // > 0: a checkpoint every this many simulated seconds
   double checkpoint_wall_s = 0;    // > 0: a checkpoint every this many wall-clock seconds

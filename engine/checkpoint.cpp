@@ -52,6 +52,7 @@ void write_state(CheckpointWriter& out, const State& s) {
   out.value(s.time_s), out.value(s.step);
   out.array(s.position), out.array(s.orientation), out.array(s.velocity), out.array(s.angular_velocity);
   out.array(s.applied_force), out.array(s.applied_torque), out.array(s.left_model);
+  out.array(s.damping_scale);
   out.array(s.pairs), out.flag(s.pairs_changed), out.array(s.position_at_rebuild);
   out.flag(s.pairs_valid);
   for_each_array(const_cast<SubContacts&>(s.contacts), [&](const auto& v) { out.array(v); });
@@ -65,6 +66,7 @@ void read_state(CheckpointReader& in, State& s) {
   s.step = in.value<long>();
   in.array(s.position), in.array(s.orientation), in.array(s.velocity), in.array(s.angular_velocity);
   in.array(s.applied_force), in.array(s.applied_torque), in.array(s.left_model);
+  in.array(s.damping_scale);
   in.array(s.pairs);
   s.pairs_changed = in.flag();
   in.array(s.position_at_rebuild);

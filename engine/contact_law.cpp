@@ -54,6 +54,7 @@ double apply_contact_law(const Model& m, State& s, double dt) {
       const Vec3 v0 = s.velocity[b] - s.velocity[a] - s.angular_velocity[b].cross(d);
       const Vec3 w_rel = s.angular_velocity[b] - s.angular_velocity[a];
       const PairLaw& law = m.law(m.material[a], m.material[b]);
+      const double damping_scale = std::min(s.damping_scale[a], s.damping_scale[b]);  // 1 unless capped
       Vec3 pair_force = Vec3::Zero(), pair_torque = Vec3::Zero();
       for (int i = pair.sub_begin; i < pair.sub_begin + pair.sub_count; ++i) {
         const Vec3 r = c.point[i] - xa;
@@ -123,7 +124,7 @@ double apply_contact_law(const Model& m, State& s, double dt) {
           us = Vec3::Zero();
           flags |= SubContactFlag::open;
         } else {
-          Vec3 shear_damping = -k.cs * vs;
+          Vec3 shear_damping = -(damping_scale * k.cs) * vs;
           if (!bonded) {
             const double limit = -en * law.tan_friction;
             const double es_norm2 = es.squaredNorm();
@@ -146,7 +147,7 @@ double apply_contact_law(const Model& m, State& s, double dt) {
           // tensile strength (MODEL.md section 3), the linear spring-dashpot whose
           // restitution is exp(-pi zeta / sqrt(1 - zeta^2)). Cutting the pull off instead
           // gives a stone dropped with h = 1 a rebound of 0.18 of its impact speed.
-          const double fn = en + k.cn * vn;
+          const double fn = en + damping_scale * k.cn * vn;
           damping_force = -(fn - en) * n + shear_damping;
           force = -fn * n + es + shear_damping;
           e.elastic += 0.5 * (en * un + es.dot(us));

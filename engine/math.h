@@ -6,6 +6,7 @@
 namespace ishibashi {
 
 using Vec3 = Eigen::Vector3d;
+using Vec6 = Eigen::Matrix<double, 6, 1>;  // 3 translations, 3 rotations of a block
 using Mat3 = Eigen::Matrix3d;
 using Quat = Eigen::Quaterniond;
 

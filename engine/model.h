@@ -54,6 +54,9 @@ struct PairLaw {
   double damping_shear = 0.0;
 };
 
+// Capped dashpots keep dt within this share of each block's stability limit.
+constexpr double kDampingCapMargin = 0.8;
+
 struct ContactSettings {
   // A sub-contact exists while its gap is below tolerance_ratio * (size of the smaller
   // block), size = cbrt(volume). Forces depend on the gap, not on this tolerance.
@@ -68,6 +71,12 @@ struct ContactSettings {
   // Area given to a corner or edge contact (vertex-face, edge-face, edge-edge), as a
   // fraction of size^2 of the smaller block, so that K_n stays finite and sensible.
   double point_area_ratio = 0.01;
+  // false: every dashpot as the materials' h specify (MODEL.md section 3), so dt must stay
+  // below the limit the dashpots set (h = 1 on a block held by many joints: about a ninth
+  // of the springs' limit). true: where a free block's dashpots would make the step
+  // unstable, they are scaled down just enough (stability.cpp), so the springs alone
+  // limit dt; every joint the step resolves keeps its h.
+  bool cap_damping = false;
 };
 
 struct Model {

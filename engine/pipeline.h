@@ -35,6 +35,15 @@ SpringConstants spring_constants(const Model& model, int a, int b, double lever_
 // accumulates dissipated energy and returns the elastic energy now stored (J).
 double apply_contact_law(const Model& model, State& state, double dt_s);
 
+// stability.cpp: the largest stable dt of the free blocks on their current sub-contacts,
+// per block and degree of freedom 2/omega (sqrt(1 + zeta^2) - zeta), omega^2 = K/M; with
+// zeta = 0 unless with_damping. Sets *block to the limiting block.
+double stability_limit_s(const Model& model, const State& state, bool with_damping, int* block);
+// stability.cpp (ContactSettings::cap_damping): sets State::damping_scale so that every
+// free block's damping ratio zeta in each degree of freedom keeps dt within
+// kDampingCapMargin (model.h) of its limit; 1 where the materials' h already does.
+void update_damping_caps(const Model& model, State& state, double dt_s);
+
 // gather.cpp: resultant force and torque on each block, race-free (block -> contacts index).
 // Returns the power that prescribed blocks put into the system (W).
 double gather_forces(const Model& model, State& state);

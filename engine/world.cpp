@@ -34,6 +34,7 @@ World::World(Model model, double dt_s)
       throw ModelError(msg.str());
     }
   }
+  if (model_.contact.cap_damping) update_damping_caps(model_, state_, dt_s);
   int block = -1;
   const double limit = critical_time_step_s(&block);
   if (dt_s > limit) {
@@ -45,56 +46,8 @@ World::World(Model model, double dt_s)
 }
 
 double World::critical_time_step_s(int* block) const {
-  // Per free block and per degree of freedom (3 translations, 3 rotations about the
-  // principal axes), the diagonal stiffness and damping of its sub-contacts against
-  // fixed neighbours: omega_j^2 = K_jj / M_jj. Rotation matters: corner sub-contacts make
-  // rocking stiffer than bouncing.
-  const int nb = model_.block_count;
-  using Vec6 = Eigen::Matrix<double, 6, 1>;
-  std::vector<Vec6> stiffness(nb, Vec6::Zero()), damping(nb, Vec6::Zero());
-  const SubContacts& c = state_.contacts;
-  for (std::size_t i = 0; i < c.size(); ++i) {
-    const SpringConstants k = c.constants(i);
-    const Vec3& n = c.normal[i];
-    const Vec3 t1 = n.unitOrthogonal(), t2 = n.cross(t1);
-    // Between two free blocks the stiffest mode moves them against each other: with
-    // equal masses at sqrt(2) times the frequency of a block on a fixed neighbour and
-    // sqrt(2) times its damping ratio. Counting such a joint twice on each side gives
-    // both (a bonded joint of Nishida A's ring at 0.8 of the one-sided limit chattered
-    // for ever and broke 164 bonds under self-weight).
-    const double both_free = model_.motion[c.block_a[i]] == Motion::free && model_.motion[c.block_b[i]] == Motion::free ? 2.0 : 1.0;
-    for (int b : {c.block_a[i], c.block_b[i]}) {
-      if (model_.motion[b] != Motion::free) continue;
-      const Mat3 to_body = state_.orientation[b].toRotationMatrix().transpose();
-      const Vec3 r = c.point[i] - state_.position[b];
-      auto add = [&](const Vec3& dir, double kk, double cc) {
-        Vec6 j;
-        j << dir, to_body * r.cross(dir);
-        stiffness[b] += both_free * kk * j.cwiseAbs2();
-        damping[b] += both_free * cc * j.cwiseAbs2();
-      };
-      add(n, k.kn, k.cn);
-      add(t1, k.ks, k.cs);
-      add(t2, k.ks, k.cs);
-    }
-  }
-  double best = INFINITY;
-  for (int b = 0; b < nb; ++b) {
-    if (model_.motion[b] != Motion::free) continue;
-    Vec6 mass;
-    mass << Vec3::Constant(model_.mass_kg[b]), model_.inertia_kg_m2[b];
-    for (int j = 0; j < 6; ++j) {
-      if (stiffness[b][j] <= 0) continue;
-      const double omega = std::sqrt(stiffness[b][j] / mass[j]);
-      const double zeta = damping[b][j] / (2.0 * std::sqrt(stiffness[b][j] * mass[j]));
-      const double limit = 2.0 / omega * (std::sqrt(1.0 + zeta * zeta) - zeta);
-      if (limit < best) {
-        best = limit;
-        if (block) *block = b;
-      }
-    }
-  }
-  return best;
+  // Capped dashpots never set the limit (they are scaled to stay within it).
+  return stability_limit_s(model_, state_, /*with_damping=*/!model_.contact.cap_damping, block);
 }
 
 void World::step() {
@@ -109,12 +62,21 @@ void World::step() {
   p.pose_s += seconds_since(t0);
 
   t0 = Clock::now();
-  if (update_pairs(m, s)) ++p.broadphase_rebuilds;
+  const bool rebuilt = update_pairs(m, s);
+  if (rebuilt) ++p.broadphase_rebuilds;
   p.broadphase_s += seconds_since(t0);
 
   t0 = Clock::now();
   update_contacts(m, s, /*first_detection=*/false, dt_s_);
   p.narrowphase_s += seconds_since(t0);
+
+  // Caps follow the blocks' joints as they change, checked when the pair list is rebuilt
+  // (a block moved half the margin): between rebuilds a block's joints barely change.
+  if (rebuilt && m.contact.cap_damping) {
+    t0 = Clock::now();
+    update_damping_caps(m, s, dt_s_);
+    p.damping_caps_s += seconds_since(t0);
+  }
 
   t0 = Clock::now();
   const double elastic = apply_contact_law(m, s, dt_s_);

@@ -28,8 +28,8 @@ class World {
 
   // Largest stable dt over the free blocks: for each block and degree of freedom,
   // 2/omega (sqrt(1 + zeta^2) - zeta) with omega^2 = K/M and zeta the damping ratio of
-  // its contacts (Cundall's 2 sqrt(m / K_n) for an undamped bounce). Sets *block to the
-  // limiting block.
+  // its contacts (Cundall's 2 sqrt(m / K_n) for an undamped bounce; zeta = 0 when the
+  // dashpots are capped, as the caps keep them within it). Sets *block to the limiting block.
   double critical_time_step_s(int* block = nullptr) const;
 
   // Hash of positions, orientations and velocities (for determinism checks).

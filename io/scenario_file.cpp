@@ -59,6 +59,9 @@ Scenario read_scenario(const std::filesystem::path& file) {
   run.positive("output_interval_s", sc.output_interval_s);
   run.integer_at_least("threads", sc.threads, 0);
   run.integer_at_least("subdivision", sc.subdivision, 1);
+  std::string damping = "study";
+  run.text("damping", damping, {"study", "capped"});
+  sc.cap_damping = damping == "capped";
   run.finish();
 
   TableReader gm(file, root, "ground_motion");

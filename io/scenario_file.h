@@ -15,13 +15,16 @@ struct Scenario {
   std::filesystem::path model_file;    // [model] file
   ModelFile model;
   double mortar_pa = -1.0;             // [model] mortar_pa; < 0: as the model file says
-  double dt_s = 0.0;                   // [run] dt_s; 0: 0.8 of the stability limit
+  double dt_s = 0.0;                   // [run] dt_s; 0: a share of the stability limit
+                                       // (kStudyDtShare, kCappedDtShare in seismic_run.h)
   double settle_max_s = 1.0;           // [run] longest gravity settling
   double settle_kinetic_j = 1e-3;      // [run] settled when the kinetic energy is below
   double duration_s = 0.0;             // [run] shaking time; 0: the whole ground motion
   double output_interval_s = 0.05;     // [run] ParaView frames and history rows
   int threads = 0;                     // [run] 0: all cores
   int subdivision = 1;                 // [run] contact subdivision
+  bool cap_damping = false;            // [run] damping = "study" (false) or "capped"
+                                       // (ContactSettings::cap_damping)
   GroundMotionSpec ground_motion;      // [ground_motion] x, y, z = { file, format, scale, unit, dt_s }
   std::vector<int> monitor_blocks;     // [monitor] blocks; empty: the unit on top of the crown
 };

@@ -40,22 +40,25 @@ std::filesystem::path scenario(const std::string& name, double settle_max_s = 1.
 
 const std::string kRun = std::string(ISHIBASHI_BINARY) + " run --quiet ";
 
-TEST(Checkpoint, RunKilledAtARandomMomentResumesBitIdentical) {
-  const auto file = scenario("ishibashi_checkpoint.toml");
-  const auto whole = kTmp / "ishibashi_cp_whole", killed = kTmp / "ishibashi_cp_killed";
+// Runs the scenario whole, and again killed after a random time in [kill_from_s,
+// kill_to_s) and resumed; both must end the same. `options`: more `run` options.
+void expect_killed_run_resumes_bit_identical(const std::string& name, const std::string& options, double kill_from_s,
+                                             double kill_to_s) {
+  const auto file = scenario(name + ".toml");
+  const auto whole = kTmp / (name + "_whole"), killed = kTmp / (name + "_killed");
   std::filesystem::remove_all(whole);
   std::filesystem::remove_all(killed);
   int status = 0;
-  ASSERT_EQ((run_command(kRun + file.string() + " --out " + whole.string(), &status), status), 0);
+  ASSERT_EQ((run_command(kRun + file.string() + options + " --out " + whole.string(), &status), status), 0);
 
   std::random_device device;
   const unsigned seed = device();
   std::mt19937 random(seed);
-  const double kill_after_s = std::uniform_real_distribution<double>(1.5, 4.5)(random);
+  const double kill_after_s = std::uniform_real_distribution<double>(kill_from_s, kill_to_s)(random);
   SCOPED_TRACE("killed after " + std::to_string(kill_after_s) + " s (seed " + std::to_string(seed) + ")");
   char kill[64];
   std::snprintf(kill, sizeof kill, "timeout -s KILL %.2f ", kill_after_s);
-  run_command(kill + kRun + file.string() + " --checkpoint-every 0.05 --out " + killed.string(), &status);
+  run_command(kill + kRun + file.string() + options + " --checkpoint-every 0.05 --out " + killed.string(), &status);
   ASSERT_TRUE(std::filesystem::exists(killed / "checkpoint.bin"));
   const std::string resumed = run_command(kRun + "--resume " + killed.string(), &status);
   ASSERT_EQ(status, 0) << resumed;
@@ -66,6 +69,16 @@ TEST(Checkpoint, RunKilledAtARandomMomentResumesBitIdentical) {
   EXPECT_EQ(text_of(killed / "history.csv"), text_of(whole / "history.csv"));
   EXPECT_EQ(text_of(killed / "blocks.pvd"), text_of(whole / "blocks.pvd"));
   EXPECT_EQ(text_of(killed / "contacts.pvd"), text_of(whole / "contacts.pvd"));
+}
+
+TEST(Checkpoint, RunKilledAtARandomMomentResumesBitIdentical) {
+  expect_killed_run_resumes_bit_identical("ishibashi_checkpoint", "", 1.5, 4.5);
+}
+
+// The caps are part of the state, and the resumed run keeps --damping capped (and its
+// larger step) from the checkpoint.
+TEST(Checkpoint, RunWithCappedDashpotsResumesBitIdentical) {
+  expect_killed_run_resumes_bit_identical("ishibashi_checkpoint_capped", " --damping capped", 0.8, 2.5);
 }
 
 TEST(Checkpoint, CheckpointOfAnotherBuildOrOfChangedInputsIsRefused) {
@@ -79,15 +92,15 @@ TEST(Checkpoint, CheckpointOfAnotherBuildOrOfChangedInputsIsRefused) {
   const std::string good = text_of(out / "checkpoint.bin");
 
   std::string other_build = good;
-  other_build[std::string("ishibashi checkpoint 2\n").size() + 8] ^= 1;  // the program's fingerprint
+  other_build[std::string("ishibashi checkpoint 3\n").size() + 8] ^= 1;  // the program's fingerprint
   std::ofstream(out / "checkpoint.bin", std::ios::binary) << other_build;
   std::string message = run_command(kRun + "--resume " + out.string(), &status);
   EXPECT_NE(status, 0);
   EXPECT_NE(message.find("written by another build of ishibashi"), std::string::npos) << message;
 
   // The first byte after the header is the phase flag: a byte other than 0 or 1 is damage.
-  const std::string magic = "ishibashi checkpoint 2\n";
-  const std::size_t header = 8 + magic.size() + 16 + 8 + std::filesystem::absolute(file).string().size() + 32 + 4;
+  const std::string magic = "ishibashi checkpoint 3\n";
+  const std::size_t header = 8 + magic.size() + 16 + 8 + std::filesystem::absolute(file).string().size() + 32 + 4 + 1;
   std::string bad_flag = good;
   bad_flag[header] = 7;
   std::ofstream(out / "checkpoint.bin", std::ios::binary) << bad_flag;

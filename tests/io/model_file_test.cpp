@@ -5,6 +5,7 @@
 #include <fstream>
 
 #include "io/model_file.h"
+#include "io/scenario_file.h"
 
 namespace ishibashi {
 namespace {
@@ -49,6 +50,35 @@ TEST(ModelFile, NumbersOutOfRangeNameTheirLine) {
   EXPECT_THAT(error_of("[ring]\nvoussoirs = 0\n"), HasSubstr(":2: 'voussoirs' is 0; it must be at least 1"));
   EXPECT_THAT(error_of("[stone]\n\npoisson = 0.7\n"), HasSubstr(":3: 'poisson' is 0.7; it must be >= 0 and <= 0.4999"));
   EXPECT_THAT(error_of("[bridge]\nmortar_pa = -1\n"), HasSubstr(":2: 'mortar_pa' is -1; it must be >= 0"));
+}
+
+}  // namespace
+}  // namespace ishibashi
+
+namespace ishibashi {
+namespace {
+
+// A scenario's dashpot choice: "capped" read, anything else refused at its line.
+TEST(ScenarioFile, DampingIsStudyOrCappedAndABadChoiceNamesItsLine) {
+  const auto root = std::filesystem::path(ISHIBASHI_SOURCE_DIR);
+  const auto file = std::filesystem::temp_directory_path() / "ishibashi_scenario_damping.toml";
+  auto write = [&](const std::string& damping) {
+    std::ofstream(file) << "[model]\nfile = \"" << (root / "models/nishida_a.toml").string() << "\"\n[run]\nduration_s = 1\n"
+                        << damping << "\n[ground_motion]\nx = { file = \""
+                        << (root / "data/ground_motions/kobe_1995_jma/RSN1106_KOBE_KJM090.AT2").string() << "\" }\n";
+  };
+  write("");
+  EXPECT_FALSE(read_scenario(file).cap_damping);
+  write("damping = \"capped\"");
+  EXPECT_TRUE(read_scenario(file).cap_damping);
+  write("damping = \"none\"");
+  try {
+    read_scenario(file);
+    ADD_FAILURE() << "damping = \"none\" was accepted";
+  } catch (const InputError& e) {
+    EXPECT_THAT(e.what(), HasSubstr("ishibashi_scenario_damping.toml:5"));
+    EXPECT_THAT(e.what(), HasSubstr("allowed: \"study\", \"capped\""));
+  }
 }
 
 }  // namespace

@@ -1,0 +1,98 @@
+// Stability of the explicit step, block by block: the stiffness and damping that a free
+// block's sub-contacts give each of its six degrees of freedom, the largest stable dt they
+// allow, and (ContactSettings::cap_damping) the dashpot caps that keep a chosen dt stable.
+#include <cmath>
+
+#include "engine/pipeline.h"
+
+namespace ishibashi {
+namespace {
+
+// Per free block, the diagonal stiffness (N/m, N m/rad) and damping (N s/m, N m s/rad) of
+// its sub-contacts against fixed neighbours, in 3 translations and 3 rotations about the
+// principal axes, with the dashpots as the materials specify them (no caps). Rotation
+// matters: corner sub-contacts make rocking stiffer than bouncing. (nb) each.
+void block_stiffness_damping(const Model& m, const State& s, std::vector<Vec6>& stiffness, std::vector<Vec6>& damping) {
+  stiffness.assign(m.block_count, Vec6::Zero());
+  damping.assign(m.block_count, Vec6::Zero());
+  const SubContacts& c = s.contacts;
+  for (std::size_t i = 0; i < c.size(); ++i) {
+    const SpringConstants k = c.constants(i);
+    const Vec3& n = c.normal[i];
+    const Vec3 t1 = n.unitOrthogonal(), t2 = n.cross(t1);
+    // Between two free blocks the stiffest mode moves them against each other: with
+    // equal masses at sqrt(2) times the frequency of a block on a fixed neighbour and
+    // sqrt(2) times its damping ratio. Counting such a joint twice on each side gives
+    // both (a bonded joint of Nishida A's ring at 0.8 of the one-sided limit chattered
+    // for ever and broke 164 bonds under self-weight).
+    const bool both_free = m.motion[c.block_a[i]] == Motion::free && m.motion[c.block_b[i]] == Motion::free;
+    const double weight = both_free ? 2.0 : 1.0;
+    for (int b : {c.block_a[i], c.block_b[i]}) {
+      if (m.motion[b] != Motion::free) continue;
+      const Mat3 to_body = s.orientation[b].toRotationMatrix().transpose();
+      const Vec3 r = c.point[i] - s.position[b];
+      auto add = [&](const Vec3& dir, double kk, double cc) {
+        Vec6 j;
+        j << dir, to_body * r.cross(dir);
+        stiffness[b] += weight * kk * j.cwiseAbs2();
+        damping[b] += weight * cc * j.cwiseAbs2();
+      };
+      add(n, k.kn, k.cn);
+      add(t1, k.ks, k.cs);
+      add(t2, k.ks, k.cs);
+    }
+  }
+}
+
+Vec6 block_mass(const Model& m, int b) {
+  Vec6 mass;
+  mass << Vec3::Constant(m.mass_kg[b]), m.inertia_kg_m2[b];
+  return mass;
+}
+
+}  // namespace
+
+double stability_limit_s(const Model& m, const State& s, bool with_damping, int* block) {
+  std::vector<Vec6> stiffness, damping;
+  block_stiffness_damping(m, s, stiffness, damping);
+  double best = INFINITY;
+  for (int b = 0; b < m.block_count; ++b) {
+    if (m.motion[b] != Motion::free) continue;
+    const Vec6 mass = block_mass(m, b);
+    for (int j = 0; j < 6; ++j) {
+      if (stiffness[b][j] <= 0) continue;
+      // 2/omega (sqrt(1 + zeta^2) - zeta): Cundall's 2 sqrt(m / K) when undamped.
+      const double omega = std::sqrt(stiffness[b][j] / mass[j]);
+      const double zeta = with_damping ? damping[b][j] / (2.0 * std::sqrt(stiffness[b][j] * mass[j])) : 0.0;
+      const double limit = 2.0 / omega * (std::sqrt(1.0 + zeta * zeta) - zeta);
+      if (limit < best) {
+        best = limit;
+        if (block) *block = b;
+      }
+    }
+  }
+  return best;
+}
+
+void update_damping_caps(const Model& m, State& s, double dt_s) {
+  std::vector<Vec6>& stiffness = s.cap_stiffness;
+  std::vector<Vec6>& damping = s.cap_damping;
+  block_stiffness_damping(m, s, stiffness, damping);
+  s.damping_scale.assign(m.block_count, 1.0);
+  for (int b = 0; b < m.block_count; ++b) {
+    if (m.motion[b] != Motion::free) continue;
+    const Vec6 mass = block_mass(m, b);
+    for (int j = 0; j < 6; ++j) {
+      if (stiffness[b][j] <= 0 || damping[b][j] <= 0) continue;
+      // dt <= kDampingCapMargin * 2/omega (sqrt(1 + zeta^2) - zeta) holds for
+      // zeta <= (1 - x^2) / (2 x), x = omega dt / (2 kDampingCapMargin).
+      const double omega = std::sqrt(stiffness[b][j] / mass[j]);
+      const double zeta = damping[b][j] / (2.0 * std::sqrt(stiffness[b][j] * mass[j]));
+      const double x = omega * dt_s / (2.0 * kDampingCapMargin);
+      const double zeta_max = std::max(0.0, (1.0 - x * x) / (2.0 * x));
+      if (zeta > zeta_max) s.damping_scale[b] = std::min(s.damping_scale[b], zeta_max / zeta);
+    }
+  }
+}
+
+}  // namespace ishibashi

@@ -1,0 +1,125 @@
+// Capped dashpots (ContactSettings::cap_damping) against closed forms: the cap of a stone
+// on a base from its six modes worked out by hand, no change where the step resolves the
+// dashpots, and a stack that settles stably at a step the study's dashpots cannot take.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+
+#include "engine/world.h"
+#include "geometry/demo_scenes.h"
+#include "scenes.h"
+
+namespace ishibashi {
+namespace {
+
+constexpr double kG = 9.81;
+const Vec3 kStone(0.64, 0.48, 0.32);  // distinct sides: principal axes along x, y, z
+
+Model stone_on_base(double h, bool capped, int stones = 1) {
+  ModelBuilder b = test::block_on_base(kStone, test::stone(h), /*base_thickness=*/kStone.z());
+  for (int i = 1; i < stones; ++i) {
+    const Polyhedron p = make_box(Vec3(0, 0, (i + 0.5) * kStone.z()), kStone);
+    b.add_block(p.vertices, p.faces, 0, Motion::free, "stone " + std::to_string(i));
+  }
+  b.set_gravity(Vec3(0, 0, -kG));
+  Model m = b.build();
+  m.contact.cap_damping = capped;
+  return m;
+}
+
+// The largest damping ratio a mode of angular frequency omega may keep at dt:
+// dt = 0.8 * 2/omega (sqrt(1 + z^2) - z) solved for z.
+double zeta_max(double omega, double dt) {
+  const double x = omega * dt / (2.0 * kDampingCapMargin);
+  return std::max(0.0, (1.0 - x * x) / (2.0 * x));
+}
+
+// One stone on a base as thick as itself: four corner sub-contacts of area S/4, each with
+// k_n = E S/4 / L_z, k_s likewise with G, and m_eq = M/4 (MODEL.md section 3), so
+// c = 2 h sqrt(M/4 k) = h sqrt(M k). The six modes of the stone on its corners:
+//   bounce z and slide x, y: K = 4 k, zeta = h;
+//   rocking about x: K = 4 k_n (L_y/2)^2 + 4 k_s (L_z/2)^2 (the shear springs act at the
+//     lever L_z/2 below the centroid), I = M (L_y^2 + L_z^2)/12; about y likewise;
+//   twist about z: K = k_s (L_x^2 + L_y^2), I = M (L_x^2 + L_y^2)/12, zeta = sqrt(3) h.
+struct Mode {
+  double stiffness, damping, mass;
+  double omega() const { return std::sqrt(stiffness / mass); }
+  double zeta() const { return damping / (2.0 * std::sqrt(stiffness * mass)); }
+};
+
+std::vector<Mode> stone_modes(double h) {
+  const Material mat = test::stone(h);
+  const double shear_modulus = mat.young_pa / (2.0 * (1.0 + mat.poisson));
+  const double mass = mat.density_kg_m3 * kStone.prod(), area = kStone.x() * kStone.y() / 4;
+  const double kn = mat.young_pa * area / kStone.z(), ks = shear_modulus * area / kStone.z();
+  const double cn = h * std::sqrt(mass * kn), cs = h * std::sqrt(mass * ks);
+  const double lx2 = 0.25 * kStone.x() * kStone.x(), ly2 = 0.25 * kStone.y() * kStone.y(), lz2 = 0.25 * kStone.z() * kStone.z();
+  return {{4 * kn, 4 * cn, mass},
+          {4 * ks, 4 * cs, mass},
+          {4 * ks, 4 * cs, mass},
+          {4 * kn * ly2 + 4 * ks * lz2, 4 * cn * ly2 + 4 * cs * lz2, mass * (ly2 + lz2) / 3},
+          {4 * kn * lx2 + 4 * ks * lz2, 4 * cn * lx2 + 4 * cs * lz2, mass * (lx2 + lz2) / 3},
+          {4 * ks * (lx2 + ly2), 4 * cs * (lx2 + ly2), mass * (lx2 + ly2) / 3}};
+}
+
+TEST(DampingCap, CapOfAStoneOnABaseIsTheClosedForm) {
+  const std::vector<Mode> modes = stone_modes(1.0);
+  double omega_max = 0;
+  for (const Mode& mode : modes) omega_max = std::max(omega_max, mode.omega());
+  const double springs_limit = 2.0 / omega_max;
+  EXPECT_NEAR(World(stone_on_base(1.0, true), 1e-9).critical_time_step_s(), springs_limit, 1e-9 * springs_limit);
+  for (double share : {0.1, 0.2, 0.4}) {
+    const double dt = share * springs_limit;
+    double expected = 1.0;
+    for (const Mode& mode : modes) expected = std::min(expected, zeta_max(mode.omega(), dt) / mode.zeta());
+    const World w(stone_on_base(1.0, true), dt);
+    EXPECT_NEAR(w.state().damping_scale[1], expected, 1e-9) << "dt " << share << " of the springs' limit";
+    EXPECT_EQ(w.state().damping_scale[0], 1.0) << "the fixed base is never capped";
+  }
+}
+
+// Where the step resolves every dashpot, the caps change nothing, to the last bit.
+TEST(DampingCap, DashpotsThatTheStepResolvesAreLeftAsSpecified) {
+  auto shaken_hash = [](bool capped) {
+    WallSpec spec;
+    spec.courses = 4;
+    spec.stones_per_course = 5;
+    Model m = make_wall_model(spec);
+    m.contact.cap_damping = capped;
+    World w(std::move(m), 0.8 * World(make_wall_model(spec), 1e-9).critical_time_step_s());
+    for (double f : w.state().damping_scale) EXPECT_EQ(f, 1.0);
+    for (int i = 0; i < 2000; ++i) {
+      w.state().velocity[0].x() = 0.3 * std::sin(2 * M_PI * 4.0 * w.state().time_s);
+      w.step();
+    }
+    return w.state_hash();
+  };
+  EXPECT_EQ(shaken_hash(true), shaken_hash(false));
+}
+
+// Four stones stacked on a base with h = 1, at 0.4 of the springs' limit: more than the
+// study's dashpots allow (the World refuses the step), but with caps the stack settles
+// under its weight: the base carries the weight of the four stones, nothing moves any
+// more, and the energy balance closes.
+TEST(DampingCap, StackSettlesAtAStepTheStudyDashpotsCannotTake) {
+  const double dt = 0.4 * World(stone_on_base(1.0, true, 4), 1e-9).critical_time_step_s();
+  EXPECT_THROW(World(stone_on_base(1.0, false, 4), dt), ModelError);
+  World w(stone_on_base(1.0, true, 4), dt);
+  const State& s = w.state();
+  EXPECT_LT(*std::min_element(s.damping_scale.begin(), s.damping_scale.end()), 1.0);
+  const double weight = 4 * 1.88e3 * kStone.prod() * kG;
+  double largest_speed = 0;
+  while (s.time_s < 0.3) {
+    w.step();
+    for (const Vec3& v : s.velocity) largest_speed = std::max(largest_speed, v.norm());
+  }
+  EXPECT_LT(largest_speed, 1e-2);  // m/s: a settling, not a blow-up
+  for (const Vec3& v : s.velocity) EXPECT_LT(v.norm(), 1e-6);
+  EXPECT_NEAR(-s.force[0].z(), weight, 1e-6 * weight);
+  EXPECT_LT(std::abs(s.energy.balance_error_j()), 0.01 * s.energy.damping_j);
+  EXPECT_GT(s.energy.damping_j, 0.0);
+}
+
+}  // namespace
+}  // namespace ishibashi
