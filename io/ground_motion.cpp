@@ -4,7 +4,6 @@
 #include <cctype>
 #include <cmath>
 #include <fstream>
-#include <regex>
 #include <sstream>
 
 namespace ishibashi {
@@ -65,6 +64,38 @@ std::string digits_from(const std::string& line, std::size_t pos) {
   return line.substr(pos, end - pos);
 }
 
+// The two numbers of "NPTS = n, DT = dt SEC" (any case, anywhere in the line), read by
+// hand: std::regex's backtracking recurses once per character of a long damaged line.
+bool at2_header_fields(const std::string& line, std::string& npts, std::string& dt) {
+  std::string upper = line;
+  std::transform(upper.begin(), upper.end(), upper.begin(), [](unsigned char c) { return std::toupper(c); });
+  std::size_t i = 0;
+  auto spaces = [&] {
+    while (i < upper.size() && std::isspace(static_cast<unsigned char>(upper[i]))) ++i;
+  };
+  auto word = [&](const std::string& w) {
+    spaces();
+    if (upper.compare(i, w.size(), w) != 0) return false;
+    i += w.size();
+    return true;
+  };
+  auto run_of = [&](const std::string& chars) {
+    spaces();
+    const std::size_t begin = i;
+    while (i < upper.size() && chars.find(upper[i]) != std::string::npos) ++i;
+    return line.substr(begin, i - begin);
+  };
+  for (std::size_t at = upper.find("NPTS"); at != std::string::npos; at = upper.find("NPTS", at + 1)) {
+    i = at + 4;
+    if (!word("=")) continue;
+    npts = run_of("0123456789");
+    if (npts.empty() || !word(",") || !word("DT") || !word("=")) continue;
+    dt = run_of("0123456789.E+-");
+    if (!dt.empty() && word("SEC")) return true;
+  }
+  return false;
+}
+
 double unit_factor(AccelerationUnit u) {
   switch (u) {
     case AccelerationUnit::g: return kG;
@@ -92,15 +123,14 @@ Record read_at2(const std::filesystem::path& file) {
     ++line_no;
     if (k == 2) units = line;
   }
-  static const std::regex header(R"(NPTS\s*=\s*([0-9]+)\s*,\s*DT\s*=\s*([0-9.eE+-]+)\s*SEC)", std::regex::icase);
-  std::smatch m;
-  if (!std::regex_search(line, m, header)) fail(file, 4, "expected 'NPTS = n, DT = dt SEC' in the AT2 header");
-  const double npts_read = header_number(file, 4, m[1].str(), "the number of points NPTS");
-  if (npts_read > 1e9) fail(file, 4, "NPTS = " + m[1].str() + " is beyond any record (at most 10^9 points)");
+  std::string npts_text, dt_text;
+  if (!at2_header_fields(line, npts_text, dt_text)) fail(file, 4, "expected 'NPTS = n, DT = dt SEC' in the AT2 header");
+  const double npts_read = header_number(file, 4, npts_text, "the number of points NPTS");
+  if (npts_read > 1e9) fail(file, 4, "NPTS = " + npts_text + " is beyond any record (at most 10^9 points)");
   const long npts = static_cast<long>(npts_read);
   Record r;
   r.source = file.filename().string();
-  r.dt_s = header_number(file, 4, m[2].str(), "the time step DT in seconds");
+  r.dt_s = header_number(file, 4, dt_text, "the time step DT in seconds");
   if (r.dt_s <= 0 || npts <= 1) fail(file, 4, "NPTS must exceed 1 and DT must be positive");
   std::string upper = units;
   std::transform(upper.begin(), upper.end(), upper.begin(), ::toupper);

@@ -58,6 +58,16 @@ TEST(GroundMotion, MalformedFilesAreClearErrors) {
   EXPECT_THAT(error_of([&] { read_at2(dot_dt); }), HasSubstr("gm_dot.AT2:4: '.' is not a number: expected the time step DT"));
   const auto huge = write("gm_huge.AT2", header + "NPTS = 99999999999999999999999, DT = .01 SEC\n 0.1\n");
   EXPECT_THAT(error_of([&] { read_at2(huge); }), HasSubstr("gm_huge.AT2:4: NPTS = 99999999999999999999999 is beyond any record"));
+  // The header line in any case and spacing, after other words, is read; a long damaged
+  // one (a megabyte of "NPTS = 1, DT ") is an error, not a stack overflow.
+  const auto spaced = write("gm_spaced.AT2", header + "x npts=2 ,dt=  0.02E0   sec, y\n 0.1 0.2\n");
+  const Record spaced_record = read_at2(spaced);
+  EXPECT_EQ(spaced_record.accel_m_s2.size(), 2u);
+  EXPECT_DOUBLE_EQ(spaced_record.dt_s, 0.02);
+  std::string damaged;
+  for (int i = 0; i < 80000; ++i) damaged += "NPTS = 1, DT ";
+  const auto long_line = write("gm_long.AT2", header + damaged + "\n 0.1\n");
+  EXPECT_THAT(error_of([&] { read_at2(long_line); }), HasSubstr("gm_long.AT2:4: expected 'NPTS = n, DT = dt SEC'"));
   const std::string knet_tail = "Memo.\n1 2 3\n";
   const auto dot_hz = write("gm_hz.knet", "Sampling Freq(Hz)  .Hz\nScale Factor 7845(gal)/8223790\n" + knet_tail);
   EXPECT_THAT(error_of([&] { read_knet(dot_hz); }), HasSubstr("gm_hz.knet:1: '.' is not a number: expected the sampling frequency"));
