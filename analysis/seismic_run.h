@@ -16,7 +16,7 @@ namespace ishibashi {
 
 // The time step a scenario gets when it sets none, as a share of the stability limit.
 // With the study's dashpots the limit is theirs. With capped dashpots it is the springs'
-// alone; at 0.3 of it the mode that sets a block's cap keeps a damping ratio of 1.24
+// alone; at 0.3 of it the mode that sets a block's cap keeps a damping ratio of 1.15
 // ((1 - x^2) / 2x at x = 0.3 / 0.8, update_damping_caps), still overdamped, and a contact's
 // stiffest oscillation gets about 10 steps. 0.4 changed model A's outcome over 5 s of
 // Kobe (scenarios/results/README.md, "Capped dashpots").

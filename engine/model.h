@@ -72,8 +72,8 @@ struct ContactSettings {
   // fraction of size^2 of the smaller block, so that K_n stays finite and sensible.
   double point_area_ratio = 0.01;
   // false: every dashpot as the materials' h specify (MODEL.md section 3), so dt must stay
-  // below the limit the dashpots set (h = 1 on a block held by many joints: about a ninth
-  // of the springs' limit). true: where a free block's dashpots would make the step
+  // below the limit the dashpots set (h = 1 on a block held by many joints: a tenth
+  // of the springs' limit or less). true: where a free block's dashpots would make the step
   // unstable, they are scaled down just enough (stability.cpp), so the springs alone
   // limit dt; every joint the step resolves keeps its h.
   bool cap_damping = false;
