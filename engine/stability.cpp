@@ -50,6 +50,12 @@ Vec6 block_mass(const Model& m, int b) {
   return mass;
 }
 
+// Angular frequency (rad/s) and damping ratio of one mode: stiffness k, damping c, mass m.
+struct Mode {
+  double omega, zeta;
+};
+Mode mode_of(double k, double c, double m) { return {std::sqrt(k / m), c / (2.0 * std::sqrt(k * m))}; }
+
 }  // namespace
 
 double stability_limit_s(const Model& m, const State& s, bool with_damping, int* block) {
@@ -62,9 +68,9 @@ double stability_limit_s(const Model& m, const State& s, bool with_damping, int*
     for (int j = 0; j < 6; ++j) {
       if (stiffness[b][j] <= 0) continue;
       // 2/omega (sqrt(1 + zeta^2) - zeta): Cundall's 2 sqrt(m / K) when undamped.
-      const double omega = std::sqrt(stiffness[b][j] / mass[j]);
-      const double zeta = with_damping ? damping[b][j] / (2.0 * std::sqrt(stiffness[b][j] * mass[j])) : 0.0;
-      const double limit = 2.0 / omega * (std::sqrt(1.0 + zeta * zeta) - zeta);
+      const Mode mode = mode_of(stiffness[b][j], damping[b][j], mass[j]);
+      const double zeta = with_damping ? mode.zeta : 0.0;
+      const double limit = 2.0 / mode.omega * (std::sqrt(1.0 + zeta * zeta) - zeta);
       if (limit < best) {
         best = limit;
         if (block) *block = b;
@@ -86,11 +92,10 @@ void update_damping_caps(const Model& m, State& s, double dt_s) {
       if (stiffness[b][j] <= 0 || damping[b][j] <= 0) continue;
       // dt <= kDampingCapMargin * 2/omega (sqrt(1 + zeta^2) - zeta) holds for
       // zeta <= (1 - x^2) / (2 x), x = omega dt / (2 kDampingCapMargin).
-      const double omega = std::sqrt(stiffness[b][j] / mass[j]);
-      const double zeta = damping[b][j] / (2.0 * std::sqrt(stiffness[b][j] * mass[j]));
-      const double x = omega * dt_s / (2.0 * kDampingCapMargin);
+      const Mode mode = mode_of(stiffness[b][j], damping[b][j], mass[j]);
+      const double x = mode.omega * dt_s / (2.0 * kDampingCapMargin);
       const double zeta_max = std::max(0.0, (1.0 - x * x) / (2.0 * x));
-      if (zeta > zeta_max) s.damping_scale[b] = std::min(s.damping_scale[b], zeta_max / zeta);
+      if (mode.zeta > zeta_max) s.damping_scale[b] = std::min(s.damping_scale[b], zeta_max / mode.zeta);
     }
   }
 }
