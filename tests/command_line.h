@@ -11,7 +11,8 @@
 namespace ishibashi::test {
 
 inline const std::filesystem::path kRoot = ISHIBASHI_SOURCE_DIR;
-inline const std::filesystem::path kTmp = std::filesystem::temp_directory_path();
+// This test process's own temporary folder (test_main.cpp).
+inline std::filesystem::path tmp_dir() { return std::filesystem::temp_directory_path(); }
 
 // stdout and stderr of a shell command; *status its exit status (as pclose returns it).
 inline std::string run_command(const std::string& command, int* status) {

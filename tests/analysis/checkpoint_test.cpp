@@ -15,7 +15,7 @@
 namespace ishibashi {
 namespace {
 
-using namespace test;  // run_command, text_of, count_of, kRoot, kTmp
+using namespace test;  // run_command, text_of, count_of, kRoot, tmp_dir
 
 std::string summary_field(const std::filesystem::path& out, const std::string& key) {
   std::istringstream summary(text_of(out / "summary.json"));
@@ -27,7 +27,7 @@ std::string summary_field(const std::filesystem::path& out, const std::string& k
 
 // Model A from 7.5 s of the Kobe record (the strongest pulses), 0.4 s of shaking.
 std::filesystem::path scenario(const std::string& name, double settle_max_s = 1.0) {
-  const auto f = kTmp / name;
+  const auto f = tmp_dir() / name;
   const auto kobe = kRoot / "data/ground_motions/kobe_1995_jma";
   std::ofstream(f) << "[model]\nfile = \"" << (kRoot / "models/nishida_a.toml").string() << "\"\n"
                    << "[run]\nsettle_max_s = " << settle_max_s << "\nsettle_kinetic_j = 0.01\nduration_s = 0.4\n"
@@ -45,7 +45,7 @@ const std::string kRun = std::string(ISHIBASHI_BINARY) + " run --quiet ";
 void expect_killed_run_resumes_bit_identical(const std::string& name, const std::string& options, double kill_from_s,
                                              double kill_to_s) {
   const auto file = scenario(name + ".toml");
-  const auto whole = kTmp / (name + "_whole"), killed = kTmp / (name + "_killed");
+  const auto whole = tmp_dir() / (name + "_whole"), killed = tmp_dir() / (name + "_killed");
   std::filesystem::remove_all(whole);
   std::filesystem::remove_all(killed);
   int status = 0;
@@ -83,7 +83,7 @@ TEST(Checkpoint, RunWithCappedDashpotsResumesBitIdentical) {
 
 TEST(Checkpoint, CheckpointOfAnotherBuildOrOfChangedInputsIsRefused) {
   const auto file = scenario("ishibashi_checkpoint_refused.toml", 0.1);
-  const auto out = kTmp / "ishibashi_cp_refused";
+  const auto out = tmp_dir() / "ishibashi_cp_refused";
   std::filesystem::remove_all(out);
   int status = 0;
   // A run stopped by SIGINT writes a checkpoint too.

@@ -13,7 +13,7 @@
 namespace ishibashi {
 namespace {
 
-using namespace test;  // run_command, text_of, count_of, kRoot, kTmp
+using namespace test;  // run_command, text_of, count_of, kRoot, tmp_dir
 
 TEST(Study, QuickStudyWritesTablesAndAReportWithEveryFigureThenKeepsCurrentOutputs) {
   const auto out = std::filesystem::temp_directory_path() / "ishibashi_study_quick";

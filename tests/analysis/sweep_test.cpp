@@ -16,7 +16,7 @@
 namespace ishibashi {
 namespace {
 
-using namespace test;  // run_command, text_of, count_of, kRoot, kTmp
+using namespace test;  // run_command, text_of, count_of, kRoot, tmp_dir
 
 // The rows of sweep.csv without the wall time and host (they differ between machines),
 // sorted (runs finish in any order).
@@ -34,11 +34,11 @@ std::vector<std::string> rows(const std::filesystem::path& out) {
 // swapped), scale factors 0.5 and 1: four runs.
 std::filesystem::path sweep_file() {
   const auto kobe = kRoot / "data/ground_motions/kobe_1995_jma";
-  const auto scenario = kTmp / "ishibashi_sweep_scenario.toml";
+  const auto scenario = tmp_dir() / "ishibashi_sweep_scenario.toml";
   std::ofstream(scenario) << "[model]\nfile = \"" << (kRoot / "models/nishida_a.toml").string() << "\"\n"
                           << "[run]\nsettle_max_s = 0.1\nduration_s = 0.1\noutput_interval_s = 0.05\n"
                           << "[ground_motion]\nx = { file = \"" << (kobe / "RSN1106_KOBE_KJM090.AT2").string() << "\" }\n";
-  const auto file = kTmp / "ishibashi_sweep.toml";
+  const auto file = tmp_dir() / "ishibashi_sweep.toml";
   const std::string ew = (kobe / "RSN1106_KOBE_KJM090.AT2").string(), ns = (kobe / "RSN1106_KOBE_KJM000.AT2").string(),
                     up = (kobe / "RSN1106_KOBE_KJM-UP.AT2").string();
   std::ofstream(file) << "[sweep]\nscenario = \"" << scenario.string() << "\"\nscale = [0.5, 1.0]\n"
@@ -54,7 +54,7 @@ const std::string kSweep = std::string(ISHIBASHI_BINARY) + " sweep ";
 
 TEST(Sweep, OneMachineAndMpirunGiveTheSameRows) {
   const auto file = sweep_file();
-  const auto local = kTmp / "ishibashi_sweep_local", mpi = kTmp / "ishibashi_sweep_mpi";
+  const auto local = tmp_dir() / "ishibashi_sweep_local", mpi = tmp_dir() / "ishibashi_sweep_mpi";
   std::filesystem::remove_all(local);
   std::filesystem::remove_all(mpi);
   int status = 0;
@@ -77,7 +77,7 @@ TEST(Sweep, OneMachineAndMpirunGiveTheSameRows) {
 
 TEST(Sweep, KilledSweepResumesWithoutRedoingFinishedRuns) {
   const auto file = sweep_file();
-  const auto out = kTmp / "ishibashi_sweep_killed";
+  const auto out = tmp_dir() / "ishibashi_sweep_killed";
   std::filesystem::remove_all(out);
   int status = 0;
   // SIGKILL as soon as the first row is in sweep.csv: the second run is under way.
