@@ -15,6 +15,7 @@
 #include "analysis/frequencies.h"
 #include "analysis/load.h"
 #include "analysis/seismic_run.h"
+#include "engine/cores.h"
 #include "io/atomic_file.h"
 #include "io/scenario_file.h"
 
@@ -131,7 +132,7 @@ StudyOutcome run_study(const StudyFile& study, const StudyOptions& o) {
   for (Job& job : jobs) job.key = job_key(job, study);
 
   const int workers = std::max(1, std::min<int>(o.jobs, static_cast<int>(jobs.size())));
-  const int threads = o.threads_per_job > 0 ? o.threads_per_job : std::max(1, omp_get_num_procs() / workers);
+  const int threads = o.threads_per_job > 0 ? o.threads_per_job : std::max(1, usable_cores() / workers);
   std::mutex report_lock;  // serialises on_event; outside any time step
   auto event = [&](const std::string& text) {
     const std::lock_guard<std::mutex> lock(report_lock);

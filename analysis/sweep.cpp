@@ -1,7 +1,6 @@
 #include "analysis/sweep.h"
 
 #include <mpi.h>
-#include <omp.h>
 #include <unistd.h>
 
 #include <algorithm>
@@ -18,6 +17,7 @@
 
 #include "analysis/fingerprint.h"
 #include "analysis/seismic_run.h"
+#include "engine/cores.h"
 #include "io/atomic_file.h"
 #include "io/scenario_file.h"
 
@@ -171,7 +171,7 @@ SweepOutcome run_sweep(const SweepFile& sweep, const SweepOptions& o, const MpiS
       cases.push_back({r, l, sweep.records[r].name + "," + level_label(sweep.levels[l])});
   const int runs_here = mpi.size() > 1 ? 1 : std::max(1, o.jobs);
   const int node_share = mpi.size() > 1 ? mpi.ranks_on_this_node() : runs_here;
-  const int threads = o.threads_per_job > 0 ? o.threads_per_job : std::max(1, omp_get_num_procs() / node_share);
+  const int threads = o.threads_per_job > 0 ? o.threads_per_job : std::max(1, usable_cores() / node_share);
   SweepOutcome outcome;
 
   if (!root) {  // a worker rank: ask for a case, run it, send its row with the next request

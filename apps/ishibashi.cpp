@@ -2,6 +2,7 @@
 #include <CLI/CLI.hpp>
 
 #include <cstdio>
+#include <cstdlib>
 #include <exception>
 
 #include "apps/build_command.h"
@@ -12,14 +13,14 @@
 #include "apps/sweep_command.h"
 #include "io/model_file.h"
 #include "engine/model.h"
-#include "engine/parallel.h"
+#include "engine/cores.h"
 
 int main(int argc, char** argv) {
   CLI::App app{"ishibashi: 3-D distinct element analysis of masonry stone arch bridges"};
   app.set_version_flag("--version", std::string("ishibashi ") + ISHIBASHI_VERSION);
   app.require_subcommand(1);
   int threads = 0;
-  app.add_option("--threads", threads, "OpenMP threads (default: all cores)")->check(CLI::NonNegativeNumber);
+  app.add_option("--threads", threads, "OpenMP threads (default: OMP_NUM_THREADS, else every core this process may use, CPU quota included)")->check(CLI::NonNegativeNumber);
 
   ishibashi::DemoOptions demo;
   CLI::App* demo_cmd = app.add_subcommand("demo", "A masonry wall on a shaking or tilting base, written for ParaView");
@@ -46,7 +47,7 @@ int main(int argc, char** argv) {
   run_cmd->add_flag("--quiet", run.quiet, "no progress bar");
   run_cmd->add_option("--duration", run.duration_s, "seconds of shaking, replacing the scenario's duration_s (0: whole record)")
       ->check(CLI::NonNegativeNumber);
-  run_cmd->add_option("--threads", run.threads, "threads, replacing the scenario's threads (0: all cores)")
+  run_cmd->add_option("--threads", run.threads, "threads, replacing the scenario's threads (0: every usable core)")
       ->check(CLI::NonNegativeNumber);
   run_cmd->add_option("--start", run.start_s, "where in the record the shaking starts, s, replacing the scenario's start_s")
       ->check(CLI::NonNegativeNumber);
@@ -111,7 +112,7 @@ int main(int argc, char** argv) {
       ->check(CLI::Range(0, 1024));
 
   CLI11_PARSE(app, argc, argv);
-  if (threads > 0) omp_set_num_threads(threads);
+  if (threads > 0 || std::getenv("OMP_NUM_THREADS") == nullptr) ishibashi::set_thread_count(threads);
   try {
     if (*demo_cmd) return ishibashi::run_demo(demo);
     if (*build_cmd) return ishibashi::run_build(build);

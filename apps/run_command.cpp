@@ -6,6 +6,7 @@
 #include <string>
 
 #include "analysis/seismic_run.h"
+#include "engine/cores.h"
 
 namespace ishibashi {
 
@@ -26,7 +27,7 @@ int run_scenario(const RunOptions& o) {
     };
   std::unique_ptr<SeismicRun> resumed;
   if (!o.resume.empty()) {
-    if (o.threads >= 0) omp_set_num_threads(o.threads);  // the only setting a resume may change
+    if (o.threads >= 0) set_thread_count(o.threads);  // the only setting a resume may change
     resumed = SeismicRun::resume(options);
   } else {
     Scenario sc = read_scenario(o.scenario);
