@@ -74,7 +74,7 @@ void expect_valid_outputs(const std::filesystem::path& out) {
 TEST(Run, ShortSeismicRunWritesOutputsVtkReads) {
   const auto out = std::filesystem::temp_directory_path() / "ishibashi_run";
   std::filesystem::remove_all(out);
-  const std::string cmd = std::string(ISHIBASHI_BINARY) + " run --quiet " + short_scenario(0.2).string() + " --out " + out.string();
+  const std::string cmd = std::string(ISHIBASHI_BINARY) + " run --quiet " + short_scenario(0.1).string() + " --out " + out.string();
   ASSERT_EQ(std::system(cmd.c_str()), 0) << cmd;
   expect_valid_outputs(out);
 }
