@@ -148,7 +148,8 @@ std::vector<BridgeBlock> generate_bridge(const BridgeSpec& s) {
   require(s.spans >= 1, "spans must be at least 1");
   require(s.spans == 1 || s.pier_width_m >= 0, "pier_width_m must be >= 0");
   require(s.fill_height_m >= 0 && s.length_m >= 0, "fill_height_m and length_m must be >= 0");
-  require(s.side_wall_width_m >= 0 && s.ground_thickness_m >= 0, "side_wall_width_m and ground_thickness_m must be >= 0");
+  require(s.side_wall_width_m >= 0 && s.ground_thickness_m >= 0 && s.ground_margin_m >= 0,
+          "side_wall_width_m, ground_thickness_m and ground_margin_m must be >= 0");
   const std::vector<double> centres = span_centres(s, g);
   const double bridge_half = centres.back() + g.springer_half_width;
   const bool filled = s.fill_height_m > 0;
@@ -289,10 +290,12 @@ std::vector<BridgeBlock> generate_bridge(const BridgeSpec& s) {
                                    Part::side_wall, 0, true});
     }
   if (s.ground_thickness_m > 0) {
-    // Wide enough to catch what falls: twice the bridge's height beyond it on every side
-    // (stones thrown off the crown of model A at 5 m/s land up to about 6 m out, then
-    // roll). What leaves it anyway is frozen below it (Model::leave_depth_m).
-    const double margin = std::max(2 * stone, 2 * height);
+    // By default wide enough to catch what falls: four times the bridge's height H beyond
+    // it on every side. A wall toppling out of plane brings its top down at up to
+    // sqrt(3 g H) and throws stones about sqrt(6) H = 2.4 H, then they hop and roll (model
+    // B with mortar threw four past 2 H). What leaves it anyway is frozen below it
+    // (Model::leave_depth_m).
+    const double margin = s.ground_margin_m > 0 ? s.ground_margin_m : std::max(2 * stone, 4 * height);
     const double length = 2 * (half_length + s.side_wall_width_m + margin);
     blocks.push_back(BridgeBlock{make_box(Vec3(0, 0, -0.5 * s.ground_thickness_m),
                                           Vec3(length, s.ring.width_m + 2 * margin, s.ground_thickness_m)),

@@ -30,6 +30,7 @@ struct BridgeSpec {
   Backfill backfill = Backfill::stone;  // soil: soil units between a front and a rear stone wall
   double side_wall_width_m = 0.0;  // fixed side walls (abutments) at both ends; 0: none
   double ground_thickness_m = 0.5; // fixed base under the whole bridge; 0: none
+  double ground_margin_m = 0.0;    // ground beyond the bridge on every side; 0: 4 x its height
   Material stone;                  // empty name: the Nishida stone
   Material soil;                   // empty name: the Nishida soil (MODEL.md section 4)
   double mortar_pa = 0.0;          // f_t = c of stone joints originally in contact; 0: dry

@@ -47,6 +47,7 @@ ModelFile read_model_file(const std::filesystem::path& file) {
   b.backfill = backfill == "soil" ? Backfill::soil : Backfill::stone;
   bridge.non_negative("side_wall_width_m", b.side_wall_width_m);
   bridge.positive("ground_thickness_m", b.ground_thickness_m);
+  bridge.non_negative("ground_margin_m", b.ground_margin_m);
   bridge.non_negative("mortar_pa", b.mortar_pa);
   bridge.finish();
 

@@ -74,6 +74,28 @@ TEST(Bridge, SoilBackfillHasStoneFaceWallsAndSoilInside) {
   EXPECT_EQ(m.materials[1].name, "soil");
 }
 
+// The ground reaches ground_margin_m beyond the bridge's walls on every side; by default
+// four times the bridge's height, beyond the sqrt(6) H = 2.4 H that a wall toppling out
+// of plane throws its stones.
+TEST(Bridge, GroundReachesItsMarginBeyondTheBridge) {
+  const ModelFile file = read_model_file(std::filesystem::path(ISHIBASHI_SOURCE_DIR) / "models" / "nishida_b.toml");
+  auto reach = [](const BridgeSpec& spec) {
+    Vec3 bridge_hi(-1e9, -1e9, -1e9), ground_hi = bridge_hi;
+    for (const BridgeBlock& b : generate_bridge(spec)) {
+      Vec3& hi = b.part == Part::ground ? ground_hi : bridge_hi;
+      for (const Vec3& v : b.shape.vertices) hi = hi.cwiseMax(v);
+    }
+    return std::pair(ground_hi - bridge_hi, bridge_hi.z());
+  };
+  BridgeSpec spec = file.bridge;
+  const auto [beyond, height] = reach(spec);
+  EXPECT_NEAR(height, spec.fill_height_m, 1e-9);
+  EXPECT_NEAR(beyond.x(), 4 * height, 1e-9);  // along the bridge, beyond the side walls
+  EXPECT_NEAR(beyond.y(), 4 * height, 1e-9);  // across it, beyond the wall faces
+  spec.ground_margin_m = 30.0;
+  EXPECT_NEAR(reach(spec).first.y(), 30.0, 1e-9);
+}
+
 TEST(Bridge, ImpossibleParametersAreClearErrors) {
   using ::testing::HasSubstr;
   auto error = [](const BridgeSpec& s) {
@@ -103,6 +125,9 @@ TEST(Bridge, ImpossibleParametersAreClearErrors) {
   s = BridgeSpec{};
   s.ring.stone_m = 4.0;  // stones larger than the ring is wide
   EXPECT_THAT(error(s), HasSubstr("stone_m must not exceed the ring width"));
+  s = BridgeSpec{};
+  s.ground_margin_m = -1.0;
+  EXPECT_THAT(error(s), HasSubstr("ground_margin_m must be >= 0"));
 }
 
 }  // namespace

@@ -50,6 +50,7 @@ TEST(ModelFile, NumbersOutOfRangeNameTheirLine) {
   EXPECT_THAT(error_of("[ring]\nvoussoirs = 0\n"), HasSubstr(":2: 'voussoirs' is 0; it must be at least 1"));
   EXPECT_THAT(error_of("[stone]\n\npoisson = 0.7\n"), HasSubstr(":3: 'poisson' is 0.7; it must be >= 0 and <= 0.4999"));
   EXPECT_THAT(error_of("[bridge]\nmortar_pa = -1\n"), HasSubstr(":2: 'mortar_pa' is -1; it must be >= 0"));
+  EXPECT_THAT(error_of("[bridge]\n\nground_margin_m = -2\n"), HasSubstr(":3: 'ground_margin_m' is -2; it must be >= 0"));
 }
 
 }  // namespace
