@@ -46,11 +46,18 @@ bool update_pairs(const Model& m, State& s) {
   }
 
   // Hashed uniform grid: one bucket per occupied cell (collisions only add candidates),
-  // cell edge = the largest inflated sphere's diameter, so overlapping spheres lie in
-  // adjacent cells.
-  double max_radius = 0.0;
-  for (double r : m.radius_m) max_radius = std::max(max_radius, r);
-  const double cell = 2.0 * max_radius + m.margin_m;
+  // cell edge = the largest free block's inflated diameter, so overlapping spheres lie in
+  // adjacent cells. Immobile blocks larger than that (the ground, abutments) stay out of
+  // the grid: sized by them, one cell would hold the whole bridge and a rebuild would
+  // cost nb^2. Each of them is tested against every block instead (nb per large block).
+  double max_free_radius = 0.0;
+  for (int b = 0; b < nb; ++b)
+    if (m.motion[b] == Motion::free) max_free_radius = std::max(max_free_radius, m.radius_m[b]);
+  auto large = [&](int b) { return m.radius_m[b] > max_free_radius; };
+  s.large_block.clear();
+  for (int b = 0; b < nb; ++b)
+    if (large(b)) s.large_block.push_back(b);
+  const double cell = 2.0 * max_free_radius + m.margin_m;
   std::uint32_t buckets = 1;
   while (buckets < 2u * static_cast<std::uint32_t>(nb)) buckets <<= 1;
   const std::uint32_t mask = buckets - 1;
@@ -62,12 +69,14 @@ bool update_pairs(const Model& m, State& s) {
   s.cell_start.assign(buckets + 1, 0);
   s.cell_block.resize(nb);
   for (int b = 0; b < nb; ++b) {
+    if (large(b)) continue;
     const auto c = cell_of(s.position[b]);
     ++s.cell_start[cell_hash(c.x(), c.y(), c.z(), mask) + 1];
   }
   for (std::uint32_t c = 0; c < buckets; ++c) s.cell_start[c + 1] += s.cell_start[c];
   s.cell_cursor.assign(s.cell_start.begin(), s.cell_start.end() - 1);
   for (int b = 0; b < nb; ++b) {
+    if (large(b)) continue;
     const auto c = cell_of(s.position[b]);
     s.cell_block[s.cell_cursor[cell_hash(c.x(), c.y(), c.z(), mask)]++] = b;
   }
@@ -81,19 +90,24 @@ bool update_pairs(const Model& m, State& s) {
     std::vector<Pair>& out = s.chunk_pairs[k];
     std::vector<int>& cand = s.chunk_candidates[k];
     out.clear();
+    auto consider = [&](int a, int b) {
+      if (b > a && !both_immobile(m, a, b) && spheres_overlap(m, s, a, b)) cand.push_back(b);
+    };
     for (std::ptrdiff_t ai = begin; ai < end; ++ai) {
       const int a = static_cast<int>(ai);
-      const auto c = cell_of(s.position[a]);
       cand.clear();
-      for (int di = -1; di <= 1; ++di)
-        for (int dj = -1; dj <= 1; ++dj)
-          for (int dk = -1; dk <= 1; ++dk) {
-            const std::uint32_t h = cell_hash(c.x() + di, c.y() + dj, c.z() + dk, mask);
-            for (int q = s.cell_start[h]; q < s.cell_start[h + 1]; ++q) {
-              const int b = s.cell_block[q];
-              if (b > a && !both_immobile(m, a, b) && spheres_overlap(m, s, a, b)) cand.push_back(b);
+      if (large(a)) {
+        for (int b = a + 1; b < nb; ++b) consider(a, b);
+      } else {
+        const auto c = cell_of(s.position[a]);
+        for (int di = -1; di <= 1; ++di)
+          for (int dj = -1; dj <= 1; ++dj)
+            for (int dk = -1; dk <= 1; ++dk) {
+              const std::uint32_t h = cell_hash(c.x() + di, c.y() + dj, c.z() + dk, mask);
+              for (int q = s.cell_start[h]; q < s.cell_start[h + 1]; ++q) consider(a, s.cell_block[q]);
             }
-          }
+        for (int b : s.large_block) consider(a, b);
+      }
       std::sort(cand.begin(), cand.end());
       cand.erase(std::unique(cand.begin(), cand.end()), cand.end());
       for (int b : cand) out.push_back(Pair{a, b});

@@ -165,6 +165,7 @@ struct State {
   std::vector<std::vector<int>> chunk_candidates; // per-chunk neighbour scratch
   std::vector<int> cell_start, cell_block, cell_cursor; // hashed cell list: blocks of bucket c are
                                            // cell_block[cell_start[c] .. cell_start[c+1])
+  std::vector<int> large_block;            // immobile blocks too large for the grid's cells
   bool pairs_valid = false;
 
   // ---- bookkeeping ----

@@ -56,6 +56,26 @@ void BM_BroadphaseRebuild(benchmark::State& st) {
 }
 BENCHMARK(BM_BroadphaseRebuild);
 
+// A rebuild's cost per block as the wall grows on its base slab (stones per course =
+// 2 x courses, two leaves): flat when the slab, larger than every stone, stays out of
+// the grid; growing with the block count when the slab sizes the cells.
+void BM_BroadphaseRebuildScaling(benchmark::State& st) {
+  WallSpec spec;
+  spec.courses = static_cast<int>(st.range(0));
+  spec.stones_per_course = 2 * spec.courses;
+  spec.leaves = 2;
+  spec.base_motion = Motion::fixed;
+  spec.stone = nishida_stone();
+  const Model model = make_wall_model(spec);
+  State state = make_initial_state(model);
+  for (auto _ : st) {
+    state.pairs_valid = false;
+    update_pairs(model, state);
+  }
+  st.SetItemsProcessed(st.iterations() * model.block_count);
+}
+BENCHMARK(BM_BroadphaseRebuildScaling)->Arg(10)->Arg(20)->Arg(40);
+
 // The common case in a standing structure: every joint barely moved, updated in place.
 void BM_NarrowphaseCarriedOver(benchmark::State& st) {
   World& w = wall();

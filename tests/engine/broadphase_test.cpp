@@ -47,5 +47,39 @@ TEST(Broadphase, MatchesBruteForceOnRandomScenes) {
   }
 }
 
+// Blocks on a ground slab far larger than they are, with fixed blocks of every size
+// among them (some before the free blocks, some after): the slabs stay out of the grid,
+// whose cells the free blocks size, and every pair the oracle finds is still found.
+TEST(Broadphase, LargeImmobileBlocksStayOutOfTheGrid) {
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<double> u(0.0, 1.0);
+  ModelBuilder b;
+  const int mat = b.add_material(test::stone());
+  auto add_box = [&](const Vec3& centre, const Vec3& size, Motion motion) {
+    const Polyhedron p = make_box(centre, size);
+    return b.add_block(p.vertices, p.faces, mat, motion);
+  };
+  const int wall = add_box(Vec3(10, -1, 2), Vec3(20, 0.5, 4), Motion::fixed);  // a fixed wall along the scene
+  for (int i = 0; i < 400; ++i) {
+    const bool fixed = u(rng) < 0.1;  // small fixed blocks, no larger than the free ones: in the grid
+    const Vec3 size = (fixed ? 0.5 : 1.0) * Vec3(0.2 + 0.5 * u(rng), 0.2 + 0.5 * u(rng), 0.2 + 0.5 * u(rng));
+    add_box(Vec3(20 * u(rng), 4 * u(rng) - 0.5, 0.1 + 3 * u(rng)), size, fixed ? Motion::fixed : Motion::free);
+  }
+  const int ground = add_box(Vec3(10, 0, -0.25), Vec3(60, 40, 0.5), Motion::fixed);
+  const Model m = b.build();
+  State s = make_initial_state(m);
+  ASSERT_TRUE(update_pairs(m, s));
+  EXPECT_EQ(s.large_block, (std::vector<int>{wall, ground}));
+  const auto oracle = brute_force_pairs(m, s);
+  int with_ground = 0, with_wall = 0;
+  for (const Pair& p : oracle) {
+    with_ground += p.b == ground;
+    with_wall += p.a == wall;
+  }
+  EXPECT_GT(with_ground, 50);
+  EXPECT_GT(with_wall, 10);
+  EXPECT_EQ(as_pairs(s.pairs), as_pairs(oracle));
+}
+
 }  // namespace
 }  // namespace ishibashi
