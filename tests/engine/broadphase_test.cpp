@@ -47,9 +47,10 @@ TEST(Broadphase, MatchesBruteForceOnRandomScenes) {
   }
 }
 
-// Blocks on a ground slab far larger than they are, with fixed blocks of every size
-// among them (some before the free blocks, some after): the slabs stay out of the grid,
-// whose cells the free blocks size, and every pair the oracle finds is still found.
+// Blocks on a ground slab far larger than they are, beside a long fixed wall, with small
+// fixed blocks among them; the wall comes before the free blocks, the ground after. The
+// wall and the ground stay out of the grid, whose cells the free blocks size, and every
+// pair the oracle finds is still found.
 TEST(Broadphase, LargeImmobileBlocksStayOutOfTheGrid) {
   std::mt19937 rng(7);
   std::uniform_real_distribution<double> u(0.0, 1.0);
