@@ -1,0 +1,71 @@
+// Every preset scenario (Nishida A-F, dry and with mortar) run through the whole program
+// path (model file, CGAL validation, settling, the Kobe record through the ground) ends in
+// the state hash recorded in tests/data/. A refactor must keep every hash bit for bit; a
+// physics change records new hashes in the same commit and says what it moved.
+//
+// Two lengths: `Short` (0.01 s of settling, 0.01 s of the strongest pulses: contacts found,
+// bonds made, the ground driven) runs with every test; `AfterSettlingAndKobe` (settling as
+// the scenario says, then 0.2 s of Kobe from the scenario's start) takes about half an hour
+// on two cores and runs with `ctest -L long` (scripts/preset_hashes.sh). Either prints the
+// lines of its file, so that a physics change records them from the output.
+#include <gtest/gtest.h>
+
+#include <fstream>
+#include <map>
+#include <sstream>
+
+#include "analysis/seismic_run.h"
+
+namespace ishibashi {
+namespace {
+
+const std::filesystem::path kRoot = ISHIBASHI_SOURCE_DIR;
+const char* const kPresets[] = {"nishida_a_kobe_dry", "nishida_a_kobe_mortar", "nishida_b_kobe_dry", "nishida_b_kobe_mortar",
+                                "nishida_c_kobe_dry", "nishida_c_kobe_mortar", "nishida_d_kobe_dry", "nishida_d_kobe_mortar",
+                                "nishida_e_kobe_dry", "nishida_e_kobe_mortar", "nishida_f_kobe_dry", "nishida_f_kobe_mortar"};
+
+// "preset hash steps" lines of a recorded file, by preset.
+std::map<std::string, std::string> read_recorded(const std::filesystem::path& file) {
+  std::ifstream in(file);
+  std::map<std::string, std::string> recorded;
+  std::string line;
+  while (std::getline(in, line)) {
+    if (line.empty() || line[0] == '#') continue;
+    std::istringstream fields(line);
+    std::string preset;
+    fields >> preset;
+    recorded[preset] = line;
+  }
+  return recorded;
+}
+
+// Runs every preset with the given settling limit (< 0: the scenario's) and shaking, from
+// the record's `start_s` (< 0: the scenario's), and compares "preset hash steps" with the file.
+void expect_recorded_hashes(const std::string& file_name, double settle_max_s, double shake_s, double start_s) {
+  const auto recorded = read_recorded(kRoot / "tests/data" / file_name);
+  EXPECT_EQ(recorded.size(), std::size(kPresets)) << "tests/data/" << file_name << " lists every preset once";
+  std::string lines;
+  for (const char* preset : kPresets) {
+    Scenario sc = read_scenario(kRoot / "scenarios" / (std::string(preset) + ".toml"));
+    if (settle_max_s >= 0) sc.settle_max_s = settle_max_s;
+    if (start_s >= 0) sc.ground_motion.start_s = start_s;
+    sc.duration_s = shake_s;
+    sc.ground_motion.duration_s = shake_s;
+    sc.threads = 0;
+    SeismicRunOptions options;
+    options.out = std::filesystem::temp_directory_path() / preset;
+    const SeismicRunResult r = SeismicRun(sc, options).run();
+    std::ostringstream line;
+    line << preset << " " << std::hex << r.state_hash << std::dec << " " << r.steps;
+    lines += line.str() + "\n";
+    EXPECT_EQ(line.str(), recorded.count(preset) ? recorded.at(preset) : "(none)") << "the state of " << preset << " changed";
+  }
+  std::printf("%s", lines.c_str());
+}
+
+TEST(PresetHashes, Short) { expect_recorded_hashes("preset_hashes_short.txt", 0.01, 0.01, 7.6); }
+
+TEST(PresetHashes, AfterSettlingAndKobe) { expect_recorded_hashes("preset_hashes.txt", -1, 0.2, -1); }
+
+}  // namespace
+}  // namespace ishibashi
