@@ -5,14 +5,6 @@
 namespace ishibashi {
 namespace {
 
-// Every array of the sub-contacts, in one place for writing and reading.
-template <class Fn>
-void for_each_array(SubContacts& c, Fn&& fn) {
-  fn(c.block_a), fn(c.block_b), fn(c.key), fn(c.point), fn(c.normal), fn(c.gap_m), fn(c.gap_change_m), fn(c.area_m2);
-  fn(c.normal_stiffness_n_m), fn(c.shear_stiffness_n_m), fn(c.normal_damping_n_s_m), fn(c.shear_damping_n_s_m);
-  fn(c.normal_stretch_m), fn(c.shear_stretch_m), fn(c.damping_force_n), fn(c.slip_m), fn(c.incident_local), fn(c.flags);
-}
-
 template <class Fn>
 void for_each_array(Joints& j, Fn&& fn) {
   fn(j.block_a), fn(j.block_b), fn(j.point_begin), fn(j.point_on_a), fn(j.point_on_b), fn(j.centre_on_a);
@@ -55,7 +47,7 @@ void write_state(CheckpointWriter& out, const State& s) {
   out.array(s.damping_scale);
   out.array(s.pairs), out.flag(s.pairs_changed), out.array(s.position_at_rebuild);
   out.flag(s.pairs_valid);
-  for_each_array(const_cast<SubContacts&>(s.contacts), [&](const auto& v) { out.array(v); });
+  s.contacts.for_each_array([&](const auto& v) { out.array(v); });
   out.value(s.energy), out.value(s.last_gravitational_j), out.value(s.last_elastic_j);
   out.flag(s.energy_started);
   out.value(s.profile);
@@ -71,7 +63,7 @@ void read_state(CheckpointReader& in, State& s) {
   s.pairs_changed = in.flag();
   in.array(s.position_at_rebuild);
   s.pairs_valid = in.flag();
-  for_each_array(s.contacts, [&](auto& v) { in.array(v); });
+  s.contacts.for_each_array([&](auto& v) { in.array(v); });
   s.energy = in.value<Energy>();
   s.last_gravitational_j = in.value<double>();
   s.last_elastic_j = in.value<double>();

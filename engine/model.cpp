@@ -102,6 +102,9 @@ int ModelBuilder::add_block(const std::vector<Vec3>& vertices, const std::vector
   for (std::size_t f = 0; f < faces.size(); ++f) {
     const auto& face = faces[f];
     if (face.size() < 3) fail("face " + std::to_string(f) + " has fewer than 3 corners");
+    if (face.size() > kMaxFaceCorners)
+      fail("face " + std::to_string(f) + " has " + std::to_string(face.size()) + " corners; at most " +
+           std::to_string(kMaxFaceCorners) + " are allowed (split the face, or coarsen the block's outline)");
     for (std::size_t k = 0; k < face.size(); ++k) {
       const int u = face[k], w = face[(k + 1) % face.size()];
       if (u < 0 || u >= static_cast<int>(vertices.size()))

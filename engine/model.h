@@ -54,6 +54,9 @@ struct PairLaw {
   double damping_shear = 0.0;
 };
 
+// Most corners of one face of a block (the narrowphase clips faces on the stack).
+constexpr int kMaxFaceCorners = 60;
+
 // Capped dashpots keep dt within this share of each block's stability limit.
 constexpr double kDampingCapMargin = 0.8;
 

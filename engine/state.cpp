@@ -4,49 +4,10 @@
 
 namespace ishibashi {
 
-void SubContacts::clear() { resize(0); }
-
-void SubContacts::resize(std::size_t n) {
-  block_a.resize(n);
-  block_b.resize(n);
-  key.resize(n);
-  point.resize(n);
-  normal.resize(n);
-  gap_m.resize(n);
-  gap_change_m.resize(n);
-  area_m2.resize(n);
-  normal_stiffness_n_m.resize(n);
-  shear_stiffness_n_m.resize(n);
-  normal_damping_n_s_m.resize(n);
-  shear_damping_n_s_m.resize(n);
-  normal_stretch_m.resize(n);
-  shear_stretch_m.resize(n);
-  damping_force_n.resize(n);
-  slip_m.resize(n);
-  incident_local.resize(n);
-  flags.resize(n);
-}
-
-void SubContacts::copy_range(const SubContacts& s, std::size_t from, std::size_t count, std::size_t to) {
-  auto copy = [&](const auto& src, auto& dst) { std::copy_n(src.begin() + from, count, dst.begin() + to); };
-  copy(s.block_a, block_a);
-  copy(s.block_b, block_b);
-  copy(s.key, key);
-  copy(s.point, point);
-  copy(s.normal, normal);
-  copy(s.gap_m, gap_m);
-  copy(s.gap_change_m, gap_change_m);
-  copy(s.area_m2, area_m2);
-  copy(s.normal_stiffness_n_m, normal_stiffness_n_m);
-  copy(s.shear_stiffness_n_m, shear_stiffness_n_m);
-  copy(s.normal_damping_n_s_m, normal_damping_n_s_m);
-  copy(s.shear_damping_n_s_m, shear_damping_n_s_m);
-  copy(s.normal_stretch_m, normal_stretch_m);
-  copy(s.shear_stretch_m, shear_stretch_m);
-  copy(s.damping_force_n, damping_force_n);
-  copy(s.slip_m, slip_m);
-  copy(s.incident_local, incident_local);
-  copy(s.flags, flags);
+void SubContacts::copy_range(const SubContacts& src, std::size_t from, std::size_t count, std::size_t to) {
+#define ISHIBASHI_COPY_FIELD(type, name, comment) std::copy_n(src.name.begin() + from, count, name.begin() + to);
+  ISHIBASHI_SUB_CONTACT_FIELDS(ISHIBASHI_COPY_FIELD)
+#undef ISHIBASHI_COPY_FIELD
 }
 
 bool is_fallen(const Model& m, const State& s, int b) {

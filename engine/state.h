@@ -24,36 +24,62 @@ enum SubContactFlag : std::uint8_t {
   original = 32, // part of a joint in contact at the start (may carry a bond)
 };
 
+// Every array of SubContacts, listed once: X(type, name, comment). The struct's members,
+// resize, copy_range, the checkpoint and the field-by-field tests are all made from this
+// list, so a new field cannot be left out of any of them (a field left out of a regroup
+// or a checkpoint would lose contact history silently).
+#define ISHIBASHI_SUB_CONTACT_FIELDS(X)                                                                   \
+  X(int, block_a, "the pair's blocks; the normal points from a to b")                                   \
+  X(int, block_b, "")                                                                                   \
+  X(std::uint64_t, key, "stable feature key within the pair")                                          \
+  X(Vec3, point, "m, world, on the common plane")                                                        \
+  X(Vec3, normal, "unit, a -> b")                                                                        \
+  X(double, gap_m, "signed normal gap, > 0 open, < 0 overlap")                                           \
+  X(double, gap_change_m, "gap_m minus last step's gap of the same sub-contact")                         \
+  X(double, area_m2, "share S_i of the contact area")                                                    \
+  /* Spring and dashpot constants (spring_constants() of the area and of the centroids'              */ \
+  /* distances to the contact plane when the sub-contact was built; they hold while it is carried    */ \
+  /* over, as its area does).                                                                          */ \
+  X(double, normal_stiffness_n_m, "K_n")                                                                 \
+  X(double, shear_stiffness_n_m, "K_s")                                                                  \
+  X(double, normal_damping_n_s_m, "C_n")                                                                 \
+  X(double, shear_damping_n_s_m, "C_s")                                                                  \
+  /* Spring stretches: normal spring force e_n = K_n u_n (tension positive), shear spring force on b  */ \
+  /* e_s = K_s u_s (in the contact plane).                                                             */ \
+  X(double, normal_stretch_m, "u_n")                                                                     \
+  X(Vec3, shear_stretch_m, "u_s")                                                                        \
+  X(Vec3, damping_force_n, "dashpot part of the force on b (for the energy balance)")                    \
+  X(double, slip_m, "accumulated sliding (plastic shear displacement)")                                  \
+  X(Vec3, incident_local, "face contacts: the point on the incident face, in the incident block's frame") \
+  X(std::uint8_t, flags, "SubContactFlag bits")
+
 // Sub-contacts, grouped by pair in pair order (Pair::sub_begin, sub_count). The normal
 // points from block_a to block_b and the force is the one that block_a exerts on block_b
-// (block_b exerts -force on block_a).
+// (block_b exerts -force on block_a). Structure of arrays, one per field of the list above.
 struct SubContacts {
-  std::vector<int> block_a, block_b;
-  std::vector<std::uint64_t> key;        // stable feature key within the pair
-  std::vector<Vec3> point;               // m, world, on the common plane
-  std::vector<Vec3> normal;              // unit, a -> b
-  std::vector<double> gap_m;             // signed normal gap, > 0 open, < 0 overlap
-  std::vector<double> gap_change_m;      // gap_m minus last step's gap of the same sub-contact
-  std::vector<double> area_m2;           // share S_i of the contact area
-  // Spring and dashpot constants (spring_constants() of the area and of the centroids'
-  // distances to the contact plane when the sub-contact was built; they hold while it is
-  // carried over, as its area does).
-  std::vector<double> normal_stiffness_n_m, shear_stiffness_n_m;      // K_n, K_s
-  std::vector<double> normal_damping_n_s_m, shear_damping_n_s_m;      // C_n, C_s
-  // Spring stretches: normal spring force e_n = K_n u_n (tension positive), shear spring
-  // force on b e_s = K_s u_s (in the contact plane).
-  std::vector<double> normal_stretch_m;  // u_n
-  std::vector<Vec3> shear_stretch_m;     // u_s
-  std::vector<Vec3> damping_force_n;     // dashpot part of the force on b (for the energy balance)
-  std::vector<double> slip_m;            // accumulated sliding (plastic shear displacement)
-  std::vector<Vec3> incident_local;      // face contacts: the point on the incident face, in
-                                         // the incident block's principal frame (for reuse)
-  std::vector<std::uint8_t> flags;       // SubContactFlag bits
+#define ISHIBASHI_DECLARE_FIELD(type, name, comment) std::vector<type> name;
+  ISHIBASHI_SUB_CONTACT_FIELDS(ISHIBASHI_DECLARE_FIELD)
+#undef ISHIBASHI_DECLARE_FIELD
+
+  // Calls fn(array) for every array, in the list's order (fn(name, array) with names).
+  template <class Fn>
+  void for_each_array(Fn&& fn) {
+#define ISHIBASHI_VISIT_FIELD(type, name, comment) fn(name);
+    ISHIBASHI_SUB_CONTACT_FIELDS(ISHIBASHI_VISIT_FIELD)
+#undef ISHIBASHI_VISIT_FIELD
+  }
+  template <class Fn>
+  void for_each_array(Fn&& fn) const {
+    const_cast<SubContacts&>(*this).for_each_array([&](const auto& array) { fn(array); });
+  }
+  template <class Fn>
+  void for_each_named_array(Fn&& fn) const {
+#define ISHIBASHI_VISIT_NAMED_FIELD(type, name, comment) fn(#name, name);
+    ISHIBASHI_SUB_CONTACT_FIELDS(ISHIBASHI_VISIT_NAMED_FIELD)
+#undef ISHIBASHI_VISIT_NAMED_FIELD
+  }
 
   std::size_t size() const { return key.size(); }
-  // Total force on b (springs + dashpots) of the last contact law, N: derived, not
-  // stored, as only diagnostics need it.
-  Vec3 force(std::size_t i) const { return shear_spring(i) - normal_spring(i) * normal[i] + damping_force_n[i]; }
   double normal_spring(std::size_t i) const { return normal_stiffness_n_m[i] * normal_stretch_m[i]; }  // e_n, N
   Vec3 shear_spring(std::size_t i) const { return shear_stiffness_n_m[i] * shear_stretch_m[i]; }      // e_s, N
   // Energy stored in the sub-contact's springs, J.
@@ -63,8 +89,10 @@ struct SubContacts {
   SpringConstants constants(std::size_t i) const {
     return {normal_stiffness_n_m[i], shear_stiffness_n_m[i], normal_damping_n_s_m[i], shear_damping_n_s_m[i]};
   }
-  void clear();
-  void resize(std::size_t n);
+  void clear() { resize(0); }
+  void resize(std::size_t n) {
+    for_each_array([n](auto& array) { array.resize(n); });
+  }
   // Copies `count` sub-contacts of `src` from index `from` to this at index `to` (this
   // must be large enough).
   void copy_range(const SubContacts& src, std::size_t from, std::size_t count, std::size_t to);

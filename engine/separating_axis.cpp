@@ -1,0 +1,141 @@
+// Narrowphase, stage 1: the separating-axis test of a candidate pair (faces of a, faces
+// of b, edge-edge directions), with hysteresis so that a resting joint keeps its axis and
+// its keys, and a cheap test that skips the search for pairs that barely moved.
+#include <algorithm>
+#include <cmath>
+
+#include "engine/narrowphase.h"
+
+namespace ishibashi {
+namespace {
+
+// Largest signed distance of block `other`'s vertices from the plane of face f, negated:
+// the separation along the face's normal (> 0: separated).
+double face_separation(const Model& m, const State& s, const PairWorld& w, int f, int other) {
+  const Vec3& n = s.face_normal_world[f];
+  double lowest = 1e300;
+  for (int v = m.vertex_begin[other]; v < m.vertex_begin[other + 1]; ++v)
+    lowest = std::min(lowest, n.dot(w.vertex(v)));
+  return lowest - s.face_offset_world[f];
+}
+
+Axis best_face_axis(const Model& m, const State& s, const PairWorld& w, int owner, int other, int kind) {
+  Axis best;
+  for (int f = m.face_begin[owner]; f < m.face_begin[owner + 1]; ++f) {
+    const double sep = face_separation(m, s, w, f, other);
+    if (sep > best.separation_m) best = Axis{sep, kind, f, s.face_normal_world[f]};
+  }
+  if (kind == 1) best.normal = -best.normal;
+  return best;
+}
+
+void support_range(const Model& m, const PairWorld& w, int b, const Vec3& axis, double& lo, double& hi) {
+  lo = 1e300;
+  hi = -1e300;
+  for (int v = m.vertex_begin[b]; v < m.vertex_begin[b + 1]; ++v) {
+    const double d = axis.dot(w.vertex(v));
+    lo = std::min(lo, d);
+    hi = std::max(hi, d);
+  }
+}
+
+Axis best_edge_axis(const Model& m, const PairWorld& w, int a, int b) {
+  Axis best;
+  for (int da = m.direction_begin[a]; da < m.direction_begin[a + 1]; ++da)
+    for (int db = m.direction_begin[b]; db < m.direction_begin[b + 1]; ++db) {
+      Vec3 axis = w.direction(da).cross(w.direction(db));
+      const double len = axis.norm();
+      if (len < 1e-6) continue;  // parallel edges: their axis is a face axis or none
+      axis /= len;
+      double alo, ahi, blo, bhi;
+      support_range(m, w, a, axis, alo, ahi);
+      support_range(m, w, b, axis, blo, bhi);
+      const double forward = blo - ahi, backward = alo - bhi;
+      const double sep = std::max(forward, backward);
+      if (sep > best.separation_m)
+        best = Axis{sep, 2, (da - m.direction_begin[a]) * 65536 + (db - m.direction_begin[b]),
+                    forward >= backward ? axis : Vec3(-axis)};
+    }
+  return best;
+}
+
+// Whether any point of block b can have moved relative to block a by `limit_m` or more
+// since the pair's last axis search. b's centroid moved by |offset - offset_at_search|
+// in a's frame, and a turn by angle t moves a point at distance r by the chord
+// 2 sin(t/2) r. Also returns the current relative pose, to be stored when the search is
+// redone. Most pairs are decided without a square root (u + v <= sqrt(2 (u^2 + v^2))).
+bool moved_at_least(const Model& m, const State& s, const Pair& pair, double limit_m, Vec3& offset, Quat& relative) {
+  offset = s.rotation[pair.a].transpose() * (s.position[pair.b] - s.position[pair.a]);
+  relative = s.orientation[pair.a].conjugate() * s.orientation[pair.b];
+  if (limit_m <= 0) return true;
+  const double shift2 = (offset - pair.offset_at_search).squaredNorm();
+  // sin^2(t/2) = 1 - c^2, c the scalar part of the turn q0* q, i.e. the 4-d dot q0 . q.
+  const double cos_half_turn = pair.relative_at_search.coeffs().dot(relative.coeffs());
+  const double sin2_half_turn = std::max(0.0, 1.0 - cos_half_turn * cos_half_turn);
+  const double chord2 = 4.0 * sin2_half_turn * m.radius_m[pair.b] * m.radius_m[pair.b];
+  if (2.0 * (shift2 + chord2) < limit_m * limit_m) return false;
+  return std::sqrt(shift2) + std::sqrt(chord2) >= limit_m;
+}
+
+}  // namespace
+
+bool pair_manifold(const Model& m, const State& s, Pair& pair, PairWorld& w, Manifold& out) {
+  out.clear();
+  const int a = pair.a, b = pair.b;
+  const double tol = m.contact_tolerance_m(a, b);
+  Vec3 offset;
+  Quat relative;
+  const bool face_axis = pair.axis_kind == 0 || pair.axis_kind == 1;
+  // Still apart: b cannot have closed the gap (separation beyond the tolerance).
+  // Barely moved: within a twentieth of the tolerance the clipped features cannot change.
+  const double limit = pair.axis_kind == -1 ? pair.separation_m - tol : face_axis ? 0.05 * tol : 0.0;
+  const bool moved = moved_at_least(m, s, pair, limit, offset, relative);
+  if (pair.axis_kind == -1 && !moved) return false;
+  if (face_axis && !moved) {
+    // The last face axis still holds (a resting joint is decided once).
+    if (pair.sub_count > 0) return false;
+    const int f = pair.axis_feature;
+    const Axis cached{0.0, pair.axis_kind, f, face_axis_normal(s, pair.axis_kind, f)};
+    w.set(m, s, a, b);
+    face_manifold(m, s, w, a, b, cached, out);
+    return true;
+  }
+  pair.offset_at_search = offset;
+  pair.relative_at_search = relative;
+  auto apart = [&](double separation) {
+    pair.axis_kind = -1;
+    pair.separation_m = separation;
+  };
+
+  const double centre_gap = (s.position[a] - s.position[b]).norm() - m.radius_m[a] - m.radius_m[b];
+  if (centre_gap > tol) return apart(centre_gap), true;
+  w.set(m, s, a, b);
+  const Axis face_a = best_face_axis(m, s, w, a, b, 0);
+  if (face_a.separation_m > tol) return apart(face_a.separation_m), true;
+  const Axis face_b = best_face_axis(m, s, w, b, a, 1);
+  if (face_b.separation_m > tol) return apart(face_b.separation_m), true;
+  const Axis edge = best_edge_axis(m, w, a, b);
+  if (edge.separation_m > tol) return apart(edge.separation_m), true;
+
+  // Prefer a face of a over one of b, and last step's face over both, unless clearly
+  // worse: exactly touching faces tie, and a flip would change every key.
+  const double bias = 0.1 * tol;
+  Axis face = face_a.separation_m >= face_b.separation_m - 1e-3 * tol ? face_a : face_b;
+  if (pair.axis_kind == 0 || pair.axis_kind == 1) {
+    const int f = pair.axis_feature;
+    const double sep = face_separation(m, s, w, f, pair.axis_kind == 0 ? b : a);
+    if (sep >= face.separation_m - bias)
+      face = Axis{sep, pair.axis_kind, f, face_axis_normal(s, pair.axis_kind, f)};
+  }
+  const Axis& chosen = edge.separation_m > face.separation_m + bias ? edge : face;
+  pair.axis_kind = chosen.kind;
+  pair.axis_feature = chosen.feature;
+  if (chosen.kind == 2)
+    edge_manifold(m, s, w, a, b, chosen, out);
+  else
+    face_manifold(m, s, w, a, b, chosen, out);
+  return true;
+}
+
+
+}  // namespace ishibashi
