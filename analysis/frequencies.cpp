@@ -3,7 +3,7 @@
 #include <sstream>
 #include <string>
 
-#include "engine/impulse.h"
+#include "analysis/impulse.h"
 #include "engine/world.h"
 #include "geometry/bridge.h"
 #include "io/atomic_file.h"
@@ -18,7 +18,8 @@ int axis_index(const std::string& letter) {
   return letter == "x" ? 0 : letter == "y" ? 1 : letter == "z" ? 2 : -1;
 }
 
-FrequencyAnalysis analyse_frequencies(const Model& model, const FrequencyOptions& o, const std::filesystem::path& out) {
+FrequencyAnalysis analyse_frequencies(const LoadedModel& loaded, const FrequencyOptions& o, const std::filesystem::path& out) {
+  const Model model = loaded.build();
   const World world(model, 1e-9);  // finds the joints in contact at the start
   FrequencyAnalysis a;
   a.modal = modal_analysis(model, world.state(), o.modes);
@@ -41,7 +42,9 @@ FrequencyAnalysis analyse_frequencies(const Model& model, const FrequencyOptions
   std::vector<ImpulseSpec> specs = o.impulses;
   if (specs.empty())
     for (int axis = 0; axis < 3; ++axis) specs.push_back({axis, axis, -1});
-  const Model linear = linear_joint_model(model);
+  ModelOptions linear_options = loaded.options;
+  linear_options.linear_joints = true;
+  const Model linear = loaded.build(linear_options);
   std::ostringstream peaks;
   peaks << "excitation,response,block,peak,frequency_hz,relative_amplitude\n";
   for (ImpulseSpec spec : specs) {
@@ -51,7 +54,7 @@ FrequencyAnalysis analyse_frequencies(const Model& model, const FrequencyOptions
                        std::to_string(model.block_count));
     const ImpulseResponse response =
         impulse_response(linear, spec.excitation_axis, spec.response_axis, spec.monitor_block, o.impulse_s);
-    ImpulseResult result{spec, amplitude_spectrum(response.displacement_m, response.dt_s), {}};
+    ImpulseResult result{spec, model.block_label(spec.monitor_block), amplitude_spectrum(response.displacement_m, response.dt_s), {}};
     result.peaks = spectral_peaks(result.spectrum);
     const std::string tag = std::string(1, axis_letter(spec.excitation_axis)) + axis_letter(spec.response_axis);
     std::ostringstream spectrum;

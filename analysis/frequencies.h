@@ -7,8 +7,9 @@
 #include <filesystem>
 #include <vector>
 
-#include "engine/modal.h"
-#include "engine/spectrum.h"
+#include "analysis/load.h"
+#include "analysis/modal.h"
+#include "analysis/spectrum.h"
 
 namespace ishibashi {
 
@@ -20,6 +21,7 @@ struct ImpulseSpec {
 
 struct ImpulseResult {
   ImpulseSpec spec;  // with the monitored block resolved
+  std::string monitor_label;  // "block 12 'ring-3'"
   Spectrum spectrum;
   std::vector<SpectralPeak> peaks;  // every peak above 5 % of the largest, ascending
 };
@@ -41,7 +43,9 @@ struct FrequencyAnalysis {
 // Runs the analyses and writes to `out`: modes.csv (frequencies, effective masses),
 // modes.vtu (mode shapes for ParaView), and per impulse response
 // spectrum_<excitation><response>_block<N>.csv and a row of peaks.csv.
-FrequencyAnalysis analyse_frequencies(const Model& model, const FrequencyOptions& options, const std::filesystem::path& out);
+// The modal analysis studies the model built with the loaded options, the impulse
+// responses the same blocks with linear joints (ModelOptions::linear_joints).
+FrequencyAnalysis analyse_frequencies(const LoadedModel& loaded, const FrequencyOptions& options, const std::filesystem::path& out);
 
 char axis_letter(int axis);
 // "x", "y" or "z" as 0, 1, 2; -1 otherwise.

@@ -33,7 +33,7 @@ ValidationReport validate_model_blocks(const std::vector<BridgeBlock>& blocks) {
   return validate_blocks(shapes, names);
 }
 
-Model load_model(const ModelFile& file, const std::filesystem::path& path) {
+ModelBuilder load_model_builder(const ModelFile& file, const std::filesystem::path& path) {
   std::vector<BridgeBlock> blocks = model_blocks(file, path);
   const ValidationReport report = validate_model_blocks(blocks);
   if (!report.ok()) {
@@ -44,17 +44,27 @@ Model load_model(const ModelFile& file, const std::filesystem::path& path) {
   // face is a contact plane); only once validation has shown them convex.
   if (file.imported())
     for (BridgeBlock& b : blocks) b.shape = merged_faces(b.shape);
-  return compile_bridge(file.bridge, blocks);
+  return bridge_builder(file.bridge, blocks);
+}
+
+Model build_model(const ModelBuilder& builder, const ModelOptions& options, const std::filesystem::path& path) {
+  try {
+    return builder.build(options);
+  } catch (const ModelError& e) {
+    throw InputError(path.string() + ": " + e.what());
+  }
 }
 
 LoadedModel load_model_or_scenario(const std::filesystem::path& file) {
   if (!is_scenario_file(file)) {
     const ModelFile model = read_model_file(file);
-    return {model.name, load_model(model, file)};
+    return {model.name, file, load_model_builder(model, file), {}};
   }
   const Scenario sc = read_scenario(file);  // its model file, with the scenario's mortar
-  LoadedModel loaded{sc.model.name, load_model(sc.model, sc.model_file)};
-  loaded.model.contact.subdivision = sc.subdivision;
+  ModelOptions options;
+  options.subdivision = sc.subdivision;
+  LoadedModel loaded{sc.model.name, file, load_model_builder(sc.model, sc.model_file), options};
+  loaded.build();  // options checked now, with the scenario named
   return loaded;
 }
 

@@ -18,15 +18,26 @@ std::vector<BridgeBlock> model_blocks(const ModelFile& file, const std::filesyst
 // CGAL validation of the blocks: each sound and convex, no overlaps, joints on shared faces.
 ValidationReport validate_model_blocks(const std::vector<BridgeBlock>& blocks);
 
-// The blocks of a model file, validated and ready for the engine; prints the validation
-// errors and throws InputError when there are any.
-Model load_model(const ModelFile& file, const std::filesystem::path& path);
+// The blocks of a model file, validated and ready to build with an analysis's options;
+// prints the validation errors and throws InputError when there are any.
+ModelBuilder load_model_builder(const ModelFile& file, const std::filesystem::path& path);
 
-// A model file, or a scenario file's model with the scenario's contact subdivision and
-// mortar: what the modal and impulse analyses of that file study.
+// The Model of a model file with `options`; throws InputError naming the file when an
+// option is out of range.
+Model build_model(const ModelBuilder& builder, const ModelOptions& options, const std::filesystem::path& path);
+inline Model load_model(const ModelFile& file, const std::filesystem::path& path, const ModelOptions& options = {}) {
+  return build_model(load_model_builder(file, path), options, path);
+}
+
+// A model file, or a scenario file's model with the scenario's mortar and contact
+// subdivision (in `options`): what the modal and impulse analyses of that file study.
 struct LoadedModel {
   std::string name;
-  Model model;
+  std::filesystem::path file;
+  ModelBuilder builder;
+  ModelOptions options;
+  Model build(const ModelOptions& with) const { return build_model(builder, with, file); }
+  Model build() const { return build(options); }
 };
 LoadedModel load_model_or_scenario(const std::filesystem::path& file);
 

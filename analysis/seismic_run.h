@@ -7,6 +7,7 @@
 #include <memory>
 #include <string>
 
+#include "analysis/run_result.h"
 #include "engine/joints.h"
 #include "engine/world.h"
 #include "io/ground_motion.h"
@@ -38,26 +39,6 @@ struct SeismicRunOptions {
   std::function<void(const std::string&)> on_warning;
 };
 
-// What a run found; also written to summary.json. (A new field also goes into
-// for_each_field in seismic_run.cpp, which writes it to the checkpoint.)
-struct SeismicRunResult {
-  bool settled = false;           // the kinetic energy fell below the scenario's threshold
-  bool interrupted = false;       // stopped by SIGINT/SIGTERM (outputs valid up to then)
-  double settle_time_s = 0;
-  double shaking_time_s = 0;      // simulated after settling
-  double first_opening_s = -1;    // seconds of shaking until the first crack; -1: none
-  double largest_crown_drop_m = 0;  // of the monitored block, relative to the ground
-  int fallen_stones = 0, fallen_ring_stones = 0, blocks_left_model = 0;
-  bool collapse = false;          // a ring stone fell, or more than 5 % of the blocks
-  int joints = 0, bonds_broken_settling = 0;
-  JointCounts joint_counts;       // at the end
-  double balance_error_j = 0;
-  double balance_error_relative = 0;  // of the energy exchanged
-  long steps = 0;
-  std::uint64_t state_hash = 0;
-  double wall_s = 0;
-};
-
 // Stops every run in this process at its next step (from a signal handler too).
 void request_stop();
 bool stop_requested();
@@ -75,7 +56,8 @@ class SeismicRun {
   // it was written: run() then appends to its series and history and ends bit-identical
   // to a run never stopped. Throws InputError when there is no checkpoint, or when it was
   // written by another build of the program or for other input files.
-  static std::unique_ptr<SeismicRun> resume(SeismicRunOptions options);
+  // threads >= 0 replaces the scenario's [run] threads.
+  static std::unique_ptr<SeismicRun> resume(SeismicRunOptions options, int threads = -1);
 
   const Scenario& scenario() const { return scenario_; }
   const World& world() const { return *world_; }
@@ -89,6 +71,14 @@ class SeismicRun {
   SeismicRunResult run();
 
  private:
+  struct Progress;  // what run() carries from step to step beside the World (seismic_run.cpp)
+  void settle(Progress& p);
+  void shake(Progress& p);
+  void maybe_checkpoint(Progress& p);  // when the options' interval has passed
+  void write_checkpoint(Progress& p);
+  void restore_checkpoint(Progress& p);
+  void write_summary(Progress& p, bool finished);
+
   Scenario scenario_;
   SeismicRunOptions options_;
   double limit_s_ = 0, dt_ = 0;

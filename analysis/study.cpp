@@ -1,6 +1,5 @@
 #include "analysis/study.h"
 
-#include <omp.h>
 
 #include <atomic>
 #include <chrono>
@@ -55,14 +54,13 @@ bool is_current(const Job& job) {
          file_bytes(job.folder / "inputs.key") == job.key + "\n";
 }
 
-constexpr const char* kRunHeader =
-    "scenario,model,mortar_pa,settled,settle_time_s,shaking_s,first_opening_s,largest_crown_drop_m,fallen_stones,collapse,"
-    "joints,joints_cracked,energy_balance_pct,dt_s,steps,threads,wall_s,monitored_block\n";
+// Which run, its result (run_result.h) and how it ran.
+const std::string kRunHeader = "scenario,model,mortar_pa," + result_csv_header() + ",dt_s,threads,monitored_block\n";
 constexpr const char* kFrequencyHeader =
     "model,file,subdivision,sub_contacts,mode_x_hz,mode_y_hz,mode_z_hz,impulse_x_hz,impulse_y_hz,impulse_z_hz\n";
 
 void run_job(const Job& job, const StudyFile& study, int threads) {
-  omp_set_num_threads(threads);
+  use_threads(threads);
   fs::remove_all(job.folder);  // no frames of an older, longer run left behind
   fs::create_directories(job.folder);
   std::ostringstream row;
@@ -84,19 +82,15 @@ void run_job(const Job& job, const StudyFile& study, int threads) {
       csv << k * g.dt_s << "," << g.accel_m_s2[k].x() << "," << g.accel_m_s2[k].y() << "," << g.accel_m_s2[k].z() << "\n";
     write_text_atomically(job.folder / "ground_motion.csv", csv.str());
     row << kRunHeader << job.input.stem().string() << ",\"" << sc.model.name << "\"," << sc.model.bridge.mortar_pa << ","
-        << (r.settled ? "yes" : "no") << "," << r.settle_time_s << "," << r.shaking_time_s << ",";
-    if (r.first_opening_s >= 0) row << r.first_opening_s;
-    row << "," << r.largest_crown_drop_m << "," << r.fallen_stones << "," << (r.collapse ? "yes" : "no") << "," << r.joints
-        << "," << r.joint_counts.cracked << "," << 100 * r.balance_error_relative << "," << run.dt_s() << "," << r.steps
-        << "," << threads << "," << r.wall_s << "," << run.monitored_block() << "\n";
+        << result_csv_values(r) << "," << run.dt_s() << "," << threads << "," << run.monitored_block() << "\n";
   } else {
     const LoadedModel loaded = load_model_or_scenario(job.input);
     FrequencyOptions options;
     options.modes = study.modes;
     options.impulse_s = study.impulse_s;
-    const FrequencyAnalysis a = analyse_frequencies(loaded.model, options, job.folder);
+    const FrequencyAnalysis a = analyse_frequencies(loaded, options, job.folder);
     row << kFrequencyHeader << "\"" << loaded.name << "\"," << job.input.stem().string() << ","
-        << loaded.model.contact.subdivision << "," << a.sub_contacts;
+        << loaded.options.subdivision << "," << a.sub_contacts;
     for (double f : a.first_mode_hz) row << "," << f;
     for (int axis = 0; axis < 3; ++axis) {
       row << ",";
@@ -110,7 +104,7 @@ void run_job(const Job& job, const StudyFile& study, int threads) {
 }
 
 // One table of every job's row (their header once).
-void gather_rows(const std::vector<Job>& jobs, JobKind kind, const char* header, const fs::path& file) {
+void gather_rows(const std::vector<Job>& jobs, JobKind kind, const std::string& header, const fs::path& file) {
   std::string table = header;
   for (const Job& job : jobs) {
     if (job.kind != kind || !fs::exists(job.folder / "row.csv") || job.status == "failed") continue;
@@ -132,7 +126,7 @@ StudyOutcome run_study(const StudyFile& study, const StudyOptions& o) {
   for (Job& job : jobs) job.key = job_key(job, study);
 
   const int workers = std::max(1, std::min<int>(o.jobs, static_cast<int>(jobs.size())));
-  const int threads = o.threads_per_job > 0 ? o.threads_per_job : std::max(1, usable_cores() / workers);
+  const int threads = decide_thread_count(o.threads_per_job, workers);
   std::mutex report_lock;  // serialises on_event; outside any time step
   auto event = [&](const std::string& text) {
     const std::lock_guard<std::mutex> lock(report_lock);

@@ -26,9 +26,18 @@ namespace {
 
 namespace fs = std::filesystem;
 constexpr double kG = 9.80665;
-constexpr const char* kHeader =
-    "record,level,scale_factor,pga_g,first_opening_s,crown_drop_m,fallen_stones,collapse,failed,energy_balance_pct,wall_s,"
-    "host\n";
+// Which run, whether it failed, the run's result (run_result.h) and where it ran: wall_s and
+// host, which differ from machine to machine, last.
+const std::string kHeader = "record,level,scale_factor,pga_g,failed," + result_csv_header() + ",host\n";
+
+// Index of a column of kHeader.
+std::size_t column(const std::string& name) {
+  std::stringstream header(kHeader.substr(0, kHeader.size() - 1));
+  std::size_t index = 0;
+  for (std::string f; std::getline(header, f, ','); ++index)
+    if (f == name) return index;
+  throw std::logic_error("sweep.csv has no column " + name);
+}
 constexpr int kRowTag = 1, kCaseTag = 2;  // worker -> rank 0: a finished row; rank 0 -> worker: the next case
 
 struct Case {
@@ -77,10 +86,8 @@ std::string run_case(const SweepFile& sweep, const Case& c, int threads, const f
                       (f.fallen_stones >= 0 && r.fallen_stones >= f.fallen_stones);
   std::ostringstream row;
   row.precision(9);
-  row << c.key << "," << factor << "," << record_pga_g * factor << ",";
-  if (r.first_opening_s >= 0) row << r.first_opening_s;
-  row << "," << r.largest_crown_drop_m << "," << r.fallen_stones << "," << (r.collapse ? 1 : 0) << "," << (failed ? 1 : 0)
-      << "," << 100 * r.balance_error_relative << "," << r.wall_s << "," << host_name() << "\n";
+  row << c.key << "," << factor << "," << record_pga_g * factor << "," << (failed ? 1 : 0) << "," << result_csv_values(r) << ","
+      << host_name() << "\n";
   return row.str();
 }
 
@@ -113,10 +120,11 @@ FragilityFit write_curves(const fs::path& out, const std::vector<std::string>& r
   std::vector<int> failed;
   for (const std::string& row : rows) {
     const std::vector<std::string> f = fields(row);
-    if (f.size() < 12) continue;
-    ida[f[0]].push_back({std::stod(f[3]), std::stod(f[5])});
-    pga.push_back(std::stod(f[3]));
-    failed.push_back(std::stoi(f[8]));
+    if (f.size() <= column("host")) continue;
+    const double pga_g = std::stod(f[column("pga_g")]);
+    ida[f[column("record")]].push_back({pga_g, std::stod(f[column("largest_crown_drop_m")])});
+    pga.push_back(pga_g);
+    failed.push_back(std::stoi(f[column("failed")]));
   }
   std::ostringstream curves;
   curves.precision(9);
@@ -160,6 +168,50 @@ MpiSession::~MpiSession() {
   if (active_) MPI_Finalize();
 }
 
+namespace {
+
+// A worker rank: asks rank 0 for a case, runs it, sends its row with the next request.
+SweepOutcome serve_rank_zero(const SweepFile& sweep, const std::vector<Case>& cases, int threads, const fs::path& out) {
+  SweepOutcome outcome;
+  std::string message;
+  for (;;) {
+    MPI_Send(message.data(), static_cast<int>(message.size()), MPI_CHAR, 0, kRowTag, MPI_COMM_WORLD);
+    int next = -1;
+    MPI_Recv(&next, 1, MPI_INT, 0, kCaseTag, MPI_COMM_WORLD, MPI_STATUS_IGNORE);
+    if (next < 0) break;
+    try {
+      message = run_case(sweep, cases[next], threads, out);
+      ++outcome.ran;
+    } catch (const std::exception& e) {
+      message = "!" + cases[next].key + ": " + e.what();
+      ++outcome.failed;
+    }
+  }
+  return outcome;
+}
+
+// The cases not yet in sweep.csv (a sweep resumes where it stopped); rewrites the table
+// without a row a crash cut short.
+std::vector<int> cases_to_run(const fs::path& table, const std::vector<Case>& cases) {
+  std::vector<std::string> rows = finished_rows(table);
+  std::set<std::string> done;
+  for (const std::string& row : rows) {
+    const std::vector<std::string> f = fields(row);
+    if (f.size() >= 2) done.insert(f[0] + "," + f[1]);
+  }
+  std::string kept = kHeader;
+  for (const std::string& row : rows) kept += row;
+  write_text_atomically(table, kept);
+  std::vector<int> pending;
+  for (int i = 0; i < static_cast<int>(cases.size()); ++i)
+    if (!done.count(cases[i].key)) pending.push_back(i);
+  return pending;
+}
+
+}  // namespace
+
+// Rank 0's queue serves its own worker threads and the other ranks' requests in one
+// function: both share the lock, the open table and the counts.
 SweepOutcome run_sweep(const SweepFile& sweep, const SweepOptions& o, const MpiSession& mpi) {
   const bool root = mpi.rank() == 0;
   auto event = [&](const std::string& text) {
@@ -171,42 +223,15 @@ SweepOutcome run_sweep(const SweepFile& sweep, const SweepOptions& o, const MpiS
       cases.push_back({r, l, sweep.records[r].name + "," + level_label(sweep.levels[l])});
   const int runs_here = mpi.size() > 1 ? 1 : std::max(1, o.jobs);
   const int node_share = mpi.size() > 1 ? mpi.ranks_on_this_node() : runs_here;
-  const int threads = o.threads_per_job > 0 ? o.threads_per_job : std::max(1, usable_cores() / node_share);
+  const int threads = decide_thread_count(o.threads_per_job, node_share);
   SweepOutcome outcome;
 
-  if (!root) {  // a worker rank: ask for a case, run it, send its row with the next request
-    std::string message;
-    for (;;) {
-      MPI_Send(message.data(), static_cast<int>(message.size()), MPI_CHAR, 0, kRowTag, MPI_COMM_WORLD);
-      int next = -1;
-      MPI_Recv(&next, 1, MPI_INT, 0, kCaseTag, MPI_COMM_WORLD, MPI_STATUS_IGNORE);
-      if (next < 0) break;
-      try {
-        message = run_case(sweep, cases[next], threads, o.out);
-        ++outcome.ran;
-      } catch (const std::exception& e) {
-        message = "!" + cases[next].key + ": " + e.what();
-        ++outcome.failed;
-      }
-    }
-    return outcome;
-  }
+  if (!root) return serve_rank_zero(sweep, cases, threads, o.out);
 
   // ---- rank 0 (or the only process): the queue, sweep.csv and the curves ----
   fs::create_directories(o.out);
   const fs::path table = o.out / "sweep.csv";
-  std::vector<std::string> rows = finished_rows(table);
-  std::set<std::string> done;
-  for (const std::string& row : rows) {
-    const std::vector<std::string> f = fields(row);
-    if (f.size() >= 2) done.insert(f[0] + "," + f[1]);
-  }
-  std::string kept = kHeader;
-  for (const std::string& row : rows) kept += row;
-  write_text_atomically(table, kept);  // drops a row a crash cut short
-  std::vector<int> pending;
-  for (int i = 0; i < static_cast<int>(cases.size()); ++i)
-    if (!done.count(cases[i].key)) pending.push_back(i);
+  const std::vector<int> pending = cases_to_run(table, cases);
   outcome.kept = static_cast<int>(cases.size() - pending.size());
   event("sweep: " + std::to_string(cases.size()) + " runs (" + std::to_string(sweep.records.size()) + " records x " +
         std::to_string(sweep.levels.size()) + " levels), " + std::to_string(outcome.kept) + " done before; " +

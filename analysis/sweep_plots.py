@@ -30,7 +30,7 @@ def main():
 
     fig, ax = plt.subplots(figsize=(7, 4.5))
     for record in sorted({r["record"] for r in runs}):
-        points = sorted((float(r["pga_g"]), 1000 * float(r["crown_drop_m"]), r["failed"] == "1")
+        points = sorted((float(r["pga_g"]), 1000 * float(r["largest_crown_drop_m"]), r["failed"] == "1")
                         for r in runs if r["record"] == record)
         line, = ax.plot([p[0] for p in points], [p[1] for p in points], marker="o", label=record)
         failed = [p for p in points if p[2]]

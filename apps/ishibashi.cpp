@@ -112,7 +112,10 @@ int main(int argc, char** argv) {
       ->check(CLI::Range(0, 1024));
 
   CLI11_PARSE(app, argc, argv);
-  if (threads > 0 || std::getenv("OMP_NUM_THREADS") == nullptr) ishibashi::set_thread_count(threads);
+  ishibashi::use_threads(threads);  // demo, build, modal; a run, study or sweep decides its own from it
+  if (threads > 0 && run.threads < 0) run.threads = threads;
+  if (threads > 0 && study.threads_per_job == 0) study.threads_per_job = threads;
+  if (threads > 0 && sweep.threads_per_job == 0) sweep.threads_per_job = threads;
   try {
     if (*demo_cmd) return ishibashi::run_demo(demo);
     if (*build_cmd) return ishibashi::run_build(build);

@@ -22,12 +22,12 @@ int run_modal(const ModalOptions& o) {
       options.impulses.push_back({axis, o.read.empty() ? axis : axis_index(o.read), o.block});
   }
   const std::filesystem::path out = o.out.empty() ? std::filesystem::path("out") / (o.file.stem().string() + "_modal") : o.out;
-  const FrequencyAnalysis a = analyse_frequencies(loaded.model, options, out);
+  const FrequencyAnalysis a = analyse_frequencies(loaded, options, out);
   const ModalResult& r = a.modal;
   const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 
   std::printf("%s: %zu free blocks, %zu sub-contacts (subdivision %d), joints held linear\n", loaded.name.c_str(),
-              r.free_blocks.size(), a.sub_contacts, loaded.model.contact.subdivision);
+              r.free_blocks.size(), a.sub_contacts, loaded.options.subdivision);
   std::printf("mode  frequency (Hz)  effective mass x / y / z (of %.1f t)  dominant\n", r.total_mass_kg / 1000);
   for (std::size_t k = 0; k < r.frequency_hz.size(); ++k) {
     const Vec3& e = r.effective_mass_ratio[k];
@@ -41,7 +41,7 @@ int run_modal(const ModalOptions& o) {
                 o.impulse_s);
   for (const ImpulseResult& i : a.impulses) {
     const int e = i.spec.excitation_axis, c = i.spec.response_axis;
-    std::printf("  %c step, %s read in %c:", axis_letter(e), loaded.model.block_label(i.spec.monitor_block).c_str(),
+    std::printf("  %c step, %s read in %c:", axis_letter(e), i.monitor_label.c_str(),
                 axis_letter(c));
     for (const SpectralPeak& p : i.peaks) std::printf(" %.3f Hz (%.2f)", p.frequency_hz, p.relative_amplitude);
     const double first_clear_peak = first_peak_hz(i.spectrum);  // above 30 % of the largest

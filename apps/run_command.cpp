@@ -27,8 +27,7 @@ int run_scenario(const RunOptions& o) {
     };
   std::unique_ptr<SeismicRun> resumed;
   if (!o.resume.empty()) {
-    if (o.threads >= 0) set_thread_count(o.threads);  // the only setting a resume may change
-    resumed = SeismicRun::resume(options);
+    resumed = SeismicRun::resume(options, o.threads);  // the only setting a resume may change
   } else {
     Scenario sc = read_scenario(o.scenario);
     if (o.duration_s >= 0) sc.duration_s = sc.ground_motion.duration_s = o.duration_s;

@@ -36,6 +36,8 @@ std::vector<Pair> brute_force_pairs(const Model& m, const State& s) {
   return out;
 }
 
+// One function for the rebuild's three passes (grid, candidates per chunk, merge with the
+// old list): they share the cell arrays and the chunking, and read in order.
 bool update_pairs(const Model& m, State& s) {
   const int nb = m.block_count;
   if (s.pairs_valid) {

@@ -32,6 +32,8 @@ struct EnergyParts {
 
 }  // namespace
 
+// The hot loop of the step (about half its time): one pass over the sub-contacts, pair by
+// pair, with each sub-contact's whole law inline so that its fields are read once.
 double apply_contact_law(const Model& m, State& s, double dt) {
   SubContacts& c = s.contacts;
   const std::ptrdiff_t np = static_cast<std::ptrdiff_t>(s.pairs.size());

@@ -64,6 +64,17 @@ int usable_cores(const std::filesystem::path& root) {
   return cores;
 }
 
-void set_thread_count(int threads) { omp_set_num_threads(threads > 0 ? threads : usable_cores()); }
+int decide_thread_count(int requested, int jobs) {
+  if (requested > 0) return requested;
+  int available = usable_cores();
+  if (const char* env = std::getenv("OMP_NUM_THREADS"); env != nullptr && std::atoi(env) > 0) available = std::atoi(env);
+  return std::max(1, available / std::max(1, jobs));
+}
+
+int use_threads(int requested, int jobs) {
+  const int threads = decide_thread_count(requested, jobs);
+  omp_set_num_threads(threads);
+  return threads;
+}
 
 }  // namespace ishibashi

@@ -16,8 +16,14 @@ int cores_in_quota(long long quota_us, long long period_us);
 // the file-system root holding proc/ and sys/ (a fake tree in the tests).
 int usable_cores(const std::filesystem::path& root = "/");
 
-// Sets the threads of the parallel loops that follow: threads > 0 as given, 0 all usable
-// cores.
-void set_thread_count(int threads);
+// The one decision of how many threads an analysis runs on. `requested` > 0 (a --threads
+// option, a scenario's [run] threads, a study's threads per job) is taken as given;
+// otherwise OMP_NUM_THREADS when it is set, else every usable core, shared among `jobs`
+// analyses running at once; at least 1.
+int decide_thread_count(int requested, int jobs = 1);
+
+// Sets the threads of the parallel loops the calling thread starts (a World takes them
+// when it is built) to decide_thread_count(requested, jobs); returns that count.
+int use_threads(int requested, int jobs = 1);
 
 }  // namespace ishibashi

@@ -107,19 +107,10 @@ std::uint64_t make_key(int kind, int ref_face_local, int inc_face_local, std::ui
          (static_cast<std::uint64_t>(inc_face_local & 0xFFFF) << 32) | feature;
 }
 
-}  // namespace
-
-void face_manifold(const Model& m, const State& s, const PairWorld& w, int a, int b, const Axis& axis, Manifold& out) {
-  const bool ref_is_a = axis.kind == 0;
-  const int ref = ref_is_a ? a : b, inc = ref_is_a ? b : a;
-  const int f = axis.feature;
-  const Vec3 n = s.face_normal_world[f];  // out of the reference block
-  const double d = s.face_offset_world[f];
-  const double tol = m.contact_tolerance_m(a, b);
-
-  // Incident face: of the faces around the incident block's deepest vertex, the one most
-  // anti-parallel to the reference normal. (The most anti-parallel face of the whole
-  // block may lie elsewhere: a corner poking through a face would then find no contact.)
+// Incident face: of the faces around the incident block's deepest vertex along -n, the
+// one most anti-parallel to n. (The most anti-parallel face of the whole block may lie
+// elsewhere: a corner poking through a face would then find no contact.)
+int incident_face(const Model& m, const State& s, const PairWorld& w, int inc, const Vec3& n) {
   int deepest_vertex = m.vertex_begin[inc];
   for (int v = m.vertex_begin[inc]; v < m.vertex_begin[inc + 1]; ++v)
     if (n.dot(w.vertex(v)) < n.dot(w.vertex(deepest_vertex)) - 1e-12) deepest_vertex = v;
@@ -135,9 +126,17 @@ void face_manifold(const Model& m, const State& s, const PairWorld& w, int a, in
         break;
       }
   }
-  Polygon buffers[2];  // clipping ping-pongs between the two (swapping pointers, not 2 KB)
+  return g;
+}
+
+// Incident face g of block inc clipped by the side planes of reference face f (normal n,
+// offset d), then to what lies within `tol` of f's plane. Clipping ping-pongs between
+// the two buffers (swapping pointers, not kilobytes); returns the one holding the result.
+const Polygon& clip_incident_face(const Model& m, const PairWorld& w, int inc, int g, int f, const Vec3& n, double d,
+                                  double tol, Polygon (&buffers)[2]) {
   Polygon* in = &buffers[0];
   Polygon* cut = &buffers[1];
+  in->n = cut->n = 0;
   for (int k = m.face_vertex_begin[g]; k < m.face_vertex_begin[g + 1]; ++k) {
     const int v = m.face_vertex[k];
     in->push(ClipPoint{w.vertex(v), static_cast<std::uint32_t>(v - m.vertex_begin[inc])});
@@ -150,79 +149,88 @@ void face_manifold(const Model& m, const State& s, const PairWorld& w, int a, in
     const Vec3 side = (q - p).cross(n).normalized();
     clip(*in, side, side.dot(p), 0.1 * tol, static_cast<std::uint32_t>(k - rb + 1), *cut);
     std::swap(in, cut);
-    if (in->n == 0) return;
+    if (in->n == 0) return *in;
   }
   clip(*in, n, d + tol, 0.0, 0xFFu, *cut);  // keep only what lies within the tolerance
-  const Polygon& poly = *cut;
-  if (poly.n == 0) return;
+  return *cut;
+}
 
-  out.normal = face_axis_normal(s, axis.kind, f);
-  const double lever_ref = std::abs(d - n.dot(s.position[ref]));
-  const double lever_inc = std::abs(n.dot(s.position[inc]) - d);
-  out.lever_a_m = ref_is_a ? lever_ref : lever_inc;
-  out.lever_b_m = ref_is_a ? lever_inc : lever_ref;
-  const int ref_local = f - m.face_begin[ref], inc_local = g - m.face_begin[inc];
-  const int kind = ref_is_a ? 0 : 1;
-
-  // Polygon projected on the reference plane, with gaps; fan areas from the vertex mean.
-  // The incident face runs counter-clockwise about its own normal, i.e. about -n.
+// The clipped polygon projected on the reference plane (normal n, offset d), with the gap
+// of each corner and the fan triangles from the corners' mean. The incident face runs
+// counter-clockwise about its own normal, i.e. about -n.
+struct ContactPolygon {
+  int n = 0;
   Vec3 x[kMaxPolygon];
   double gap[kMaxPolygon], fan[kMaxPolygon];
+  double area = 0.0;
+  Vec3 centroid = Vec3::Zero();  // area-weighted sum; / area for the centroid
+};
+
+void project(const Polygon& poly, const Vec3& n, double d, ContactPolygon& c) {
+  c.n = poly.n;
   Vec3 mean = Vec3::Zero();
   for (int i = 0; i < poly.n; ++i) {
-    gap[i] = n.dot(poly.p[i].x) - d;
-    x[i] = poly.p[i].x - gap[i] * n;
-    mean += x[i];
+    c.gap[i] = n.dot(poly.p[i].x) - d;
+    c.x[i] = poly.p[i].x - c.gap[i] * n;
+    mean += c.x[i];
   }
   mean /= poly.n;
-  double area = 0.0;
-  Vec3 centroid = Vec3::Zero();
+  c.area = 0.0;
+  c.centroid = Vec3::Zero();
   for (int i = 0; i < poly.n; ++i) {
-    const Vec3& p = x[i];
-    const Vec3& q = x[(i + 1) % poly.n];
-    fan[i] = poly.n >= 3 ? -0.5 * (p - mean).cross(q - mean).dot(n) : 0.0;
-    area += fan[i];
-    centroid += fan[i] * (mean + p + q) / 3.0;
+    const Vec3& p = c.x[i];
+    const Vec3& q = c.x[(i + 1) % poly.n];
+    c.fan[i] = poly.n >= 3 ? -0.5 * (p - mean).cross(q - mean).dot(n) : 0.0;
+    c.area += c.fan[i];
+    c.centroid += c.fan[i] * (mean + p + q) / 3.0;
   }
-  const double nominal = m.point_contact_area_m2(a, b);
-  const int level = m.contact.subdivision;
-  const double incident_cos = -n.dot(s.face_normal_world[g]);
+}
 
-  if (poly.n < 3 || area < nominal) {
-    // A corner or an edge touching the face: keep its own points, not those the
-    // tolerance plane cut (they sit at gap = tolerance), and give them the nominal area.
-    int kept[kMaxPolygon], count = 0, deepest = 0;
-    for (int i = 0; i < poly.n; ++i) {
-      if (gap[i] <= 0.5 * tol) kept[count++] = i;
-      if (gap[i] < gap[deepest]) deepest = i;
-    }
-    if (count == 0) kept[count++] = deepest;
-    for (int k = 0; k < count; ++k) {
-      const int i = kept[k];
-      out.push(ManifoldPoint{x[i] + 0.5 * gap[i] * n, x[i] + gap[i] * n, gap[i], nominal / count,
-                             make_key(kind, ref_local, inc_local, poly.p[i].feature)});
-    }
-    return;
+// What a manifold's points share: the reference normal n and the pair's key prefix.
+struct PointRule {
+  Vec3 n;
+  int kind, ref_local, inc_local;
+  std::uint64_t key(std::uint32_t feature) const { return make_key(kind, ref_local, inc_local, feature); }
+};
+
+// A corner or an edge touching the face: its own points, not those the tolerance plane
+// cut (they sit at gap = tolerance), sharing the nominal area.
+void corner_points(const ContactPolygon& c, const Polygon& poly, const PointRule& rule, double tol, double nominal,
+                   Manifold& out) {
+  int kept[kMaxPolygon], count = 0, deepest = 0;
+  for (int i = 0; i < c.n; ++i) {
+    if (c.gap[i] <= 0.5 * tol) kept[count++] = i;
+    if (c.gap[i] < c.gap[deepest]) deepest = i;
   }
-  if (level == 1 || incident_cos < 0.5) {
-    // One point per polygon vertex with its tributary half of the two fan triangles.
-    for (int i = 0; i < poly.n; ++i) {
-      const double share = 0.5 * (fan[i] + fan[(i + poly.n - 1) % poly.n]);
-      out.push(ManifoldPoint{x[i] + 0.5 * gap[i] * n, x[i] + gap[i] * n, gap[i], share,
-                             make_key(kind, ref_local, inc_local, poly.p[i].feature)});
-    }
-    return;
+  if (count == 0) kept[count++] = deepest;
+  for (int k = 0; k < count; ++k) {
+    const int i = kept[k];
+    out.push(ManifoldPoint{c.x[i] + 0.5 * c.gap[i] * rule.n, c.x[i] + c.gap[i] * rule.n, c.gap[i], nominal / count,
+                           rule.key(poly.p[i].feature)});
   }
-  // Subdivision: fan triangles from the area centroid, each cut into level^2 equal
-  // sub-triangles; a point at each sub-triangle's centroid. The gap there follows the
-  // incident face's plane.
-  centroid /= area;
-  const Vec3& ni = s.face_normal_world[g];
-  const double di = s.face_offset_world[g];
+}
+
+// The corner rule (subdivision 1): one point per polygon vertex with its tributary half of
+// the two fan triangles.
+void vertex_points(const ContactPolygon& c, const Polygon& poly, const PointRule& rule, Manifold& out) {
+  for (int i = 0; i < c.n; ++i) {
+    const double share = 0.5 * (c.fan[i] + c.fan[(i + c.n - 1) % c.n]);
+    out.push(ManifoldPoint{c.x[i] + 0.5 * c.gap[i] * rule.n, c.x[i] + c.gap[i] * rule.n, c.gap[i], share,
+                           rule.key(poly.p[i].feature)});
+  }
+}
+
+// Subdivision: fan triangles from the area centroid, each cut into level^2 equal
+// sub-triangles; a point at each sub-triangle's centroid. The gap there follows the
+// incident face's plane (normal ni, offset di).
+void subdivided_points(const ContactPolygon& c, const PointRule& rule, int level, const Vec3& ni, double di,
+                       Manifold& out) {
+  const Vec3& n = rule.n;
+  const Vec3 centroid = c.centroid / c.area;
   auto gap_at = [&](const Vec3& y) { return (di - ni.dot(y)) / ni.dot(n); };
   std::uint32_t index = 0;
-  for (int i = 0; i < poly.n; ++i) {
-    const Vec3 e1 = x[i] - centroid, e2 = x[(i + 1) % poly.n] - centroid;
+  for (int i = 0; i < c.n; ++i) {
+    const Vec3 e1 = c.x[i] - centroid, e2 = c.x[(i + 1) % c.n] - centroid;
     const double sub_area = -0.5 * e1.cross(e2).dot(n) / (level * level);
     for (int u = 0; u < level; ++u)
       for (int v = 0; u + v < level; ++v)
@@ -231,10 +239,39 @@ void face_manifold(const Model& m, const State& s, const PairWorld& w, int a, in
           const double cu = (3.0 * u + 1.0 + down) / (3.0 * level), cv = (3.0 * v + 1.0 + down) / (3.0 * level);
           const Vec3 y = centroid + cu * e1 + cv * e2;
           const double gy = gap_at(y);
-          out.push(ManifoldPoint{y + 0.5 * gy * n, y + gy * n, gy, sub_area,
-                                 make_key(kind, ref_local, inc_local, 0x40000000u | index++)});
+          out.push(ManifoldPoint{y + 0.5 * gy * n, y + gy * n, gy, sub_area, rule.key(0x40000000u | index++)});
         }
   }
+}
+
+}  // namespace
+
+void face_manifold(const Model& m, const State& s, const PairWorld& w, int a, int b, const Axis& axis, Manifold& out) {
+  const bool ref_is_a = axis.kind == 0;
+  const int ref = ref_is_a ? a : b, inc = ref_is_a ? b : a;
+  const int f = axis.feature;
+  const Vec3 n = s.face_normal_world[f];  // out of the reference block
+  const double d = s.face_offset_world[f];
+  const double tol = m.contact_tolerance_m(a, b);
+  const int g = incident_face(m, s, w, inc, n);
+  Polygon buffers[2];
+  const Polygon& poly = clip_incident_face(m, w, inc, g, f, n, d, tol, buffers);
+  if (poly.n == 0) return;
+
+  out.normal = face_axis_normal(s, axis.kind, f);
+  const double lever_ref = std::abs(d - n.dot(s.position[ref]));
+  const double lever_inc = std::abs(n.dot(s.position[inc]) - d);
+  out.lever_a_m = ref_is_a ? lever_ref : lever_inc;
+  out.lever_b_m = ref_is_a ? lever_inc : lever_ref;
+  const PointRule rule{n, ref_is_a ? 0 : 1, f - m.face_begin[ref], g - m.face_begin[inc]};
+  ContactPolygon c;
+  project(poly, n, d, c);
+  const double nominal = m.point_contact_area_m2(a, b);
+  const int level = m.options.subdivision;
+  const double incident_cos = -n.dot(s.face_normal_world[g]);
+  if (poly.n < 3 || c.area < nominal) return corner_points(c, poly, rule, tol, nominal, out);
+  if (level == 1 || incident_cos < 0.5) return vertex_points(c, poly, rule, out);
+  subdivided_points(c, rule, level, s.face_normal_world[g], s.face_offset_world[g], out);
 }
 
 void edge_manifold(const Model& m, const State& s, const PairWorld& w, int a, int b, const Axis& axis, Manifold& out) {

@@ -42,12 +42,6 @@ int ModelBuilder::add_material(const Material& m) {
   return static_cast<int>(model_.materials.size()) - 1;
 }
 
-void ModelBuilder::set_pair_law(int a, int b, const PairLaw& law) {
-  const int n = static_cast<int>(model_.materials.size());
-  if (a < 0 || b < 0 || a >= n || b >= n) throw ModelError("set_pair_law: unknown material index");
-  overrides_.push_back({a, b, law});
-}
-
 namespace {
 
 // Newell's method: area-weighted normal of a planar or nearly planar polygon.
@@ -166,7 +160,6 @@ int ModelBuilder::add_block(const std::vector<Vec3>& vertices, const std::vector
     const Vec3 n = axes.transpose() * normal[f];
     m.face_normal_local.push_back(n);
     m.face_offset_local.push_back(n.dot(m.vertex_local[vbase + faces[f][0]]));
-    m.face_area_m2.push_back(area[f]);
   }
   // Undirected edges and their distinct directions (parallel edges share one direction,
   // so a box has 3 directions and the separating-axis test needs 9 edge-edge axes, not 144).
@@ -205,7 +198,7 @@ int ModelBuilder::add_block(const std::vector<Vec3>& vertices, const std::vector
   return b;
 }
 
-Model ModelBuilder::build() const {
+Model ModelBuilder::build(const ModelOptions& options) const {
   Model m = model_;
   if (m.block_count == 0) throw ModelError("the model has no blocks");
   if (!m.vertex_begin.empty() && m.vertex_begin.front() != 0) throw ModelError("internal: table start");
@@ -214,10 +207,16 @@ Model ModelBuilder::build() const {
   };
   require(contact_.tolerance_ratio > 0 && contact_.tolerance_ratio < 0.1, "tolerance_ratio must lie in (0, 0.1)");
   require(contact_.margin_ratio > 2 * contact_.tolerance_ratio, "margin_ratio must exceed twice tolerance_ratio");
-  require(contact_.subdivision >= 1 && contact_.subdivision <= 16, "subdivision must lie in [1, 16]");
+  if (options.subdivision < 1 || options.subdivision > kMaxSubdivision)
+    throw ModelError("subdivision is " + std::to_string(options.subdivision) + "; it must lie in [1, " +
+                     std::to_string(kMaxSubdivision) + "]");
   require(contact_.point_area_ratio > 0 && contact_.point_area_ratio <= 1, "point_area_ratio must lie in (0, 1]");
   if (!gravity_.allFinite()) throw ModelError("gravity must be finite");
   m.contact = contact_;
+  m.options = options;
+  if (options.drive_fixed_blocks || options.linear_joints)
+    for (Motion& motion : m.motion)
+      if (motion == Motion::fixed) motion = Motion::prescribed;
   double size_sum = 0.0;
   for (double size : m.size_m) size_sum += size;
   m.margin_m = contact_.margin_ratio * size_sum / m.block_count;
@@ -234,14 +233,16 @@ Model ModelBuilder::build() const {
     }
     if (std::isfinite(deepest_immobile)) m.leave_depth_m = deepest_immobile + largest;
   }
+  if (options.linear_joints) m.gravity_m_s2 = Vec3::Zero();
   const std::size_t n = m.materials.size();
   m.pair_law.resize(n * n);
   for (std::size_t a = 0; a < n; ++a)
     for (std::size_t b = 0; b < n; ++b) m.pair_law[a * n + b] = default_pair_law(m.materials[a], m.materials[b]);
-  for (const PairOverride& o : overrides_) {
-    m.pair_law[o.a * n + o.b] = o.law;
-    m.pair_law[o.b * n + o.a] = o.law;
-  }
+  if (options.linear_joints)
+    for (PairLaw& law : m.pair_law) {
+      law.tensile_pa = law.cohesion_pa = 1e30;
+      law.damping_normal = law.damping_shear = 0.0;
+    }
   return m;
 }
 

@@ -54,6 +54,9 @@ struct PairLaw {
   double damping_shear = 0.0;
 };
 
+// Finest contact subdivision (ModelOptions::subdivision): 16^2 points per fan triangle.
+constexpr int kMaxSubdivision = 16;
+
 // Most corners of one face of a block (the narrowphase clips faces on the stack).
 constexpr int kMaxFaceCorners = 60;
 
@@ -67,19 +70,32 @@ struct ContactSettings {
   // Broadphase margin as a fraction of the mean block size; the pair list is rebuilt when
   // a block has moved more than half of it.
   double margin_ratio = 0.1;
-  // 1: one sub-contact per vertex of the contact polygon. n > 1: the polygon is split
-  // into triangles from its centroid and each into n*n sub-triangles, one sub-contact at
-  // each centroid, so the joint's rotational stiffness approaches a uniform spring bed.
-  int subdivision = 1;
   // Area given to a corner or edge contact (vertex-face, edge-face, edge-edge), as a
   // fraction of size^2 of the smaller block, so that K_n stays finite and sensible.
   double point_area_ratio = 0.01;
+};
+
+// What an analysis asks of a model beyond its blocks and materials. Applied and checked
+// once, by ModelBuilder::build; a built Model is never edited (the same blocks with other
+// options are built again from the same builder).
+struct ModelOptions {
+  // 1: one sub-contact per vertex of the contact polygon. n > 1 (at most 16): the polygon
+  // is split into triangles from its centroid and each into n*n sub-triangles, one
+  // sub-contact at each centroid, so the joint's rotational stiffness approaches a uniform
+  // spring bed.
+  int subdivision = 1;
   // false: every dashpot as the materials' h specify (MODEL.md section 3), so dt must stay
   // below the limit the dashpots set (h = 1 on a block held by many joints: a tenth
   // of the springs' limit or less). true: where a free block's dashpots would make the step
   // unstable, they are scaled down just enough (stability.cpp), so the springs alone
   // limit dt; every joint the step resolves keeps its h.
   bool cap_damping = false;
+  // Fixed blocks become prescribed: a driver sets their velocity each step (the ground of
+  // a seismic run or an impulse response).
+  bool drive_fixed_blocks = false;
+  // The impulse analysis (MODEL.md section 6.1): every joint originally in contact bonded
+  // with a strength it can never reach, no contact damping, no gravity; fixed blocks driven.
+  bool linear_joints = false;
 };
 
 struct Model {
@@ -105,7 +121,6 @@ struct Model {
   std::vector<int> face_vertex;          // global vertex index, counter-clockwise seen from outside
   std::vector<Vec3> face_normal_local;   // outward unit normal (nf)
   std::vector<double> face_offset_local; // n . x on the face plane, m (nf)
-  std::vector<double> face_area_m2;      // (nf)
   std::vector<int> edge_begin{0};           // (nb+1)
   std::vector<std::array<int, 2>> edge_vertex;  // global vertex indices (ne)
   std::vector<int> edge_direction;       // index into direction_local of the edge's direction (ne)
@@ -127,6 +142,7 @@ struct Model {
   // gravity.
   double leave_depth_m = INFINITY;
   ContactSettings contact;
+  ModelOptions options;
   double margin_m = 0.0;  // broadphase margin, from contact.margin_ratio * mean block size
 
   // Gap below which a sub-contact between blocks a and b exists, m.
@@ -147,8 +163,6 @@ struct Model {
 class ModelBuilder {
  public:
   int add_material(const Material& material);
-  // Overrides the default law of a material pair (both orders).
-  void set_pair_law(int material_a, int material_b, const PairLaw& law);
 
   // A convex polyhedron given by its vertices (world frame, m) and faces (indices into
   // `vertices`, counter-clockwise seen from outside). Throws ModelError naming the block
@@ -158,15 +172,12 @@ class ModelBuilder {
 
   void set_gravity(const Vec3& g) { gravity_ = g; }
   ContactSettings& contact_settings() { return contact_; }
-  Model build() const;
+  // The Model of the blocks added so far with `options`; throws ModelError naming the
+  // setting that is out of range. May be called again with other options.
+  Model build(const ModelOptions& options = {}) const;
 
  private:
-  struct PairOverride {
-    int a, b;
-    PairLaw law;
-  };
   Model model_;
-  std::vector<PairOverride> overrides_;
   Vec3 gravity_{0.0, 0.0, -9.81};
   ContactSettings contact_;
 };

@@ -39,7 +39,7 @@ double apply_contact_law(const Model& model, State& state, double dt_s);
 // per block and degree of freedom 2/omega (sqrt(1 + zeta^2) - zeta), omega^2 = K/M; with
 // zeta = 0 unless with_damping. Sets *block to the limiting block.
 double stability_limit_s(const Model& model, const State& state, bool with_damping, int* block);
-// stability.cpp (ContactSettings::cap_damping): sets State::damping_scale so that every
+// stability.cpp (ModelOptions::cap_damping): sets State::damping_scale so that every
 // free block's damping ratio zeta in each degree of freedom keeps dt within
 // kDampingCapMargin (model.h) of its limit; 1 where the materials' h already does.
 void update_damping_caps(const Model& model, State& state, double dt_s);

@@ -139,7 +139,7 @@ struct Energy {
 
 struct Profile {  // seconds spent in each stage since the start
   double pose_s = 0, broadphase_s = 0, narrowphase_s = 0, contact_law_s = 0, gather_s = 0, integrate_s = 0;
-  double damping_caps_s = 0;  // ContactSettings::cap_damping only
+  double damping_caps_s = 0;  // ModelOptions::cap_damping only
   long broadphase_rebuilds = 0;
   long contact_regroups = 0;  // steps whose sub-contact arrays were regrouped (a count changed)
   long thread_steps = 0;      // sum over steps of the team size (/ steps: the mean team)
@@ -183,7 +183,7 @@ struct State {
   bool gather_index_valid = false;
   std::vector<double> damping_scale;     // (nb) factor on the dashpots of a block's sub-contacts
                                          // (a pair takes the smaller): 1 unless
-                                         // ContactSettings::cap_damping caps them
+                                         // ModelOptions::cap_damping caps them
   std::vector<Vec6> cap_stiffness, cap_damping;  // (nb) scratch of update_damping_caps
 
   // ---- broadphase ----

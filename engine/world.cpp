@@ -33,7 +33,7 @@ World::World(Model model, double dt_s)
       throw ModelError(msg.str());
     }
   }
-  if (model_.contact.cap_damping) update_damping_caps(model_, state_, dt_s);
+  if (model_.options.cap_damping) update_damping_caps(model_, state_, dt_s);
   int block = -1;
   const double limit = critical_time_step_s(&block);
   if (dt_s > limit) {
@@ -46,7 +46,7 @@ World::World(Model model, double dt_s)
 
 double World::critical_time_step_s(int* block) const {
   // Capped dashpots never set the limit (they are scaled to stay within it).
-  return stability_limit_s(model_, state_, /*with_damping=*/!model_.contact.cap_damping, block);
+  return stability_limit_s(model_, state_, /*with_damping=*/!model_.options.cap_damping, block);
 }
 
 void World::step() {
@@ -71,7 +71,7 @@ void World::step() {
 
   // Caps follow the blocks' joints as they change, checked when the pair list is rebuilt
   // (a block moved half the margin): between rebuilds a block's joints barely change.
-  if (rebuilt && m.contact.cap_damping) {
+  if (rebuilt && m.options.cap_damping) {
     t0 = Clock::now();
     update_damping_caps(m, s, dt_s_);
     p.damping_caps_s += seconds_since(t0);

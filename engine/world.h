@@ -42,7 +42,7 @@ class World {
   const ThreadTuner& thread_tuner() const { return tuner_; }
 
  private:
-  Model model_;
+  const Model model_;  // built once with its options (ModelBuilder::build), never edited
   State state_;
   double dt_s_;
   ThreadTuner tuner_;

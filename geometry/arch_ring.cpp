@@ -75,13 +75,4 @@ std::vector<Voussoir> make_arch_ring_at(const ArchRingSpec& s, double centre_x, 
   return out;
 }
 
-Model make_arch_ring_model(const ArchRingSpec& s) {
-  ModelBuilder builder;
-  const int stone = builder.add_material(s.stone.name.empty() ? nishida_stone() : s.stone);
-  for (const Voussoir& v : make_arch_ring(s))
-    builder.add_block(v.shape.vertices, v.shape.faces, stone, v.fixed ? Motion::fixed : Motion::free,
-                      "ring-" + std::to_string(v.ring_index) + "-" + std::to_string(v.course));
-  return builder.build();
-}
-
 }  // namespace ishibashi

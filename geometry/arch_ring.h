@@ -53,7 +53,4 @@ RingGeometry ring_geometry(const ArchRingSpec& spec);
 std::vector<Voussoir> make_arch_ring_at(const ArchRingSpec& spec, double centre_x, bool square_springers);
 inline std::vector<Voussoir> make_arch_ring(const ArchRingSpec& spec) { return make_arch_ring_at(spec, 0.0, false); }
 
-// The ring as an engine Model (springing stones fixed).
-Model make_arch_ring_model(const ArchRingSpec& spec);
-
 }  // namespace ishibashi

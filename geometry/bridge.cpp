@@ -329,7 +329,7 @@ double design_volume_m3(const BridgeSpec& s) {
   return volume;
 }
 
-Model compile_bridge(const BridgeSpec& s, const std::vector<BridgeBlock>& blocks) {
+ModelBuilder bridge_builder(const BridgeSpec& s, const std::vector<BridgeBlock>& blocks) {
   ModelBuilder builder;
   Material stone = s.stone.name.empty() ? nishida_stone() : s.stone;
   stone.tensile_pa = stone.cohesion_pa = s.mortar_pa;
@@ -344,7 +344,7 @@ Model compile_bridge(const BridgeSpec& s, const std::vector<BridgeBlock>& blocks
                       std::string(part_name(b.part)) + "-" + std::to_string(index++),
                       BlockTag{static_cast<int>(b.part), b.course});
   }
-  return builder.build();
+  return builder;
 }
 
 }  // namespace ishibashi

@@ -50,8 +50,12 @@ std::vector<BridgeBlock> generate_bridge(const BridgeSpec& spec);
 // intrados chords, plus the side walls (m^3). Independent of how blocks are cut.
 double design_volume_m3(const BridgeSpec& spec);
 
-// The blocks as an engine Model (stone, soil materials; mortar on stone-stone joints).
-Model compile_bridge(const BridgeSpec& spec, const std::vector<BridgeBlock>& blocks);
+// The blocks with their materials (stone, soil; mortar on stone-stone joints), ready to
+// build the engine Model with an analysis's options.
+ModelBuilder bridge_builder(const BridgeSpec& spec, const std::vector<BridgeBlock>& blocks);
+inline Model compile_bridge(const BridgeSpec& spec, const std::vector<BridgeBlock>& blocks, const ModelOptions& options = {}) {
+  return bridge_builder(spec, blocks).build(options);
+}
 
 // The unit on top of the arch crown, which the study monitors: the free ring block
 // highest up, nearest the middle of the width; -1 when the model has no free ring block.

@@ -30,8 +30,7 @@ Model make_wall_model(const WallSpec& w) {
         builder.add_block(p.vertices, p.faces, stone, Motion::free, label);
       }
   }
-  builder.contact_settings().subdivision = w.subdivision;
-  return builder.build();
+  return builder.build(w.options);
 }
 
 }  // namespace ishibashi

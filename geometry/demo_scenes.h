@@ -14,7 +14,7 @@ struct WallSpec {
   double base_thickness_m = 0.5;
   Motion base_motion = Motion::prescribed;  // the base the driver shakes or tilts
   Material stone;               // defaults to the Nishida stone (MODEL.md section 4)
-  int subdivision = 1;
+  ModelOptions options;         // subdivision, capped dashpots
 };
 
 // Block 0 is the base; the stones follow course by course from the bottom.

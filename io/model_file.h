@@ -8,12 +8,9 @@
 #include <vector>
 
 #include "geometry/bridge.h"
+#include "io/input_error.h"
 
 namespace ishibashi {
-
-struct InputError : std::runtime_error {
-  using std::runtime_error::runtime_error;
-};
 
 struct ModelFile {
   std::string name;        // [model] name, or the file's stem

@@ -58,7 +58,7 @@ Scenario read_scenario(const std::filesystem::path& file) {
   run.non_negative("duration_s", sc.duration_s);
   run.positive("output_interval_s", sc.output_interval_s);
   run.integer_at_least("threads", sc.threads, 0);
-  run.integer_at_least("subdivision", sc.subdivision, 1);
+  run.integer_in("subdivision", sc.subdivision, 1, kMaxSubdivision);
   std::string damping = "study";
   run.text("damping", damping, {"study", "capped"});
   sc.cap_damping = damping == "capped";

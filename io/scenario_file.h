@@ -24,12 +24,18 @@ struct Scenario {
   int threads = 0;                     // [run] 0: all cores
   int subdivision = 1;                 // [run] contact subdivision
   bool cap_damping = false;            // [run] damping = "study" (false) or "capped"
-                                       // (ContactSettings::cap_damping)
+                                       // (ModelOptions::cap_damping)
   GroundMotionSpec ground_motion;      // [ground_motion] x, y, z = { file, format, scale, unit, dt_s }
   std::vector<int> monitor_blocks;     // [monitor] blocks; empty: the unit on top of the crown
 };
 
 Scenario read_scenario(const std::filesystem::path& file);
+
+class TableReader;
+// The x, y and z = { file, format, unit, dt_s, scale } keys of a ground-motion table
+// (paths relative to `base`), into spec.component; scenario and sweep files share them.
+void read_ground_motion_components(TableReader& table, const std::filesystem::path& file, const std::filesystem::path& base,
+                                   const std::string& name, GroundMotionSpec& spec);
 
 // True when the file is a scenario (has [run] or [ground_motion]), false for a model file.
 bool is_scenario_file(const std::filesystem::path& file);

@@ -2,6 +2,7 @@
 
 #include <set>
 
+#include "io/scenario_file.h"
 #include "io/toml_reader.h"
 
 namespace ishibashi {

@@ -3,6 +3,7 @@
 #pragma once
 #include <toml++/toml.h>
 
+#include <climits>
 #include <filesystem>
 #include <set>
 #include <sstream>
@@ -10,8 +11,7 @@
 #include <vector>
 
 #include "engine/model.h"
-#include "io/ground_motion.h"
-#include "io/model_file.h"
+#include "io/input_error.h"
 
 namespace ishibashi {
 
@@ -50,10 +50,12 @@ class TableReader {
       fail(*n, s.str());
     }
   }
-  void integer_at_least(const char* key, int& out, int min) {
+  void integer_at_least(const char* key, int& out, int min) { integer_in(key, out, min, INT_MAX); }
+  void integer_in(const char* key, int& out, int min, int max) {
     integer(key, out);
-    if (const toml::node* n = find(key); n && out < min)
-      fail(*n, std::string("'") + key + "' is " + std::to_string(out) + "; it must be at least " + std::to_string(min));
+    if (const toml::node* n = find(key); n && (out < min || out > max))
+      fail(*n, std::string("'") + key + "' is " + std::to_string(out) + "; it must be at least " + std::to_string(min) +
+                   (max < INT_MAX ? " and at most " + std::to_string(max) : std::string()));
   }
   void integer(const char* key, int& out) {
     if (const toml::node* n = find(key)) {
@@ -162,11 +164,6 @@ class TableReader {
 
 // Parses a TOML file whose top level may only hold the tables in `allowed`; errors name
 // the file and the line.
-// The x, y and z = { file, format, unit, dt_s, scale } keys of a ground-motion table
-// (paths relative to `base`), into spec.component.
-void read_ground_motion_components(TableReader& table, const std::filesystem::path& file, const std::filesystem::path& base,
-                                   const std::string& name, GroundMotionSpec& spec);
-
 inline toml::table parse_toml_file(const std::filesystem::path& file, std::initializer_list<const char*> allowed) {
   if (!std::filesystem::exists(file)) throw InputError(file.string() + ": no such file");
   toml::table root;

@@ -8,7 +8,7 @@ set -euo pipefail
 root=$(cd "$(dirname "$0")/.." && pwd)
 shaking=${1:-0.5}
 settle=${2:-0.05}
-exe="$root/build/apps/ishibashi"
+exe="${ISHIBASHI:-$root/build/apps/ishibashi}"  # ISHIBASHI=another build: compare two back to back
 [ -x "$exe" ] || { echo "build first: bash scripts/build.sh" >&2; exit 1; }
 work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT

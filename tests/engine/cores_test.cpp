@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 #include <omp.h>
 
+#include <cstdlib>
 #include <fstream>
 
 #include "engine/cores.h"
@@ -56,6 +57,29 @@ TEST(Cores, ThisMachineHasAtLeastOneAndAtMostItsCpus) {
   const int n = usable_cores();
   EXPECT_GE(n, 1);
   EXPECT_LE(n, omp_get_num_procs());
+}
+
+// The one decision of a thread count: a request as given, else OMP_NUM_THREADS, else the
+// usable cores, shared among the jobs running at once, never below one.
+TEST(Cores, ThreadCountIsTheRequestElseTheEnvironmentElseTheCoresSharedByJobs) {
+  const char* saved = std::getenv("OMP_NUM_THREADS");
+  const std::string saved_value = saved ? saved : "";
+  unsetenv("OMP_NUM_THREADS");
+  EXPECT_EQ(decide_thread_count(3), 3);
+  EXPECT_EQ(decide_thread_count(3, 8), 3);  // a request is per job already
+  EXPECT_EQ(decide_thread_count(0), usable_cores());
+  EXPECT_EQ(decide_thread_count(0, 2), std::max(1, usable_cores() / 2));
+  EXPECT_EQ(decide_thread_count(0, 1000), 1);
+  setenv("OMP_NUM_THREADS", "6", 1);
+  EXPECT_EQ(decide_thread_count(0), 6);
+  EXPECT_EQ(decide_thread_count(0, 2), 3);
+  EXPECT_EQ(decide_thread_count(5, 2), 5);
+  EXPECT_EQ(use_threads(0, 3), 2);
+  EXPECT_EQ(omp_get_max_threads(), 2);
+  setenv("OMP_NUM_THREADS", "not a number", 1);
+  EXPECT_EQ(decide_thread_count(0), usable_cores());
+  if (saved) setenv("OMP_NUM_THREADS", saved_value.c_str(), 1);
+  else unsetenv("OMP_NUM_THREADS");
 }
 
 }  // namespace

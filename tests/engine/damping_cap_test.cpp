@@ -1,4 +1,4 @@
-// Capped dashpots (ContactSettings::cap_damping) against closed forms: the cap of a stone
+// Capped dashpots (ModelOptions::cap_damping) against closed forms: the cap of a stone
 // on a base from its six modes worked out by hand, no change where the step resolves the
 // dashpots, and a stack that settles stably at a step the study's dashpots cannot take.
 #include <gtest/gtest.h>
@@ -23,9 +23,7 @@ Model stone_on_base(double h, bool capped, int stones = 1) {
     b.add_block(p.vertices, p.faces, 0, Motion::free, "stone " + std::to_string(i));
   }
   b.set_gravity(Vec3(0, 0, -kG));
-  Model m = b.build();
-  m.contact.cap_damping = capped;
-  return m;
+  return b.build({.cap_damping = capped});
 }
 
 // The largest damping ratio a mode of angular frequency omega may keep at dt:
@@ -85,9 +83,9 @@ TEST(DampingCap, DashpotsThatTheStepResolvesAreLeftAsSpecified) {
     WallSpec spec;
     spec.courses = 4;
     spec.stones_per_course = 5;
-    Model m = make_wall_model(spec);
-    m.contact.cap_damping = capped;
-    World w(std::move(m), 0.8 * World(make_wall_model(spec), 1e-9).critical_time_step_s());
+    const double dt = 0.8 * World(make_wall_model(spec), 1e-9).critical_time_step_s();
+    spec.options.cap_damping = capped;
+    World w(make_wall_model(spec), dt);
     for (double f : w.state().damping_scale) EXPECT_EQ(f, 1.0);
     for (int i = 0; i < 2000; ++i) {
       w.state().velocity[0].x() = 0.3 * std::sin(2 * M_PI * 4.0 * w.state().time_s);

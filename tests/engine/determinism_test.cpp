@@ -12,7 +12,7 @@ namespace ishibashi {
 namespace {
 
 // adaptive = false: every step on `threads`; true: on the team sizes the tuner picks.
-// capped: dashpots capped (ContactSettings::cap_damping) at three times the step, which
+// capped: dashpots capped (ModelOptions::cap_damping) at three times the step, which
 // the caps, recomputed at every pair-list rebuild, keep stable.
 std::uint64_t shaken_wall_hash(int threads, bool adaptive = false, long* thread_steps = nullptr, bool capped = false) {
   omp_set_num_threads(threads);
@@ -20,9 +20,8 @@ std::uint64_t shaken_wall_hash(int threads, bool adaptive = false, long* thread_
   spec.courses = 5;
   spec.stones_per_course = 14;  // 141 blocks: enough for the loops to run on threads
   spec.leaves = 2;
-  Model model = make_wall_model(spec);
-  model.contact.cap_damping = capped;
-  World w(std::move(model), capped ? 3e-5 : 1e-5);
+  spec.options.cap_damping = capped;
+  World w(make_wall_model(spec), capped ? 3e-5 : 1e-5);
   if (capped) EXPECT_LT(*std::min_element(w.state().damping_scale.begin(), w.state().damping_scale.end()), 1.0);
   w.set_adaptive_threads(adaptive);
   State& s = w.state();

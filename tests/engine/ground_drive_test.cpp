@@ -17,8 +17,7 @@ TEST(GroundDrive, HighFrictionBlockFollowsASinusoidalBase) {
   // no slip and no rocking (b/h = 1), the block moves with the base up to the joint's
   // tiny elastic deformation.
   ModelBuilder b = test::block_on_base(Vec3(0.64, 0.64, 0.64), test::stone(1.0, 60.0), 0.5, 2.0);
-  Model m = b.build();
-  m.motion[0] = Motion::prescribed;
+  const Model m = b.build({.drive_fixed_blocks = true});  // the base is block 0, driven
   World w(m, 2e-5);
   State& s = w.state();
   const double a = 0.5 * 9.81, omega = 2 * kPi * 2.0;
@@ -65,8 +64,7 @@ TEST(GroundDrive, SlidingBlockMatchesNewmark) {
   ASSERT_LT(expected, -0.05);  // it slides back several centimetres
 
   ModelBuilder b = test::block_on_base(Vec3(1.0, 1.0, 0.3), test::stone(1.0, phi), 0.5, 6.0);
-  Model m = b.build();
-  m.motion[0] = Motion::prescribed;
+  const Model m = b.build({.drive_fixed_blocks = true});  // the base is block 0, driven
   World w(m, 2e-5);
   State& s = w.state();
   w.run(5000);  // settle on its springs first (0.1 s)

@@ -2,6 +2,10 @@
 // edge and edge-edge configurations.
 #include <gtest/gtest.h>
 
+#include <cmath>
+#include <string>
+#include <vector>
+
 #include "engine/pipeline.h"
 #include "geometry/shapes.h"
 #include "scenes.h"
@@ -16,8 +20,7 @@ State contacts_of(const Polyhedron& top, int subdivision = 1, Model* model_out =
   const Polyhedron bottom = make_box(Vec3(0, 0, -0.5), Vec3(1, 1, 1));
   b.add_block(bottom.vertices, bottom.faces, mat, Motion::fixed);
   b.add_block(top.vertices, top.faces, mat);
-  b.contact_settings().subdivision = subdivision;
-  const Model m = b.build();
+  const Model m = b.build({.subdivision = subdivision});
   State s = make_initial_state(m);
   update_pose(m, s);
   update_pairs(m, s);
@@ -139,6 +142,42 @@ TEST(Narrowphase, KeysPersistWhileSliding) {
   update_pose(m, s);
   update_contacts(m, s, false, 1e-5);
   EXPECT_EQ(s.contacts.key, before);
+}
+
+// A 60-gon (the most corners a face may have) on the cube at the finest subdivision:
+// 60 fan triangles x 16^2 = 15,360 points, past the manifold's first 4,096. Every point
+// is kept: together they carry the whole polygon's area.
+TEST(Narrowphase, ManifoldGrowsBeyondItsFirstCapacityInsteadOfDroppingPoints) {
+  std::vector<Vec3> base;
+  const double r = 0.45;
+  for (int k = 0; k < kMaxFaceCorners; ++k) {
+    const double t = 2 * M_PI * k / kMaxFaceCorners;
+    base.push_back(Vec3(r * std::cos(t), r * std::sin(t), 0));
+  }
+  const State s = contacts_of(make_prism(base, 0.0, 0.5), kMaxSubdivision);
+  EXPECT_EQ(s.contacts.size(), static_cast<std::size_t>(kMaxFaceCorners * kMaxSubdivision * kMaxSubdivision));
+  const double polygon_area = 0.5 * kMaxFaceCorners * r * r * std::sin(2 * M_PI / kMaxFaceCorners);
+  EXPECT_NEAR(total_area(s), polygon_area, 1e-9 * polygon_area);
+}
+
+// A face with more corners than the narrowphase's fixed polygon buffers allow is refused
+// when the block is added, naming the block and the face.
+TEST(Narrowphase, FaceWithTooManyCornersIsRefusedByName) {
+  std::vector<Vec3> base;
+  for (int k = 0; k <= kMaxFaceCorners; ++k) {
+    const double t = 2 * M_PI * k / (kMaxFaceCorners + 1);
+    base.push_back(Vec3(std::cos(t), std::sin(t), 0));
+  }
+  const Polyhedron p = make_prism(base, 0.0, 1.0);
+  ModelBuilder b;
+  const int mat = b.add_material(test::stone());
+  try {
+    b.add_block(p.vertices, p.faces, mat, Motion::free, "disc");
+    FAIL() << "a 61-corner face was accepted";
+  } catch (const ModelError& e) {
+    EXPECT_NE(std::string(e.what()).find("block 0 'disc'"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("has 61 corners; at most 60"), std::string::npos) << e.what();
+  }
 }
 
 }  // namespace

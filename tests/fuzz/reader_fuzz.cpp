@@ -14,7 +14,7 @@
 #include <stdexcept>
 #include <string>
 
-#include "engine/checkpoint.h"
+#include "analysis/checkpoint.h"
 #include "geometry/block_files.h"
 #include "io/ground_motion.h"
 #include "io/model_file.h"
@@ -51,7 +51,7 @@ void read_input(const std::string& reader, const std::uint8_t* data, std::size_t
     CheckpointReader r(in);
     State state;
     Joints joints;
-    read_joints(r, joints);
+    visit_joints(r, joints);
     read_state(r, state);
     return;
   }

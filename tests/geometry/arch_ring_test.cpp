@@ -14,6 +14,17 @@
 namespace ishibashi {
 namespace {
 
+// The ring as an engine Model (springing stones fixed).
+Model make_arch_ring_model(const ArchRingSpec& s) {
+  ModelBuilder builder;
+  const int stone = builder.add_material(s.stone.name.empty() ? nishida_stone() : s.stone);
+  for (const Voussoir& v : make_arch_ring(s))
+    builder.add_block(v.shape.vertices, v.shape.faces, stone, v.fixed ? Motion::fixed : Motion::free,
+                      "ring-" + std::to_string(v.ring_index) + "-" + std::to_string(v.course));
+  return builder.build();
+}
+
+
 TEST(ArchRing, VolumeEqualsTheAnnularSectorMinusChordLosses) {
   // Voussoirs have plane intrados and extrados faces, so the ring is the annular sector
   // less the circular segments cut off by each chord: with n stones over an embrace of

@@ -4,9 +4,9 @@
 
 #include <cmath>
 
-#include "engine/impulse.h"
-#include "engine/modal.h"
-#include "engine/spectrum.h"
+#include "analysis/impulse.h"
+#include "analysis/modal.h"
+#include "analysis/spectrum.h"
 #include "engine/world.h"
 #include "scenes.h"
 
@@ -38,7 +38,7 @@ TEST(Spectrum, EveryPeakOfTwoSinesAndNoneOfTheWindowsSidelobes) {
 TEST(Impulse, BlockOnBaseFrequenciesMatchClosedFormsAndModes) {
   const double h = 0.64, a = h / 2, mass = kRho * h * h * h, inertia = mass * h * h / 6;
   const double kn = test::joint_normal_stiffness(h * h, a, a, kE), ks = kn / (2 * (1 + kNu));
-  const Model m = linear_joint_model(test::block_on_base(Vec3(h, h, h), test::stone(1.0)).build());
+  const Model m = test::block_on_base(Vec3(h, h, h), test::stone(1.0)).build({.linear_joints = true});
   const double vertical = std::sqrt(kn / mass) / (2 * kPi);
   Eigen::Matrix2d k, mm;
   k << ks, -ks * h / 2, -ks * h / 2, ks * h * h / 4 + kn * a * a;
@@ -70,7 +70,7 @@ TEST(Impulse, BlockOnBaseFrequenciesMatchClosedFormsAndModes) {
 TEST(Impulse, BothSwayRockingModesAndNoResponseAcrossTheSymmetryPlane) {
   const double h = 0.64, a = h / 2, mass = kRho * h * h * h, inertia = mass * h * h / 6;
   const double kn = test::joint_normal_stiffness(h * h, a, a, kE), ks = kn / (2 * (1 + kNu));
-  const Model m = linear_joint_model(test::block_on_base(Vec3(h, h, h), test::stone(1.0)).build());
+  const Model m = test::block_on_base(Vec3(h, h, h), test::stone(1.0)).build({.linear_joints = true});
   Eigen::Matrix2d k, mm;
   k << ks, -ks * h / 2, -ks * h / 2, ks * h * h / 4 + kn * a * a;
   mm << mass, 0, 0, inertia;

@@ -1,21 +1,10 @@
-#include "engine/impulse.h"
+#include "analysis/impulse.h"
 
 #include <cmath>
 
 #include "engine/world.h"
 
 namespace ishibashi {
-
-Model linear_joint_model(Model m) {
-  for (PairLaw& law : m.pair_law) {
-    law.tensile_pa = law.cohesion_pa = 1e30;
-    law.damping_normal = law.damping_shear = 0.0;
-  }
-  m.gravity_m_s2 = Vec3::Zero();
-  for (Motion& motion : m.motion)
-    if (motion == Motion::fixed) motion = Motion::prescribed;
-  return m;
-}
 
 ImpulseResponse impulse_response(const Model& model, int axis, int response_axis, int monitor, double duration_s, double dt_s,
                                  double step_m, double rise_s) {

@@ -7,7 +7,7 @@
 #include <sstream>
 #include <string>
 
-#include "engine/checkpoint.h"
+#include "analysis/checkpoint.h"
 #include "engine/state.h"
 
 namespace ishibashi {

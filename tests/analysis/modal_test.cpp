@@ -3,7 +3,7 @@
 
 #include <cmath>
 
-#include "engine/modal.h"
+#include "analysis/modal.h"
 #include "engine/world.h"
 #include "geometry/shapes.h"
 #include "scenes.h"
@@ -89,9 +89,8 @@ double column_frequency(int n, int level, double b, double h) {
     const Polyhedron p = make_box(Vec3(0, 0, (k + 0.5) * h), Vec3(b, b, h));
     builder.add_block(p.vertices, p.faces, mat);
   }
-  builder.contact_settings().subdivision = level;
   builder.set_gravity(Vec3::Zero());
-  World w(builder.build(), 1e-7);
+  World w(builder.build({.subdivision = level}), 1e-7);
   const ModalResult r = modal_analysis(w.model(), w.state(), 4);
   for (std::size_t i = 0; i < r.frequency_hz.size(); ++i)
     if (r.dominant_direction(static_cast<int>(i)) != 2 && r.effective_mass_ratio[i].head<2>().sum() > 0.3) return r.frequency_hz[i];

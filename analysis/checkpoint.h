@@ -16,9 +16,24 @@
 
 namespace ishibashi {
 
+template <class T>
+struct is_vector : std::false_type {};
+template <class T>
+struct is_vector<std::vector<T>> : std::true_type {};
+
+// Writer and reader share field(): one visitor function lists what a checkpoint holds, in
+// one order, and serves both (visit_state below, the run's progress in seismic_run.cpp).
 class CheckpointWriter {
  public:
+  static constexpr bool reading = false;
   explicit CheckpointWriter(std::ostream& out) : out_(out) {}
+  template <class T>
+  void field(const T& v) {
+    if constexpr (std::is_same_v<T, bool>) flag(v);
+    else if constexpr (std::is_same_v<T, std::string>) text(v);
+    else if constexpr (is_vector<T>::value) array(v);
+    else value(v);
+  }
   template <class T>
   void value(const T& v) {
     static_assert(std::is_trivially_copyable_v<T> && !std::is_same_v<T, bool>, "flags go through flag()");
@@ -47,7 +62,15 @@ struct CheckpointError : std::runtime_error {
 
 class CheckpointReader {
  public:
+  static constexpr bool reading = true;
   explicit CheckpointReader(std::istream& in);
+  template <class T>
+  void field(T& v) {
+    if constexpr (std::is_same_v<T, bool>) v = flag();
+    else if constexpr (std::is_same_v<T, std::string>) v = text();
+    else if constexpr (is_vector<T>::value) array(v);
+    else v = value<T>();
+  }
   template <class T>
   T value() {
     static_assert(std::is_trivially_copyable_v<T> && !std::is_same_v<T, bool>, "flags go through flag()");
@@ -74,11 +97,33 @@ class CheckpointReader {
   std::streamoff end_ = 0;  // the stream's length: no array may claim more bytes than are left
 };
 
+// Everything a step carries to the next, for CheckpointWriter (S = const State) and
+// CheckpointReader (S = State).
+template <class Archive, class S>
+void visit_state(Archive& a, S& s) {
+  a.field(s.time_s), a.field(s.step);
+  a.field(s.position), a.field(s.orientation), a.field(s.velocity), a.field(s.angular_velocity);
+  a.field(s.applied_force), a.field(s.applied_torque), a.field(s.left_model);
+  a.field(s.damping_scale);
+  a.field(s.pairs), a.field(s.pairs_changed), a.field(s.position_at_rebuild);
+  a.field(s.pairs_valid);
+  s.contacts.for_each_array([&](auto& array) { a.field(array); });
+  a.field(s.energy), a.field(s.last_gravitational_j), a.field(s.last_elastic_j);
+  a.field(s.energy_started);
+  a.field(s.profile);
+}
+
+template <class Archive, class J>
+void visit_joints(Archive& a, J& j) {
+  a.field(j.block_a), a.field(j.block_b), a.field(j.point_begin), a.field(j.point_on_a), a.field(j.point_on_b);
+  a.field(j.centre_on_a), a.field(j.centre_on_b), a.field(j.normal_on_a), a.field(j.reference_on_a);
+  a.field(j.centre_reference_on_a), a.field(j.opening_m), a.field(j.slip_m), a.field(j.broken_at_reference);
+  a.field(j.bond_broken), a.field(j.cracked);
+}
+
 void write_state(CheckpointWriter& out, const State& state);
 // Overwrites what write_state stored; marks the derived buffers for rebuilding.
 void read_state(CheckpointReader& in, State& state);
 
-void write_joints(CheckpointWriter& out, const Joints& joints);
-void read_joints(CheckpointReader& in, Joints& joints);
 
 }  // namespace ishibashi

@@ -10,10 +10,6 @@
 
 namespace ishibashi {
 
-// The same model with linear joints: every joint originally in contact bonded with a
-// strength it can never reach, no contact damping, no gravity.
-Model linear_joint_model(Model model);
-
 struct ImpulseResponse {
   double dt_s;
   std::vector<double> displacement_m;  // monitored block relative to the ground, along the response axis
@@ -22,6 +18,7 @@ struct ImpulseResponse {
 // Ground step of `step_m` along excitation_axis (0 x, 1 y, 2 z) over `rise_s`, then
 // `duration_s` of free vibration, read along response_axis. dt_s = 0: a tenth of the
 // stability limit (frequencies within 0.2 %).
+// linear_model: built with ModelOptions::linear_joints.
 ImpulseResponse impulse_response(const Model& linear_model, int excitation_axis, int response_axis, int monitor_block,
                                  double duration_s,
                                  double dt_s = 0.0, double step_m = 1e-4, double rise_s = 2e-3);

@@ -1,4 +1,4 @@
-#include "engine/spectrum.h"
+#include "analysis/spectrum.h"
 
 #include <unsupported/Eigen/FFT>
 

@@ -1,4 +1,4 @@
-#include "engine/modal.h"
+#include "analysis/modal.h"
 
 #include <Eigen/Sparse>
 #include <Spectra/MatOp/SparseSymShiftSolve.h>
@@ -19,6 +19,8 @@ int ModalResult::dominant_direction(int mode) const {
   return d;
 }
 
+// Assembly, eigen-solution and mass normalisation in one place: each step's arrays (the
+// free-block index, K, M) are the next step's input, and apart they would only be passed on.
 ModalResult modal_analysis(const Model& m, const State& s, int modes) {
   ModalResult out;
   std::vector<int> dof_of(m.block_count, -1);

@@ -1,0 +1,71 @@
+// The outputs of a seismic run, written as it goes: the ParaView series (blocks.pvd,
+// contacts.pvd), history.csv and summary.json in the run's folder, each replaced
+// atomically so that a run stopped at any moment leaves valid files.
+#pragma once
+#include <filesystem>
+#include <functional>
+#include <string>
+#include <vector>
+
+#include "analysis/run_result.h"
+#include "engine/joints.h"
+#include "engine/model.h"
+#include "engine/state.h"
+#include "io/vtk_output.h"
+
+namespace ishibashi {
+
+// What a frame counts: the joints, and the stones that fell or left the model.
+struct RunCounts {
+  JointCounts joints;
+  int fallen = 0, fallen_ring = 0;
+  int left_model = 0;  // blocks that fell past the ground and were frozen there
+};
+RunCounts count_damage(const Model& m, const State& s, const JointThresholds& thresholds, Joints& joints);
+
+// What summary.json says beyond the result: the run's settings.
+struct RunDescription {
+  std::string model_name;
+  int monitored_block = -1;
+  double dt_s = 0;
+  bool capped_damping = false;
+  int threads = 0;
+};
+
+class RunRecorder {
+ public:
+  RunRecorder(std::filesystem::path out, const Model& model, std::vector<int> monitors,
+              std::function<void(const std::string&)> on_warning);
+
+  // One row of history.csv and one frame of each series, of the state now; the ground's
+  // acceleration ga and displacement gd (monitored displacements are relative to it).
+  // Warns once of each block that left the model. Returns the frame's counts.
+  RunCounts record(const char* phase, const State& s, const Vec3& ga, const Vec3& gd, Joints& joints);
+  void write_summary(const RunDescription& run, const SeismicRunResult& r, const State& s, const Joints& joints,
+                     bool finished) const;
+
+  // What a checkpoint keeps of the outputs so far (CheckpointWriter or CheckpointReader).
+  template <class Archive>
+  void visit(Archive& a) {
+    a.field(reported_left_), a.field(history_);
+    std::vector<double> times = blocks_.frame_times();
+    a.field(times);
+    if constexpr (Archive::reading) blocks_.resume(times);
+    times = contacts_.frame_times();
+    a.field(times);
+    if constexpr (Archive::reading) contacts_.resume(times);
+  }
+  std::size_t block_count() const { return reported_left_.size(); }
+
+ private:
+  std::filesystem::path out_;
+  const Model& model_;
+  std::vector<int> monitors_;
+  std::function<void(const std::string&)> on_warning_;
+  JointThresholds thresholds_;  // 1 mm opening is a crack, 1 mm slip a slipped joint
+  VtkSeriesWriter blocks_, contacts_;
+  std::string history_;  // history.csv so far
+  std::vector<std::uint8_t> reported_left_;  // (nb) warned that the block left the model
+};
+
+}  // namespace ishibashi

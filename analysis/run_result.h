@@ -1,0 +1,55 @@
+// What a seismic run found, defined once: the checkpoint, summary.json and the rows of the
+// study's runs.csv and a sweep's sweep.csv are all made from this list.
+#pragma once
+#include <cstdint>
+#include <string>
+
+#include "engine/joints.h"
+
+namespace ishibashi {
+
+// X(type, name, initial value): every field of SeismicRunResult.
+#define ISHIBASHI_RUN_RESULT_FIELDS(X)                                                                     \
+  X(bool, settled, false)              /* the kinetic energy fell below the scenario's threshold */       \
+  X(bool, interrupted, false)          /* stopped by SIGINT/SIGTERM (outputs valid up to then) */          \
+  X(double, settle_time_s, 0)                                                                              \
+  X(double, shaking_time_s, 0)         /* simulated after settling */                                      \
+  X(double, first_opening_s, -1)       /* seconds of shaking until the first crack; -1: none */            \
+  X(double, largest_crown_drop_m, 0)   /* of the monitored block, relative to the ground */                \
+  X(int, fallen_stones, 0)                                                                                 \
+  X(int, fallen_ring_stones, 0)                                                                            \
+  X(int, blocks_left_model, 0)                                                                             \
+  X(bool, collapse, false)             /* a ring stone fell, or more than 5 % of the blocks */             \
+  X(int, joints, 0)                                                                                        \
+  X(int, bonds_broken_settling, 0)                                                                         \
+  X(JointCounts, joint_counts, {})     /* at the end */                                                    \
+  X(double, balance_error_j, 0)                                                                            \
+  X(double, balance_error_relative, 0) /* of the energy exchanged */                                       \
+  X(long, steps, 0)                                                                                        \
+  X(std::uint64_t, state_hash, 0)                                                                          \
+  X(double, wall_s, 0)
+
+struct SeismicRunResult {
+#define ISHIBASHI_DECLARE_RESULT_FIELD(type, name, initial) type name = initial;
+  ISHIBASHI_RUN_RESULT_FIELDS(ISHIBASHI_DECLARE_RESULT_FIELD)
+#undef ISHIBASHI_DECLARE_RESULT_FIELD
+
+  // Calls fn(field) for every field in the list's order (the checkpoint's).
+  template <class Fn>
+  void for_each_field(Fn&& fn) {
+#define ISHIBASHI_VISIT_RESULT_FIELD(type, name, initial) fn(name);
+    ISHIBASHI_RUN_RESULT_FIELDS(ISHIBASHI_VISIT_RESULT_FIELD)
+#undef ISHIBASHI_VISIT_RESULT_FIELD
+  }
+  template <class Fn>
+  void for_each_field(Fn&& fn) const {
+    const_cast<SeismicRunResult&>(*this).for_each_field([&](const auto& field) { fn(field); });
+  }
+};
+
+// The result's columns of a table of runs, in one order: the study's runs.csv and a sweep's
+// sweep.csv put their own columns (which run, at what intensity) around these.
+std::string result_csv_header();  // "settled,...,wall_s" (no newline)
+std::string result_csv_values(const SeismicRunResult& r);
+
+}  // namespace ishibashi

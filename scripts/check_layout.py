@@ -1,0 +1,105 @@
+#!/usr/bin/env python3
+"""The source tree's house rules, checked (CI runs this before the tests):
+
+* layers: engine <- geometry <- io <- analysis <- apps. A file includes project headers of
+  its own layer or a lower one only (engine knows no CGAL or VTK; analysis no command);
+* no include cycles between project headers;
+* no source file over 350 lines;
+* no function in engine/ or analysis/ over 80 lines unless a comment right above it says why.
+
+Prints each breach with its file and line and exits 1 when there is any.
+"""
+import re
+import sys
+from pathlib import Path
+
+ROOT = Path(__file__).resolve().parent.parent
+LAYERS = ["engine", "geometry", "io", "analysis", "apps"]
+MAX_FILE_LINES = 350
+MAX_FUNCTION_LINES = 80
+INCLUDE = re.compile(r'^\s*#\s*include\s+"([^"]+)"')
+# A function definition at namespace level: a line at column 0 that ends its signature with "{".
+FUNCTION_START = re.compile(r"^[A-Za-z_][^;()]*\([^;]*\)\s*(const\s*)?(noexcept\s*)?(->\s*[^{]+)?\{\s*$")
+
+
+def sources():
+    for layer in LAYERS:
+        for path in sorted((ROOT / layer).glob("*")):
+            if path.suffix in (".h", ".cpp"):
+                yield layer, path
+
+
+def main():
+    breaches = []
+    graph = {}
+    for layer, path in sources():
+        rel = path.relative_to(ROOT).as_posix()
+        lines = path.read_text().splitlines()
+        if len(lines) > MAX_FILE_LINES:
+            breaches.append(f"{rel}: {len(lines)} lines (at most {MAX_FILE_LINES}): split it by job")
+        graph[rel] = []
+        for number, line in enumerate(lines, 1):
+            m = INCLUDE.match(line)
+            if not m:
+                continue
+            target = m.group(1)
+            target_layer = target.split("/")[0]
+            if target_layer not in LAYERS:
+                continue  # a test helper or a generated header
+            graph[rel].append(target)
+            if LAYERS.index(target_layer) > LAYERS.index(layer):
+                breaches.append(f"{rel}:{number}: includes {target}, a higher layer ({' <- '.join(LAYERS)})")
+        if layer in ("engine", "analysis"):
+            breaches += long_functions(rel, lines)
+    breaches += cycles(graph)
+    for b in breaches:
+        print(f"check_layout: {b}")
+    print(f"check_layout: {len(graph)} files, {len(breaches)} breaches")
+    return 1 if breaches else 0
+
+
+def long_functions(rel, lines):
+    found = []
+    i = 0
+    while i < len(lines):
+        if FUNCTION_START.match(lines[i]):
+            start = i
+            # the signature may begin on the lines above (a wrapped parameter list)
+            while start > 0 and lines[start - 1] and not lines[start - 1].startswith(("}", "//", "#")) \
+                    and lines[start - 1][0] in " \t" + "abcdefghijklmnopqrstuvwxyzABCDEFGHIJKLMNOPQRSTUVWXYZ_":
+                if lines[start - 1].rstrip().endswith((";", "{", "}")):
+                    break
+                start -= 1
+            end = i + 1
+            while end < len(lines) and not lines[end].startswith("}"):
+                end += 1
+            length = end - start + 1
+            explained = start > 0 and lines[start - 1].lstrip().startswith("//")
+            if length > MAX_FUNCTION_LINES and not explained:
+                found.append(f"{rel}:{start + 1}: a function of {length} lines (at most {MAX_FUNCTION_LINES}) "
+                             "with no comment above it saying why")
+            i = end
+        i += 1
+    return found
+
+
+def cycles(graph):
+    found, state = [], {}
+
+    def visit(node, stack):
+        state[node] = "open"
+        for target in graph.get(node, []):
+            if state.get(target) == "open":
+                found.append("include cycle: " + " -> ".join(stack[stack.index(target):] + [target]))
+            elif target not in state:
+                visit(target, stack + [target])
+        state[node] = "done"
+
+    for node in graph:
+        if node not in state:
+            visit(node, [node])
+    return found
+
+
+if __name__ == "__main__":
+    sys.exit(main())
