@@ -63,6 +63,7 @@ LoadedModel load_model_or_scenario(const std::filesystem::path& file) {
   const Scenario sc = read_scenario(file);  // its model file, with the scenario's mortar
   ModelOptions options;
   options.subdivision = sc.subdivision;
+  options.joint_rule = sc.joint_rule;
   LoadedModel loaded{sc.model.name, file, load_model_builder(sc.model, sc.model_file), options};
   loaded.build();  // options checked now, with the scenario named
   return loaded;

@@ -29,6 +29,7 @@ struct RunDescription {
   int monitored_block = -1;
   double dt_s = 0;
   bool capped_damping = false;
+  const char* joint_rule = "corners";
   int threads = 0;
 };
 

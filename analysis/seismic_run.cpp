@@ -32,13 +32,15 @@ struct CheckpointHeader {
   std::string scenario_file;
   double dt_s = 0, duration_s = 0, motion_duration_s = 0, start_s = 0;
   int subdivision = 1;
+  JointRule joint_rule = JointRule::corners;
   bool cap_damping = false;
 };
 
 template <class Archive, class H>
 void visit_header(Archive& a, H& h) {
   a.field(h.program), a.field(h.inputs), a.field(h.scenario_file), a.field(h.dt_s), a.field(h.duration_s);
-  a.field(h.motion_duration_s), a.field(h.start_s), a.field(h.subdivision), a.field(h.cap_damping);
+  a.field(h.motion_duration_s), a.field(h.start_s), a.field(h.subdivision), a.field(h.joint_rule);
+  a.field(h.cap_damping);
 }
 
 CheckpointHeader read_header(CheckpointReader& in, const std::filesystem::path& file) {
@@ -69,6 +71,7 @@ SeismicRun::SeismicRun(const Scenario& scenario, SeismicRunOptions options)
   // The fixed blocks move with the ground (kinematic drive).
   ModelOptions model_options;
   model_options.subdivision = scenario_.subdivision;
+  model_options.joint_rule = scenario_.joint_rule;
   model_options.cap_damping = scenario_.cap_damping;
   model_options.drive_fixed_blocks = true;
   const Model model = load_model(scenario_.model, scenario_.model_file, model_options);
@@ -115,6 +118,7 @@ std::unique_ptr<SeismicRun> SeismicRun::resume(SeismicRunOptions options, int th
   sc.ground_motion.duration_s = h.motion_duration_s;
   sc.ground_motion.start_s = h.start_s;
   sc.subdivision = h.subdivision;
+  sc.joint_rule = h.joint_rule;
   sc.cap_damping = h.cap_damping;
   if (threads >= 0) sc.threads = threads;
   options.dt_factor = 1;  // h.dt_s is the step the run used
@@ -175,7 +179,7 @@ void SeismicRun::write_summary(Progress& p, bool finished) {
   r.state_hash = world_->state_hash();
   r.wall_s = std::chrono::duration<double>(Clock::now() - p.wall0).count();
   const RunDescription run{scenario_.model.name, monitored_block(), dt_, scenario_.cap_damping,
-                           world_->thread_tuner().max_threads()};
+                           joint_rule_name(scenario_.joint_rule), world_->thread_tuner().max_threads()};
   p.recorder.write_summary(run, r, s, p.joints, finished);
 }
 
@@ -185,7 +189,7 @@ void SeismicRun::write_checkpoint(Progress& p) {
   const CheckpointHeader h{program_fingerprint(), scenario_fingerprint(scenario_.file),
                            std::filesystem::absolute(scenario_.file).string(), dt_, scenario_.duration_s,
                            scenario_.ground_motion.duration_s, scenario_.ground_motion.start_s, scenario_.subdivision,
-                           scenario_.cap_damping};
+                           scenario_.joint_rule, scenario_.cap_damping};
   write_atomically(options_.out / "checkpoint.bin", [&](const std::filesystem::path& tmp) {
     std::ofstream file(tmp, std::ios::binary);
     CheckpointWriter w(file);

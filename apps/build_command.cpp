@@ -40,7 +40,9 @@ int run_build(const BuildOptions& o) {
   // (a face is a contact plane); only once validation has shown them convex.
   if (file.imported())
     for (BridgeBlock& b : blocks) b.shape = merged_faces(b.shape);
-  const Model model = compile_bridge(file.bridge, blocks);
+  ModelOptions options;
+  options.joint_rule = o.joint_rule == "moments" ? JointRule::moments : JointRule::corners;
+  const Model model = compile_bridge(file.bridge, blocks, options);
   std::map<std::string, std::pair<int, int>> by_part;  // free, fixed
   double mass = 0;
   Vec3 lo = model.initial_position[0], hi = lo;
@@ -66,8 +68,9 @@ int run_build(const BuildOptions& o) {
   // through the stiffest block's rocking on its corner sub-contacts.
   int limiting = -1;
   const double limit_s = World(model, 1e-9).critical_time_step_s(&limiting);
-  std::printf("time step: stability limit %.3g s, set by %s (mass %.0f kg); runs use 0.8 of it unless the scenario "
-              "sets dt_s\n", limit_s, model.block_label(limiting).c_str(), model.mass_kg[limiting]);
+  std::printf("time step: stability limit %.3g s with the %s joint rule, set by %s (mass %.0f kg); runs use 0.8 of it "
+              "unless the scenario sets dt_s\n", limit_s, joint_rule_name(options.joint_rule),
+              model.block_label(limiting).c_str(), model.mass_kg[limiting]);
 
   if (!o.export_file.empty()) {
     std::vector<Polyhedron> shapes_out;

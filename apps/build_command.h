@@ -2,6 +2,7 @@
 // summary and write the initial model for ParaView.
 #pragma once
 #include <filesystem>
+#include <string>
 
 namespace ishibashi {
 
@@ -9,6 +10,7 @@ struct BuildOptions {
   std::filesystem::path model_file;
   std::filesystem::path out = "out/build";
   std::filesystem::path export_file;  // optional: the blocks as .off or .obj
+  std::string joint_rule = "corners";  // for the stability limit it prints: "corners" or "moments"
 };
 
 // Returns the exit code: 0 when the model is valid, 3 when validation found errors.

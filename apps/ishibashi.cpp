@@ -37,6 +37,8 @@ int main(int argc, char** argv) {
   build_cmd->add_option("model_file", build.model_file, "model file (TOML), e.g. models/nishida_b.toml")->required();
   build_cmd->add_option("--out", build.out, "output folder for the .vtu");
   build_cmd->add_option("--export", build.export_file, "also write the blocks to this .off or .obj file");
+  build_cmd->add_option("--joint-rule", build.joint_rule, "joint points for the stability limit: \"corners\" or \"moments\"")
+      ->check(CLI::IsMember({"corners", "moments"}));
 
   ishibashi::RunOptions run;
   CLI::App* run_cmd = app.add_subcommand("run", "Settle a bridge under gravity, then shake it with a recorded ground motion");
@@ -57,6 +59,10 @@ int main(int argc, char** argv) {
       ->check(CLI::Range(1e-3, 1.0));
   run_cmd->add_option("--subdivision", run.subdivision, "contact subdivision, replacing the scenario's")
       ->check(CLI::Range(1, 16));
+  run_cmd->add_option("--joint-rule", run.joint_rule,
+                      "joint points, replacing the scenario's: \"corners\" (the study's corner contacts) or \"moments\" "
+                      "(corners, centroid and fan centroids: a uniform bed's second moments)")
+      ->check(CLI::IsMember({"corners", "moments"}));
   run_cmd->add_option("--damping", run.damping,
                       "dashpots, replacing the scenario's: \"study\" (as specified; dt set by them) or \"capped\" "
                       "(scaled down where dt would not resolve them; dt set by the springs)")
@@ -70,7 +76,7 @@ int main(int argc, char** argv) {
   CLI::Option* resume = run_cmd->add_option(
       "--resume", run.resume, "continue the run in this output folder from its checkpoint (bit-identical to an unbroken run)");
   resume->excludes(run_scenario_file);
-  for (const char* setting : {"--out", "--duration", "--start", "--dt", "--dt-factor", "--subdivision", "--damping"})
+  for (const char* setting : {"--out", "--duration", "--start", "--dt", "--dt-factor", "--subdivision", "--joint-rule", "--damping"})
     resume->excludes(run_cmd->get_option(setting));  // a resumed run is the run it was
   run_cmd->callback([&] {
     if (run.scenario.empty() && run.resume.empty()) throw CLI::RequiredError("a scenario file or --resume DIR");
@@ -80,6 +86,8 @@ int main(int argc, char** argv) {
   CLI::App* modal_cmd = app.add_subcommand("modal", "Natural frequencies and mode shapes (modal analysis, joints held linear)");
   modal_cmd->add_option("file", modal.file, "model or scenario file")->required();
   modal_cmd->add_option("--modes", modal.modes, "number of modes")->check(CLI::Range(1, 500));
+  modal_cmd->add_option("--joint-rule", modal.joint_rule, "joint points: \"corners\" or \"moments\" (default: the scenario's, else corners)")
+      ->check(CLI::IsMember({"corners", "moments"}));
   modal_cmd->add_option("--out", modal.out, "output folder (default: out/<name>_modal)");
   modal_cmd->add_option("--impulse", modal.impulse_s, "also run impulse responses of this many seconds (x, y, z steps)")
       ->check(CLI::NonNegativeNumber);

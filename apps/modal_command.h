@@ -15,6 +15,7 @@ struct ModalOptions {
   std::string excite;          // "x", "y" or "z": one impulse along this axis; empty: x, y and z
   std::string read;            // the component read ("x", "y", "z"); empty: the excitation's
   int block = -1;              // the monitored block; -1: the unit on top of the crown
+  std::string joint_rule;      // "corners" or "moments"; empty: the scenario's (corners for a model file)
 };
 
 int run_modal(const ModalOptions& options);

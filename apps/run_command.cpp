@@ -36,6 +36,7 @@ int run_scenario(const RunOptions& o) {
     if (o.dt_s >= 0) sc.dt_s = o.dt_s;
     if (o.subdivision > 0) sc.subdivision = o.subdivision;
     if (!o.damping.empty()) sc.cap_damping = o.damping == "capped";
+    if (!o.joint_rule.empty()) sc.joint_rule = o.joint_rule == "moments" ? JointRule::moments : JointRule::corners;
     resumed = std::make_unique<SeismicRun>(sc, options);
   }
   SeismicRun& run = *resumed;

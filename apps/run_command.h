@@ -17,6 +17,7 @@ struct RunOptions {
   double dt_s = -1;           // >= 0: replaces the scenario's [run] dt_s (0: 0.8 of the limit)
   double dt_factor = 1;       // multiplies the time step (0.5: half of it, for convergence studies)
   int subdivision = 0;        // > 0: replaces the scenario's [run] subdivision
+  std::string joint_rule;     // non-empty: replaces the scenario's [run] joint_rule ("corners", "moments")
   std::string damping;        // non-empty: replaces the scenario's [run] damping ("study", "capped")
   bool fixed_threads = false; // every step on all threads (default: the team size found fastest)
   double checkpoint_every_s = 0;   // > 0: a checkpoint every this many simulated seconds

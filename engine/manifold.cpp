@@ -220,6 +220,30 @@ void vertex_points(const ContactPolygon& c, const Polygon& poly, const PointRule
   }
 }
 
+// JointRule::moments: on each fan triangle (area centroid C, corners i and i+1, area A_i)
+// the points C, x_i, x_i+1 weigh A_i / 12 and the triangle's centroid 3 A_i / 4, which
+// integrates every quadratic exactly (barycentric moments: int l1^2 = A/6, int l1 l2 =
+// A/12). Interior points take the incident face's gap (normal ni, offset di).
+void moment_points(const ContactPolygon& c, const Polygon& poly, const PointRule& rule, const Vec3& ni, double di,
+                   Manifold& out) {
+  const Vec3& n = rule.n;
+  const Vec3 centroid = c.centroid / c.area;
+  auto gap_at = [&](const Vec3& y) { return (di - ni.dot(y)) / ni.dot(n); };
+  auto interior = [&](const Vec3& y, double area, std::uint32_t index) {
+    const double gy = gap_at(y);
+    out.push(ManifoldPoint{y + 0.5 * gy * n, y + gy * n, gy, area, rule.key(0x20000000u | index)});
+  };
+  double fan[kMaxPolygon];  // fan triangle i: centroid, corner i, corner i+1
+  for (int i = 0; i < c.n; ++i) fan[i] = -0.5 * (c.x[i] - centroid).cross(c.x[(i + 1) % c.n] - centroid).dot(n);
+  for (int i = 0; i < c.n; ++i)
+    out.push(ManifoldPoint{c.x[i] + 0.5 * c.gap[i] * rule.n, c.x[i] + c.gap[i] * rule.n, c.gap[i],
+                           (fan[(i + c.n - 1) % c.n] + fan[i]) / 12.0, rule.key(poly.p[i].feature)});
+  double area = 0.0;
+  for (int i = 0; i < c.n; ++i) area += fan[i];
+  interior(centroid, area / 12.0, 0);
+  for (int i = 0; i < c.n; ++i) interior((centroid + c.x[i] + c.x[(i + 1) % c.n]) / 3.0, 0.75 * fan[i], i + 1);
+}
+
 // Subdivision: fan triangles from the area centroid, each cut into level^2 equal
 // sub-triangles; a point at each sub-triangle's centroid. The gap there follows the
 // incident face's plane (normal ni, offset di).
@@ -270,7 +294,9 @@ void face_manifold(const Model& m, const State& s, const PairWorld& w, int a, in
   const int level = m.options.subdivision;
   const double incident_cos = -n.dot(s.face_normal_world[g]);
   if (poly.n < 3 || c.area < nominal) return corner_points(c, poly, rule, tol, nominal, out);
-  if (level == 1 || incident_cos < 0.5) return vertex_points(c, poly, rule, out);
+  // A face meeting the reference face at a steep angle keeps its corners whatever the rule.
+  if (incident_cos < 0.5 || (level == 1 && m.options.joint_rule == JointRule::corners)) return vertex_points(c, poly, rule, out);
+  if (level == 1) return moment_points(c, poly, rule, s.face_normal_world[g], s.face_offset_world[g], out);
   subdivided_points(c, rule, level, s.face_normal_world[g], s.face_offset_world[g], out);
 }
 

@@ -17,6 +17,8 @@ std::string Model::block_label(int b) const {
   return s.str();
 }
 
+const char* joint_rule_name(JointRule rule) { return rule == JointRule::moments ? "moments" : "corners"; }
+
 PairLaw default_pair_law(const Material& a, const Material& b) {
   PairLaw law;
   law.tan_friction = std::tan(std::min(a.friction_deg, b.friction_deg) * M_PI / 180.0);

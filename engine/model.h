@@ -75,6 +75,22 @@ struct ContactSettings {
   double point_area_ratio = 0.01;
 };
 
+// Where a face-to-face joint's sub-contacts sit and what area each carries (subdivision 1).
+enum class JointRule : std::uint8_t {
+  // One point per corner of the contact polygon with its tributary area: the right area
+  // and resultant, like the study's corner-against-face contacts (its Fig. 2), but three
+  // times a uniform spring bed's rocking stiffness on a rectangle (K a^2/4, not K a^2/12).
+  corners,
+  // The corners, the centroid and the centroid of each fan triangle (centroid, corner i,
+  // corner i+1), weighted a twelfth of each fan triangle's area at its three vertices and
+  // three quarters at its centroid: a quadrature exact for every quadratic, so the points
+  // carry the polygon's area, centroid and second moments (a uniform bed's stiffness in
+  // rocking and twist, for any convex polygon), and the corners keep points, so a joint
+  // opening at an edge rocks about that edge.
+  moments,
+};
+const char* joint_rule_name(JointRule rule);  // "corners", "moments"
+
 // What an analysis asks of a model beyond its blocks and materials. Applied and checked
 // once, by ModelBuilder::build; a built Model is never edited (the same blocks with other
 // options are built again from the same builder).
@@ -84,6 +100,7 @@ struct ModelOptions {
   // sub-contact at each centroid, so the joint's rotational stiffness approaches a uniform
   // spring bed.
   int subdivision = 1;
+  JointRule joint_rule = JointRule::corners;  // at subdivision 1; n > 1 refines either the same way
   // false: every dashpot as the materials' h specify (MODEL.md section 3), so dt must stay
   // below the limit the dashpots set (h = 1 on a block held by many joints: a tenth
   // of the springs' limit or less). true: where a free block's dashpots would make the step

@@ -59,6 +59,9 @@ Scenario read_scenario(const std::filesystem::path& file) {
   run.positive("output_interval_s", sc.output_interval_s);
   run.integer_at_least("threads", sc.threads, 0);
   run.integer_in("subdivision", sc.subdivision, 1, kMaxSubdivision);
+  std::string rule = joint_rule_name(sc.joint_rule);
+  run.text("joint_rule", rule, {"corners", "moments"});
+  sc.joint_rule = rule == "moments" ? JointRule::moments : JointRule::corners;
   std::string damping = "study";
   run.text("damping", damping, {"study", "capped"});
   sc.cap_damping = damping == "capped";

@@ -23,6 +23,7 @@ struct Scenario {
   double output_interval_s = 0.05;     // [run] ParaView frames and history rows
   int threads = 0;                     // [run] 0: all cores
   int subdivision = 1;                 // [run] contact subdivision
+  JointRule joint_rule = JointRule::corners;  // [run] joint_rule = "corners" or "moments" (model.h)
   bool cap_damping = false;            // [run] damping = "study" (false) or "capped"
                                        // (ModelOptions::cap_damping)
   GroundMotionSpec ground_motion;      // [ground_motion] x, y, z = { file, format, scale, unit, dt_s }

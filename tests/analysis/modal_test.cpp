@@ -2,6 +2,8 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <utility>
+#include <vector>
 
 #include "analysis/modal.h"
 #include "engine/world.h"
@@ -50,6 +52,35 @@ TEST(Modal, BlockOnBaseMatchesSpringClosedForms) {
       EXPECT_NEAR(r.effective_mass_ratio[i].z(), 1.0, 1e-6);
       EXPECT_EQ(r.dominant_direction(static_cast<int>(i)), 2);
     }
+}
+
+// The same cube with each joint rule against the closed form of that rule's second moment:
+// the corner rule rocks on K_n a^2 (four corners at x, y = +-a), the moment rule on the
+// uniform bed's K_n (2a)^2 / 12 = K_n a^2 / 3; twist likewise with K_s and the polar moment.
+TEST(Modal, BlockOnBaseFrequenciesFollowEachJointRulesSecondMoment) {
+  const double h = 0.64, a = h / 2, area = h * h, mass = kRho * h * h * h, inertia = mass * h * h / 6;
+  const double kn = test::joint_normal_stiffness(area, a, a, kE), ks = kn / (2 * (1 + kNu));
+  for (const auto& [rule, second_moment] : {std::pair{JointRule::corners, a * a}, std::pair{JointRule::moments, a * a / 3}}) {
+    ModelBuilder b = test::block_on_base(Vec3(h, h, h), test::stone(0.0));
+    b.set_gravity(Vec3::Zero());
+    World w(b.build({.joint_rule = rule}), 1e-6);
+    EXPECT_EQ(w.state().contacts.size(), rule == JointRule::corners ? 4u : 9u);
+    const ModalResult r = modal_analysis(w.model(), w.state(), 6);
+    const double vertical = std::sqrt(kn / mass) / (2 * kPi);
+    const double torsion = std::sqrt(ks * 2 * second_moment / inertia) / (2 * kPi);
+    Eigen::Matrix2d k, mm;
+    k << ks, -ks * h / 2, -ks * h / 2, ks * h * h / 4 + kn * second_moment;
+    mm << mass, 0, 0, inertia;
+    Eigen::GeneralizedSelfAdjointEigenSolver<Eigen::Matrix2d> sway(k, mm);
+    std::vector<double> expected{vertical, torsion, std::sqrt(sway.eigenvalues()[0]) / (2 * kPi),
+                                 std::sqrt(sway.eigenvalues()[1]) / (2 * kPi)};
+    for (double f : expected) {
+      double nearest = 0;
+      for (double g : r.frequency_hz)
+        if (std::abs(g - f) < std::abs(nearest - f)) nearest = g;
+      EXPECT_NEAR(nearest, f, 0.01 * f) << joint_rule_name(rule);
+    }
+  }
 }
 
 TEST(Modal, TwoStackedBlocksMatchTheTwoDofClosedForm) {

@@ -180,5 +180,54 @@ TEST(Narrowphase, FaceWithTooManyCornersIsRefusedByName) {
   }
 }
 
+// JointRule::moments on an irregular convex pentagon lying on the cube: the sub-contacts'
+// areas, first and second moments are the polygon's (exact polygon formulas), and every
+// corner of the polygon keeps a point.
+TEST(Narrowphase, MomentRuleCarriesThePolygonsAreaCentroidAndSecondMoments) {
+  const std::vector<Vec3> base{{-0.40, -0.30, 0}, {0.35, -0.42, 0}, {0.44, 0.10, 0}, {0.05, 0.41, 0}, {-0.38, 0.22, 0}};
+  ModelBuilder b;
+  const int mat = b.add_material(test::stone());
+  const Polyhedron bottom = make_box(Vec3(0, 0, -0.5), Vec3(1, 1, 1));
+  b.add_block(bottom.vertices, bottom.faces, mat, Motion::fixed);
+  const Polyhedron top = make_prism(base, 0.0, 0.3);
+  b.add_block(top.vertices, top.faces, mat);
+  const Model m = b.build({.joint_rule = JointRule::moments});
+  State s = make_initial_state(m);
+  update_pose(m, s);
+  update_pairs(m, s);
+  update_contacts(m, s, true, 1e-5);
+  ASSERT_EQ(s.contacts.size(), 2 * base.size() + 1);
+  // Exact moments of the polygon (Green's theorem): area, int x, int y, int x^2, int y^2, int x y.
+  double area = 0, mx = 0, my = 0, ixx = 0, iyy = 0, ixy = 0;
+  for (std::size_t i = 0; i < base.size(); ++i) {
+    const Vec3& p = base[i];
+    const Vec3& q = base[(i + 1) % base.size()];
+    const double cross = p.x() * q.y() - q.x() * p.y();
+    area += cross / 2;
+    mx += (p.x() + q.x()) * cross / 6;
+    my += (p.y() + q.y()) * cross / 6;
+    ixx += (p.x() * p.x() + p.x() * q.x() + q.x() * q.x()) * cross / 12;
+    iyy += (p.y() * p.y() + p.y() * q.y() + q.y() * q.y()) * cross / 12;
+    ixy += (p.x() * q.y() + 2 * p.x() * p.y() + 2 * q.x() * q.y() + q.x() * p.y()) * cross / 24;
+  }
+  double w = 0, wx = 0, wy = 0, wxx = 0, wyy = 0, wxy = 0;
+  const SubContacts& c = s.contacts;
+  for (std::size_t i = 0; i < c.size(); ++i) {
+    const double x = c.point[i].x(), y = c.point[i].y(), a = c.area_m2[i];
+    w += a, wx += a * x, wy += a * y, wxx += a * x * x, wyy += a * y * y, wxy += a * x * y;
+  }
+  EXPECT_NEAR(w, area, 1e-12);
+  EXPECT_NEAR(wx, mx, 1e-12);
+  EXPECT_NEAR(wy, my, 1e-12);
+  EXPECT_NEAR(wxx, ixx, 1e-12);
+  EXPECT_NEAR(wyy, iyy, 1e-12);
+  EXPECT_NEAR(wxy, ixy, 1e-12);
+  for (const Vec3& corner : base) {
+    bool found = false;
+    for (std::size_t i = 0; i < c.size(); ++i) found = found || (c.point[i] - corner).norm() < 1e-12;
+    EXPECT_TRUE(found) << "no point at the corner " << corner.transpose();
+  }
+}
+
 }  // namespace
 }  // namespace ishibashi

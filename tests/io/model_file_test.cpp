@@ -82,5 +82,31 @@ TEST(ScenarioFile, DampingIsStudyOrCappedAndABadChoiceNamesItsLine) {
   }
 }
 
+// A scenario's joint rule and subdivision: read, and anything out of range refused at its line.
+TEST(ScenarioFile, JointRuleAndSubdivisionAreCheckedAtTheirLine) {
+  const auto root = std::filesystem::path(ISHIBASHI_SOURCE_DIR);
+  const auto file = std::filesystem::temp_directory_path() / "ishibashi_scenario_joint_rule.toml";
+  auto write = [&](const std::string& run) {
+    std::ofstream(file) << "[model]\nfile = \"" << (root / "models/nishida_a.toml").string() << "\"\n[run]\nduration_s = 1\n"
+                        << run << "\n[ground_motion]\nx = { file = \""
+                        << (root / "data/ground_motions/kobe_1995_jma/RSN1106_KOBE_KJM090.AT2").string() << "\" }\n";
+  };
+  write("");
+  EXPECT_EQ(read_scenario(file).joint_rule, JointRule::corners);
+  write("joint_rule = \"moments\"");
+  EXPECT_EQ(read_scenario(file).joint_rule, JointRule::moments);
+  for (const auto& [line, message] : {std::pair<std::string, std::string>{"joint_rule = \"gauss\"", "allowed: \"corners\", \"moments\""},
+                                      {"subdivision = 17", "'subdivision' is 17; it must be at least 1 and at most 16"}}) {
+    write(line);
+    try {
+      read_scenario(file);
+      ADD_FAILURE() << line << " was accepted";
+    } catch (const InputError& e) {
+      EXPECT_THAT(e.what(), HasSubstr("ishibashi_scenario_joint_rule.toml:5"));
+      EXPECT_THAT(e.what(), HasSubstr(message));
+    }
+  }
+}
+
 }  // namespace
 }  // namespace ishibashi
