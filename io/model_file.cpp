@@ -48,6 +48,9 @@ ModelFile read_model_file(const std::filesystem::path& file) {
   bridge.non_negative("side_wall_width_m", b.side_wall_width_m);
   bridge.positive("ground_thickness_m", b.ground_thickness_m);
   bridge.non_negative("ground_margin_m", b.ground_margin_m);
+  std::string ground = b.ground == GroundMaterial::soil ? "soil" : "stone";
+  bridge.text("ground", ground, {"stone", "soil"});
+  b.ground = ground == "soil" ? GroundMaterial::soil : GroundMaterial::stone;
   bridge.non_negative("mortar_pa", b.mortar_pa);
   bridge.finish();
 

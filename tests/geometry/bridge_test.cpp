@@ -74,6 +74,32 @@ TEST(Bridge, SoilBackfillHasStoneFaceWallsAndSoilInside) {
   EXPECT_EQ(m.materials[1].name, "soil");
 }
 
+// The ground's material: stone by default, the soil with ground = soil (MODEL.md section
+// 4); a stone standing on a soil ground meets it with the soil's E in K_n (the harmonic
+// mean of MODEL.md section 3) and the soil's friction angle.
+TEST(Bridge, GroundOfSoilGivesItsJointsTheSoilsStiffnessAndFriction) {
+  BridgeSpec s;
+  s.fill_height_m = 5.8;
+  s.length_m = 24.0;
+  for (GroundMaterial ground : {GroundMaterial::stone, GroundMaterial::soil}) {
+    s.ground = ground;
+    const Model m = compile_bridge(s, generate_bridge(s));
+    int ground_block = -1, wall_block = -1;
+    for (int b = 0; b < m.block_count; ++b) {
+      if (m.block_tag[b].part == static_cast<int>(Part::ground)) ground_block = b;
+      if (m.block_tag[b].part == static_cast<int>(Part::wall) && wall_block < 0) wall_block = b;
+    }
+    ASSERT_GE(ground_block, 0);
+    ASSERT_GE(wall_block, 0);
+    const Material& g = m.materials[m.material[ground_block]];
+    EXPECT_EQ(g.name, ground == GroundMaterial::soil ? "soil" : "stone");
+    EXPECT_EQ(g.young_pa, ground == GroundMaterial::soil ? 1.9e8 : 1.4039e10);
+    const PairLaw& law = m.law(m.material[ground_block], m.material[wall_block]);
+    EXPECT_NEAR(law.tan_friction, std::tan((ground == GroundMaterial::soil ? 30.0 : 33.23) * M_PI / 180), 1e-12);
+    EXPECT_EQ(law.tensile_pa, 0.0);  // never reinforced
+  }
+}
+
 // The ground reaches ground_margin_m beyond the bridge's walls on every side; by default
 // four times the bridge's height, beyond the sqrt(6) H = 2.4 H that a wall toppling out
 // of plane throws its stones.
