@@ -271,7 +271,7 @@ def main():
     sections = []  # (title, text, table (header, rows) or None, figure paths)
     freq_rows = []
     for f in frequencies:
-        row = [f["model"], f["subdivision"]]
+        row = [f["model"], f["subdivision"], f["joint_rule"]]
         for axis in "xyz":
             mode, peak = number(f[f"mode_{axis}_hz"]), number(f[f"impulse_{axis}_hz"])
             row += [fmt(mode), fmt(peak), "-" if not (mode > 0 and peak > 0) else f"{100 * (peak / mode - 1):+.2f} %"]
@@ -279,7 +279,7 @@ def main():
     sections.append(("Natural frequencies",
                      "First mode with more than 5 % effective mass per axis (modal analysis, joints held linear) "
                      "and the first clear peak of the impulse response of the crown unit along the same axis.",
-                     (["model", "subdivision", "x modes [Hz]", "x impulse [Hz]", "x diff",
+                     (["model", "subdivision", "joint rule", "x modes [Hz]", "x impulse [Hz]", "x diff",
                        "y modes [Hz]", "y impulse [Hz]", "y diff", "z modes [Hz]", "z impulse [Hz]", "z diff"], freq_rows),
                      [spectra_figure(out, frequencies, figures)]))
 

@@ -57,7 +57,7 @@ bool is_current(const Job& job) {
 // Which run, its result (run_result.h) and how it ran.
 const std::string kRunHeader = "scenario,model,mortar_pa," + result_csv_header() + ",dt_s,threads,monitored_block\n";
 constexpr const char* kFrequencyHeader =
-    "model,file,subdivision,sub_contacts,mode_x_hz,mode_y_hz,mode_z_hz,impulse_x_hz,impulse_y_hz,impulse_z_hz\n";
+    "model,file,subdivision,joint_rule,sub_contacts,mode_x_hz,mode_y_hz,mode_z_hz,impulse_x_hz,impulse_y_hz,impulse_z_hz\n";
 
 void run_job(const Job& job, const StudyFile& study, int threads) {
   use_threads(threads);
@@ -90,7 +90,7 @@ void run_job(const Job& job, const StudyFile& study, int threads) {
     options.impulse_s = study.impulse_s;
     const FrequencyAnalysis a = analyse_frequencies(loaded, options, job.folder);
     row << kFrequencyHeader << "\"" << loaded.name << "\"," << job.input.stem().string() << ","
-        << loaded.options.subdivision << "," << a.sub_contacts;
+        << loaded.options.subdivision << "," << joint_rule_name(loaded.options.joint_rule) << "," << a.sub_contacts;
     for (double f : a.first_mode_hz) row << "," << f;
     for (int axis = 0; axis < 3; ++axis) {
       row << ",";
