@@ -18,8 +18,10 @@ sed -e "s#\"\.\./#\"$root/#g" -e "s#^settle_max_s = [0-9.]*#settle_max_s = $sett
 echo "threads,blocks,subcontacts,dt_s,steps,wall_s,steps_per_s,shaking_s,extrapolated_10s_min"
 for threads in 1 2; do
   log="$work/log_$threads.txt"
+  # RUN_ARGS: more options of `ishibashi run`, e.g. RUN_ARGS="--joint-rule moments"
+  # shellcheck disable=SC2086
   "$exe" run "$work/scenario.toml" --out "$work/out_$threads" --duration "$shaking" --threads "$threads" \
-    --quiet --profile > "$log"
+    --quiet --profile ${RUN_ARGS:-} > "$log"
   field() { sed -n "s/.*\"$1\": \([0-9.e+-]*\).*/\1/p" "$work/out_$threads/summary.json"; }
   counts=$(sed -n 's/.*: \([0-9]*\) blocks, \([0-9]*\) sub-contacts.*/\1,\2/p' "$log")
   awk -v t="$threads" -v c="$counts" -v dt="$(field dt_s)" -v steps="$(field steps)" -v wall="$(field wall_time_s)" \
