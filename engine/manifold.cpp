@@ -295,7 +295,8 @@ void face_manifold(const Model& m, const State& s, const PairWorld& w, int a, in
   const double incident_cos = -n.dot(s.face_normal_world[g]);
   if (poly.n < 3 || c.area < nominal) return corner_points(c, poly, rule, tol, nominal, out);
   // A face meeting the reference face at a steep angle keeps its corners whatever the rule.
-  if (incident_cos < 0.5 || (level == 1 && m.options.joint_rule == JointRule::corners)) return vertex_points(c, poly, rule, out);
+  if (incident_cos < 0.5 || (level == 1 && m.options.joint_rule == JointRule::corners))
+    return vertex_points(c, poly, rule, out);
   if (level == 1) return moment_points(c, poly, rule, s.face_normal_world[g], s.face_offset_world[g], out);
   subdivided_points(c, rule, level, s.face_normal_world[g], s.face_offset_world[g], out);
 }

@@ -39,7 +39,9 @@ Layout build_manifolds(const Model& m, State& s, bool first_detection, double dt
       }
       pair.rebuilt_begin = static_cast<int>(out.size());
       pair.rebuilt_count = manifold.size();
-      const Layout change = manifold.size() != pair.sub_count ? Layout::regroup : manifold.size() > 0 ? Layout::same : Layout::unchanged;
+      const Layout change = manifold.size() != pair.sub_count ? Layout::regroup
+                            : manifold.size() > 0             ? Layout::same
+                                                              : Layout::unchanged;
       s.chunk_regroup[k] = std::max(s.chunk_regroup[k], static_cast<std::uint8_t>(change));
       append_rebuilt(m, s, pair, manifold, first_detection, dt_s, out);
     }

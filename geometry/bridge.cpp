@@ -339,9 +339,8 @@ ModelBuilder bridge_builder(const BridgeSpec& s, const std::vector<BridgeBlock>&
   const int soil_id = builder.add_material(soil);
   int index = 0;
   for (const BridgeBlock& b : blocks) {
-    const bool soil_block = b.part == Part::soil || (b.part == Part::ground && s.ground == GroundMaterial::soil);
-    const int material = soil_block ? soil_id : stone_id;
-    builder.add_block(b.shape.vertices, b.shape.faces, material, b.fixed ? Motion::fixed : Motion::free,
+    const bool of_soil = b.part == Part::soil || (b.part == Part::ground && s.ground == GroundMaterial::soil);
+    builder.add_block(b.shape.vertices, b.shape.faces, of_soil ? soil_id : stone_id, b.fixed ? Motion::fixed : Motion::free,
                       std::string(part_name(b.part)) + "-" + std::to_string(index++),
                       BlockTag{static_cast<int>(b.part), b.course});
   }
