@@ -60,14 +60,17 @@ namespace ishibashi {
 namespace {
 
 // A scenario's dashpot choice: "capped" read, anything else refused at its line.
-TEST(ScenarioFile, DampingIsStudyOrCappedAndABadChoiceNamesItsLine) {
+// A scenario of model A whose [run] table holds `run_line` on its line 5.
+void write_scenario(const std::filesystem::path& file, const std::string& run_line) {
   const auto root = std::filesystem::path(ISHIBASHI_SOURCE_DIR);
+  std::ofstream(file) << "[model]\nfile = \"" << (root / "models/nishida_a.toml").string() << "\"\n[run]\nduration_s = 1\n"
+                      << run_line << "\n[ground_motion]\nx = { file = \""
+                      << (root / "data/ground_motions/kobe_1995_jma/RSN1106_KOBE_KJM090.AT2").string() << "\" }\n";
+}
+
+TEST(ScenarioFile, DampingIsStudyOrCappedAndABadChoiceNamesItsLine) {
   const auto file = std::filesystem::temp_directory_path() / "ishibashi_scenario_damping.toml";
-  auto write = [&](const std::string& damping) {
-    std::ofstream(file) << "[model]\nfile = \"" << (root / "models/nishida_a.toml").string() << "\"\n[run]\nduration_s = 1\n"
-                        << damping << "\n[ground_motion]\nx = { file = \""
-                        << (root / "data/ground_motions/kobe_1995_jma/RSN1106_KOBE_KJM090.AT2").string() << "\" }\n";
-  };
+  auto write = [&](const std::string& damping) { write_scenario(file, damping); };
   write("");
   EXPECT_FALSE(read_scenario(file).cap_damping);
   write("damping = \"capped\"");
@@ -84,13 +87,8 @@ TEST(ScenarioFile, DampingIsStudyOrCappedAndABadChoiceNamesItsLine) {
 
 // A scenario's joint rule and subdivision: read, and anything out of range refused at its line.
 TEST(ScenarioFile, JointRuleAndSubdivisionAreCheckedAtTheirLine) {
-  const auto root = std::filesystem::path(ISHIBASHI_SOURCE_DIR);
   const auto file = std::filesystem::temp_directory_path() / "ishibashi_scenario_joint_rule.toml";
-  auto write = [&](const std::string& run) {
-    std::ofstream(file) << "[model]\nfile = \"" << (root / "models/nishida_a.toml").string() << "\"\n[run]\nduration_s = 1\n"
-                        << run << "\n[ground_motion]\nx = { file = \""
-                        << (root / "data/ground_motions/kobe_1995_jma/RSN1106_KOBE_KJM090.AT2").string() << "\" }\n";
-  };
+  auto write = [&](const std::string& run) { write_scenario(file, run); };
   write("");
   EXPECT_EQ(read_scenario(file).joint_rule, JointRule::corners);
   write("joint_rule = \"moments\"");
