@@ -30,11 +30,11 @@ std::string summary_field(const std::filesystem::path& out, const std::string& k
 }
 
 // Model A from 7.5 s of the Kobe record (the strongest pulses), 0.4 s of shaking.
-std::filesystem::path scenario(const std::string& name, double settle_max_s = 1.0) {
+std::filesystem::path scenario(const std::string& name, double settle_max_s = 1.0, double duration_s = 0.4) {
   const auto f = tmp_dir() / name;
   const auto kobe = kRoot / "data/ground_motions/kobe_1995_jma";
   std::ofstream(f) << "[model]\nfile = \"" << (kRoot / "models/nishida_a.toml").string() << "\"\n"
-                   << "[run]\nsettle_max_s = " << settle_max_s << "\nsettle_kinetic_j = 0.01\nduration_s = 0.4\n"
+                   << "[run]\nsettle_max_s = " << settle_max_s << "\nsettle_kinetic_j = 0.01\nduration_s = " << duration_s << "\n"
                    << "[ground_motion]\nstart_s = 7.5\n"
                    << "x = { file = \"" << (kobe / "RSN1106_KOBE_KJM090.AT2").string() << "\" }\n"
                    << "y = { file = \"" << (kobe / "RSN1106_KOBE_KJM000.AT2").string() << "\" }\n"
@@ -92,25 +92,31 @@ TEST(Checkpoint, RunWithCappedDashpotsResumesBitIdentical) {
 }
 
 TEST(Checkpoint, CheckpointOfAnotherBuildOrOfChangedInputsIsRefused) {
-  const auto file = scenario("ishibashi_checkpoint_refused.toml", 0.1);
+  const auto file = scenario("ishibashi_checkpoint_refused.toml", 0.1, 20.0);
   const auto out = tmp_dir() / "ishibashi_cp_refused";
   std::filesystem::remove_all(out);
   int status = 0;
-  // A run stopped by SIGINT writes a checkpoint too.
-  run_command("timeout -s INT 3 " + kRun + file.string() + " --checkpoint-wall 1000 --out " + out.string(), &status);
+  // A run stopped by SIGINT writes a checkpoint too: SIGINT 1 s after the run's first frame
+  // (a fixed 3 s stopped a loaded machine's run before it began, and let a quiet machine's
+  // 0.4 s run end before the signal).
+  run_command("bash -c '" + kRun + file.string() + " --checkpoint-wall 1000 --out " + out.string() + " & run=$!; while [ ! -f " +
+                  (out / "blocks.pvd").string() + " ] && kill -0 $run 2> /dev/null; do sleep 0.05; done; sleep 1; kill -INT $run; wait $run'",
+              &status);
   ASSERT_TRUE(std::filesystem::exists(out / "checkpoint.bin"));
   const std::string good = text_of(out / "checkpoint.bin");
 
   std::string other_build = good;
-  other_build[std::string("ishibashi checkpoint 3\n").size() + 8] ^= 1;  // the program's fingerprint
+  other_build[std::string("ishibashi checkpoint 4\n").size() + 8] ^= 1;  // the program's fingerprint
   std::ofstream(out / "checkpoint.bin", std::ios::binary) << other_build;
   std::string message = run_command(kRun + "--resume " + out.string(), &status);
   EXPECT_NE(status, 0);
   EXPECT_NE(message.find("written by another build of ishibashi"), std::string::npos) << message;
 
   // The first byte after the header is the phase flag: a byte other than 0 or 1 is damage.
-  const std::string magic = "ishibashi checkpoint 3\n";
-  const std::size_t header = 8 + magic.size() + 16 + 8 + std::filesystem::absolute(file).string().size() + 32 + 4 + 1;
+  const std::string magic = "ishibashi checkpoint 4\n";
+  // magic, program and inputs, scenario path, dt and durations and start, subdivision,
+  // joint rule, damping flag
+  const std::size_t header = 8 + magic.size() + 16 + 8 + std::filesystem::absolute(file).string().size() + 32 + 4 + 1 + 1;
   std::string bad_flag = good;
   bad_flag[header] = 7;
   std::ofstream(out / "checkpoint.bin", std::ios::binary) << bad_flag;
