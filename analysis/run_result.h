@@ -1,5 +1,6 @@
-// What a seismic run found, defined once: the checkpoint, summary.json and the rows of the
-// study's runs.csv and a sweep's sweep.csv are all made from this list.
+// What a seismic run found, defined once: its fields (the list below, which the checkpoint
+// visits) and its columns in a table of runs (result_csv_header/values, which the study's
+// runs.csv and a sweep's sweep.csv share).
 #pragma once
 #include <cstdint>
 #include <string>
@@ -40,10 +41,6 @@ struct SeismicRunResult {
 #define ISHIBASHI_VISIT_RESULT_FIELD(type, name, initial) fn(name);
     ISHIBASHI_RUN_RESULT_FIELDS(ISHIBASHI_VISIT_RESULT_FIELD)
 #undef ISHIBASHI_VISIT_RESULT_FIELD
-  }
-  template <class Fn>
-  void for_each_field(Fn&& fn) const {
-    const_cast<SeismicRunResult&>(*this).for_each_field([&](const auto& field) { fn(field); });
   }
 };
 

@@ -78,6 +78,7 @@ SeismicRun::SeismicRun(const Scenario& scenario, SeismicRunOptions options)
   limit_s_ = World(model, 1e-9).critical_time_step_s(&limiting_block_);
   const double share = scenario_.cap_damping ? kCappedDtShare : kStudyDtShare;
   dt_ = (scenario_.dt_s > 0 ? scenario_.dt_s : share * limit_s_) * options_.dt_factor;
+  steps_per_frame_ = std::max(1L, std::lround(scenario_.output_interval_s / dt_));
   ground_ = prepare_ground_motion(scenario_.ground_motion, dt_);
   world_ = std::make_unique<World>(model, dt_);
   world_->set_adaptive_threads(options_.adaptive_threads);
@@ -226,11 +227,10 @@ void SeismicRun::settle(Progress& p) {
   World& world = *world_;
   const Model& m = world.model();
   State& s = world.state();
-  const long steps_per_frame = std::max(1L, std::lround(scenario_.output_interval_s / dt_));
   const double settle_max_s = scenario_.settle_max_s;
   if (s.step == 0) p.record("settle", m, s);
   while (!stop_requested() && s.time_s < settle_max_s) {
-    world.run(std::min<long>(steps_per_frame, std::lround((settle_max_s - s.time_s) / dt_) + 1));
+    world.run(std::min<long>(steps_per_frame_, std::lround((settle_max_s - s.time_s) / dt_) + 1));
     p.record("settle", m, s);
     if (s.energy.kinetic_j < scenario_.settle_kinetic_j) {
       p.result.settled = true;
@@ -253,7 +253,6 @@ void SeismicRun::shake(Progress& p) {
   State& s = world.state();
   SeismicRunResult& r = p.result;
   const GroundMotion& ground = ground_;
-  const long steps_per_frame = std::max(1L, std::lround(scenario_.output_interval_s / dt_));
   const long n = static_cast<long>(ground.accel_m_s2.size()) - 1;
   const int crown = monitored_block();
   if (p.shake_step > 0) p.ground_accel = ground.accel_m_s2[p.shake_step], p.ground_displacement = ground.displacement_m[p.shake_step];
@@ -271,7 +270,7 @@ void SeismicRun::shake(Progress& p) {
       r.largest_crown_drop_m =
           std::max(r.largest_crown_drop_m, p.settled_crown.z() - s.position[crown].z() + p.ground_displacement.z());
     p.shake_step = k + 1;
-    if ((k + 1) % steps_per_frame == 0 || k + 1 == n) {
+    if ((k + 1) % steps_per_frame_ == 0 || k + 1 == n) {
       p.record("shake", m, s);
       write_summary(p, false);
       if (options_.on_frame) options_.on_frame(double(k + 1) / n);

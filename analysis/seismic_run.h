@@ -82,6 +82,7 @@ class SeismicRun {
   Scenario scenario_;
   SeismicRunOptions options_;
   double limit_s_ = 0, dt_ = 0;
+  long steps_per_frame_ = 1;  // steps between output frames
   int limiting_block_ = -1;
   GroundMotion ground_;
   std::unique_ptr<World> world_;

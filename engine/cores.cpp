@@ -67,7 +67,8 @@ int usable_cores(const std::filesystem::path& root) {
 int decide_thread_count(int requested, int jobs) {
   if (requested > 0) return requested;
   int available = usable_cores();
-  if (const char* env = std::getenv("OMP_NUM_THREADS"); env != nullptr && std::atoi(env) > 0) available = std::atoi(env);
+  const char* env = std::getenv("OMP_NUM_THREADS");
+  if (const int from_env = env ? std::atoi(env) : 0; from_env > 0) available = from_env;
   return std::max(1, available / std::max(1, jobs));
 }
 

@@ -186,11 +186,24 @@ void project(const Polygon& poly, const Vec3& n, double d, ContactPolygon& c) {
   }
 }
 
-// What a manifold's points share: the reference normal n and the pair's key prefix.
+// What a manifold's points share: the reference normal n, the incident face's plane (unit
+// normal ni, offset di) and the pair's key prefix; and how a point is made of a polygon
+// corner or of an interior position.
 struct PointRule {
   Vec3 n;
+  Vec3 ni;
+  double di;
   int kind, ref_local, inc_local;
   std::uint64_t key(std::uint32_t feature) const { return make_key(kind, ref_local, inc_local, feature); }
+  // Corner i of the polygon, with its own gap and feature key.
+  ManifoldPoint corner(const ContactPolygon& c, const Polygon& poly, int i, double area) const {
+    return ManifoldPoint{c.x[i] + 0.5 * c.gap[i] * n, c.x[i] + c.gap[i] * n, c.gap[i], area, key(poly.p[i].feature)};
+  }
+  // A point y inside the polygon (on the reference plane): its gap follows the incident face.
+  ManifoldPoint interior(const Vec3& y, double area, std::uint32_t feature) const {
+    const double gy = (di - ni.dot(y)) / ni.dot(n);
+    return ManifoldPoint{y + 0.5 * gy * n, y + gy * n, gy, area, key(feature)};
+  }
 };
 
 // A corner or an edge touching the face: its own points, not those the tolerance plane
@@ -203,67 +216,47 @@ void corner_points(const ContactPolygon& c, const Polygon& poly, const PointRule
     if (c.gap[i] < c.gap[deepest]) deepest = i;
   }
   if (count == 0) kept[count++] = deepest;
-  for (int k = 0; k < count; ++k) {
-    const int i = kept[k];
-    out.push(ManifoldPoint{c.x[i] + 0.5 * c.gap[i] * rule.n, c.x[i] + c.gap[i] * rule.n, c.gap[i], nominal / count,
-                           rule.key(poly.p[i].feature)});
-  }
+  for (int k = 0; k < count; ++k) out.push(rule.corner(c, poly, kept[k], nominal / count));
 }
 
 // The corner rule (subdivision 1): one point per polygon vertex with its tributary half of
 // the two fan triangles.
 void vertex_points(const ContactPolygon& c, const Polygon& poly, const PointRule& rule, Manifold& out) {
-  for (int i = 0; i < c.n; ++i) {
-    const double share = 0.5 * (c.fan[i] + c.fan[(i + c.n - 1) % c.n]);
-    out.push(ManifoldPoint{c.x[i] + 0.5 * c.gap[i] * rule.n, c.x[i] + c.gap[i] * rule.n, c.gap[i], share,
-                           rule.key(poly.p[i].feature)});
-  }
+  for (int i = 0; i < c.n; ++i) out.push(rule.corner(c, poly, i, 0.5 * (c.fan[i] + c.fan[(i + c.n - 1) % c.n])));
 }
 
 // JointRule::moments: on each fan triangle (area centroid C, corners i and i+1, area A_i)
 // the points C, x_i, x_i+1 weigh A_i / 12 and the triangle's centroid 3 A_i / 4, which
 // integrates every quadratic exactly (barycentric moments: int l1^2 = A/6, int l1 l2 =
-// A/12). Interior points take the incident face's gap (normal ni, offset di).
-void moment_points(const ContactPolygon& c, const Polygon& poly, const PointRule& rule, const Vec3& ni, double di,
-                   Manifold& out) {
-  const Vec3& n = rule.n;
+// A/12).
+void moment_points(const ContactPolygon& c, const Polygon& poly, const PointRule& rule, Manifold& out) {
   const Vec3 centroid = c.centroid / c.area;
-  auto gap_at = [&](const Vec3& y) { return (di - ni.dot(y)) / ni.dot(n); };
-  auto interior = [&](const Vec3& y, double area, std::uint32_t index) {
-    const double gy = gap_at(y);
-    out.push(ManifoldPoint{y + 0.5 * gy * n, y + gy * n, gy, area, rule.key(0x20000000u | index)});
-  };
   double fan[kMaxPolygon];  // fan triangle i: centroid, corner i, corner i+1
-  for (int i = 0; i < c.n; ++i) fan[i] = -0.5 * (c.x[i] - centroid).cross(c.x[(i + 1) % c.n] - centroid).dot(n);
-  for (int i = 0; i < c.n; ++i)
-    out.push(ManifoldPoint{c.x[i] + 0.5 * c.gap[i] * rule.n, c.x[i] + c.gap[i] * rule.n, c.gap[i],
-                           (fan[(i + c.n - 1) % c.n] + fan[i]) / 12.0, rule.key(poly.p[i].feature)});
+  for (int i = 0; i < c.n; ++i) fan[i] = -0.5 * (c.x[i] - centroid).cross(c.x[(i + 1) % c.n] - centroid).dot(rule.n);
   double area = 0.0;
-  for (int i = 0; i < c.n; ++i) area += fan[i];
-  interior(centroid, area / 12.0, 0);
-  for (int i = 0; i < c.n; ++i) interior((centroid + c.x[i] + c.x[(i + 1) % c.n]) / 3.0, 0.75 * fan[i], i + 1);
+  for (int i = 0; i < c.n; ++i) {
+    out.push(rule.corner(c, poly, i, (fan[(i + c.n - 1) % c.n] + fan[i]) / 12.0));
+    area += fan[i];
+  }
+  out.push(rule.interior(centroid, area / 12.0, 0x20000000u));
+  for (int i = 0; i < c.n; ++i)
+    out.push(rule.interior((centroid + c.x[i] + c.x[(i + 1) % c.n]) / 3.0, 0.75 * fan[i], 0x20000000u | (i + 1)));
 }
 
 // Subdivision: fan triangles from the area centroid, each cut into level^2 equal
-// sub-triangles; a point at each sub-triangle's centroid. The gap there follows the
-// incident face's plane (normal ni, offset di).
-void subdivided_points(const ContactPolygon& c, const PointRule& rule, int level, const Vec3& ni, double di,
-                       Manifold& out) {
-  const Vec3& n = rule.n;
+// sub-triangles; a point at each sub-triangle's centroid.
+void subdivided_points(const ContactPolygon& c, const PointRule& rule, int level, Manifold& out) {
   const Vec3 centroid = c.centroid / c.area;
-  auto gap_at = [&](const Vec3& y) { return (di - ni.dot(y)) / ni.dot(n); };
   std::uint32_t index = 0;
   for (int i = 0; i < c.n; ++i) {
     const Vec3 e1 = c.x[i] - centroid, e2 = c.x[(i + 1) % c.n] - centroid;
-    const double sub_area = -0.5 * e1.cross(e2).dot(n) / (level * level);
+    const double sub_area = -0.5 * e1.cross(e2).dot(rule.n) / (level * level);
     for (int u = 0; u < level; ++u)
       for (int v = 0; u + v < level; ++v)
         for (int down = 0; down < 2; ++down) {
           if (down && u + v > level - 2) continue;
           const double cu = (3.0 * u + 1.0 + down) / (3.0 * level), cv = (3.0 * v + 1.0 + down) / (3.0 * level);
-          const Vec3 y = centroid + cu * e1 + cv * e2;
-          const double gy = gap_at(y);
-          out.push(ManifoldPoint{y + 0.5 * gy * n, y + gy * n, gy, sub_area, rule.key(0x40000000u | index++)});
+          out.push(rule.interior(centroid + cu * e1 + cv * e2, sub_area, 0x40000000u | index++));
         }
   }
 }
@@ -287,7 +280,8 @@ void face_manifold(const Model& m, const State& s, const PairWorld& w, int a, in
   const double lever_inc = std::abs(n.dot(s.position[inc]) - d);
   out.lever_a_m = ref_is_a ? lever_ref : lever_inc;
   out.lever_b_m = ref_is_a ? lever_inc : lever_ref;
-  const PointRule rule{n, ref_is_a ? 0 : 1, f - m.face_begin[ref], g - m.face_begin[inc]};
+  const PointRule rule{n, s.face_normal_world[g], s.face_offset_world[g], ref_is_a ? 0 : 1, f - m.face_begin[ref],
+                       g - m.face_begin[inc]};
   ContactPolygon c;
   project(poly, n, d, c);
   const double nominal = m.point_contact_area_m2(a, b);
@@ -297,8 +291,8 @@ void face_manifold(const Model& m, const State& s, const PairWorld& w, int a, in
   // A face meeting the reference face at a steep angle keeps its corners whatever the rule.
   if (incident_cos < 0.5 || (level == 1 && m.options.joint_rule == JointRule::corners))
     return vertex_points(c, poly, rule, out);
-  if (level == 1) return moment_points(c, poly, rule, s.face_normal_world[g], s.face_offset_world[g], out);
-  subdivided_points(c, rule, level, s.face_normal_world[g], s.face_offset_world[g], out);
+  if (level == 1) return moment_points(c, poly, rule, out);
+  subdivided_points(c, rule, level, out);
 }
 
 void edge_manifold(const Model& m, const State& s, const PairWorld& w, int a, int b, const Axis& axis, Manifold& out) {

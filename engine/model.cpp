@@ -59,6 +59,9 @@ Vec3 newell_normal(const std::vector<Vec3>& v, const std::vector<int>& face) {
 
 }  // namespace
 
+// One function: each check relies on the one before (a closed, consistently oriented shell
+// before face normals, normals before convexity and volume, the principal frame before the
+// tables), and every failure names the block and its position through the same `fail`.
 int ModelBuilder::add_block(const std::vector<Vec3>& vertices, const std::vector<std::vector<int>>& faces,
                             int material, Motion motion, std::string name, BlockTag tag) {
   Model& m = model_;

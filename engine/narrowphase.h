@@ -91,9 +91,9 @@ struct Manifold {
 bool pair_manifold(const Model& m, const State& s, Pair& pair, PairWorld& w, Manifold& out);
 
 // ---- manifold.cpp ----
-// The manifold of a face axis: the incident face clipped against the reference face, one
-// point per corner (subdivision 1) or per sub-triangle. Leaves `out` empty when nothing
-// lies within the contact tolerance.
+// The manifold of a face axis: the incident face clipped against the reference face, its
+// points placed by the model's joint rule (subdivision 1) or one per sub-triangle. Leaves
+// `out` empty when nothing lies within the contact tolerance.
 void face_manifold(const Model& m, const State& s, const PairWorld& w, int a, int b, const Axis& axis, Manifold& out);
 // The one point of an edge-edge axis, with the nominal corner area.
 void edge_manifold(const Model& m, const State& s, const PairWorld& w, int a, int b, const Axis& axis, Manifold& out);

@@ -18,8 +18,9 @@ LAYERS = ["engine", "geometry", "io", "analysis", "apps"]
 MAX_FILE_LINES = 350
 MAX_FUNCTION_LINES = 80
 INCLUDE = re.compile(r'^\s*#\s*include\s+"([^"]+)"')
-# A function definition at namespace level: a line at column 0 that ends its signature with "{".
-FUNCTION_START = re.compile(r"^[A-Za-z_][^;()]*\([^;]*\)\s*(const\s*)?(noexcept\s*)?(->\s*[^{]+)?\{\s*$")
+# The line that opens a function's body: its signature's end, ") {" (const, noexcept, a
+# trailing return type allowed). A namespace-level function's signature starts at column 0.
+BODY_OPENS = re.compile(r"\)\s*(const\s*)?(noexcept\s*)?(->\s*[^{]+)?\{\s*$")
 
 
 def sources():
@@ -58,27 +59,30 @@ def main():
     return 1 if breaches else 0
 
 
+def continues_signature(line):
+    """A line above a function's opening line that belongs to its wrapped signature."""
+    text = line.strip()
+    return bool(text) and not text.startswith(("//", "#", "}")) and not text.endswith((";", "{", "}"))
+
+
 def long_functions(rel, lines):
     found = []
     i = 0
     while i < len(lines):
-        if FUNCTION_START.match(lines[i]):
-            start = i
-            # the signature may begin on the lines above (a wrapped parameter list)
-            while start > 0 and lines[start - 1] and not lines[start - 1].startswith(("}", "//", "#")) \
-                    and lines[start - 1][0] in " \t" + "abcdefghijklmnopqrstuvwxyzABCDEFGHIJKLMNOPQRSTUVWXYZ_":
-                if lines[start - 1].rstrip().endswith((";", "{", "}")):
-                    break
+        if BODY_OPENS.search(lines[i]):
+            start = i  # walk up a wrapped signature to its first line
+            while start > 0 and lines[start][:1] in (" ", "\t") and continues_signature(lines[start - 1]):
                 start -= 1
-            end = i + 1
-            while end < len(lines) and not lines[end].startswith("}"):
-                end += 1
-            length = end - start + 1
-            explained = start > 0 and lines[start - 1].lstrip().startswith("//")
-            if length > MAX_FUNCTION_LINES and not explained:
-                found.append(f"{rel}:{start + 1}: a function of {length} lines (at most {MAX_FUNCTION_LINES}) "
-                             "with no comment above it saying why")
-            i = end
+            if re.match(r"[A-Za-z_]", lines[start]):
+                end = i + 1
+                while end < len(lines) and lines[end] != "}":
+                    end += 1
+                length = end - start + 1
+                explained = start > 0 and lines[start - 1].lstrip().startswith("//")
+                if length > MAX_FUNCTION_LINES and not explained:
+                    found.append(f"{rel}:{start + 1}: a function of {length} lines (at most {MAX_FUNCTION_LINES}) "
+                                 "with no comment above it saying why")
+                i = end
         i += 1
     return found
 
