@@ -32,9 +32,9 @@ struct BridgeSpec {
   double side_wall_width_m = 0.0;  // fixed side walls (abutments) at both ends; 0: none
   double ground_thickness_m = 0.5; // fixed base under the whole bridge; 0: none
   double ground_margin_m = 0.0;    // ground beyond the bridge on every side; 0: 4 x its height
-  // The ground's joints with the stones it carries: the study gives the ground the soil's
-  // properties (MODEL.md section 4); stone is what this program used before that was read.
-  GroundMaterial ground = GroundMaterial::stone;
+  // The ground's joints with the stones it carries take the soil's E, density and friction
+  // angle and are never bonded by mortar, as the study gives them (MODEL.md section 4).
+  GroundMaterial ground = GroundMaterial::soil;
   Material stone;                  // empty name: the Nishida stone
   Material soil;                   // empty name: the Nishida soil (MODEL.md section 4)
   double mortar_pa = 0.0;          // f_t = c of stone joints originally in contact; 0: dry
