@@ -23,7 +23,7 @@ extern "C" void on_interrupt(int) { stop_flag = 1; }
 
 using Clock = std::chrono::steady_clock;
 
-constexpr char kCheckpointMagic[] = "ishibashi checkpoint 4\n";
+constexpr char kCheckpointMagic[] = "ishibashi checkpoint 5\n";
 
 // What the checkpoint's run was: the program, the input files and the run's settings
 // beyond the scenario file (command-line overrides), so that a resume rebuilds the same run.
@@ -34,13 +34,14 @@ struct CheckpointHeader {
   int subdivision = 1;
   JointRule joint_rule = JointRule::corners;
   bool cap_damping = false;
+  bool bonds_when_settled = false;
 };
 
 template <class Archive, class H>
 void visit_header(Archive& a, H& h) {
   a.field(h.program), a.field(h.inputs), a.field(h.scenario_file), a.field(h.dt_s), a.field(h.duration_s);
   a.field(h.motion_duration_s), a.field(h.start_s), a.field(h.subdivision), a.field(h.joint_rule);
-  a.field(h.cap_damping);
+  a.field(h.cap_damping), a.field(h.bonds_when_settled);
 }
 
 CheckpointHeader read_header(CheckpointReader& in, const std::filesystem::path& file) {
@@ -74,6 +75,7 @@ SeismicRun::SeismicRun(const Scenario& scenario, SeismicRunOptions options)
   model_options.joint_rule = scenario_.joint_rule;
   model_options.cap_damping = scenario_.cap_damping;
   model_options.drive_fixed_blocks = true;
+  model_options.bonds_when_settled = scenario_.bonds_when_settled;
   const Model model = load_model(scenario_.model, scenario_.model_file, model_options);
   limit_s_ = World(model, 1e-9).critical_time_step_s(&limiting_block_);
   const double share = scenario_.cap_damping ? kCappedDtShare : kStudyDtShare;
@@ -121,6 +123,7 @@ std::unique_ptr<SeismicRun> SeismicRun::resume(SeismicRunOptions options, int th
   sc.subdivision = h.subdivision;
   sc.joint_rule = h.joint_rule;
   sc.cap_damping = h.cap_damping;
+  sc.bonds_when_settled = h.bonds_when_settled;
   if (threads >= 0) sc.threads = threads;
   options.dt_factor = 1;  // h.dt_s is the step the run used
   auto run = std::make_unique<SeismicRun>(sc, std::move(options));
@@ -190,7 +193,7 @@ void SeismicRun::write_checkpoint(Progress& p) {
   const CheckpointHeader h{program_fingerprint(), scenario_fingerprint(scenario_.file),
                            std::filesystem::absolute(scenario_.file).string(), dt_, scenario_.duration_s,
                            scenario_.ground_motion.duration_s, scenario_.ground_motion.start_s, scenario_.subdivision,
-                           scenario_.joint_rule, scenario_.cap_damping};
+                           scenario_.joint_rule, scenario_.cap_damping, scenario_.bonds_when_settled};
   write_atomically(options_.out / "checkpoint.bin", [&](const std::filesystem::path& tmp) {
     std::ofstream file(tmp, std::ios::binary);
     CheckpointWriter w(file);
@@ -221,8 +224,8 @@ void SeismicRun::restore_checkpoint(Progress& p) {
   p.checkpoint_time_s = s.time_s;
 }
 
-// Under gravity until the kinetic energy is negligible; then the joints' reference is the
-// settled pose, and the ground starts to move.
+// Under gravity until the kinetic energy is negligible; then mortar sets (when it sets in
+// the settled pose), the joints' reference is the settled pose, and the ground starts to move.
 void SeismicRun::settle(Progress& p) {
   World& world = *world_;
   const Model& m = world.model();
@@ -240,6 +243,7 @@ void SeismicRun::settle(Progress& p) {
   }
   if (stop_requested()) return;
   p.result.settle_time_s = s.time_s;
+  if (m.options.bonds_when_settled) world.form_bonds();
   p.result.bonds_broken_settling = set_joint_reference(s, p.joints);  // cracks of the shaking, from the settled pose
   if (monitored_block() >= 0) p.settled_crown = s.position[monitored_block()];
   p.shaking = true;

@@ -9,6 +9,21 @@
 
 namespace ishibashi {
 
+int form_bonds(const Model& m, State& s) {
+  SubContacts& c = s.contacts;
+  int formed = 0;
+  for (std::size_t i = 0; i < c.size(); ++i) {
+    const std::uint8_t f = c.flags[i];
+    if (!(f & SubContactFlag::original) || (f & (SubContactFlag::bonded | SubContactFlag::broken))) continue;
+    if (!m.law(m.material[c.block_a[i]], m.material[c.block_b[i]]).carries_bond()) continue;
+    // Its springs keep the settled stretches (the dead load's compression and friction);
+    // the bond adds strength from here on, so nothing moves when it forms.
+    c.flags[i] = f | SubContactFlag::bonded;
+    ++formed;
+  }
+  return formed;
+}
+
 // A barely moved face contact keeps its sub-contacts (keys, areas, levers, springs,
 // bond) and only their geometry follows the current poses: the incident point rides on
 // its block, the reference face gives the normal and the gap.
@@ -40,7 +55,7 @@ void append_rebuilt(const Model& m, const State& s, const Pair& pair, const Mani
   const int incident_block = pair.axis_kind == 1 ? pair.a : pair.b;
   const Mat3 to_incident = s.rotation[incident_block].transpose();
   const PairLaw& law = m.law(m.material[pair.a], m.material[pair.b]);
-  const bool bondable = first_detection && (law.tensile_pa > 0 || law.cohesion_pa > 0);
+  const bool bondable = first_detection && !m.options.bonds_when_settled && law.carries_bond();
   const double reach = 1e-2 * std::min(m.size_m[pair.a], m.size_m[pair.b]);
   const std::size_t first = out.size();
   out.resize(first + manifold.size());

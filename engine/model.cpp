@@ -239,6 +239,7 @@ Model ModelBuilder::build(const ModelOptions& options) const {
     if (std::isfinite(deepest_immobile)) m.leave_depth_m = deepest_immobile + largest;
   }
   if (options.linear_joints) m.gravity_m_s2 = Vec3::Zero();
+  require(!(options.linear_joints && options.bonds_when_settled), "linear joints are bonded from the start");
   const std::size_t n = m.materials.size();
   m.pair_law.resize(n * n);
   for (std::size_t a = 0; a < n; ++a)

@@ -52,6 +52,8 @@ struct PairLaw {
   double cohesion_pa = 0.0;
   double damping_normal = 0.0;
   double damping_shear = 0.0;
+  // Its joints originally in contact carry a bond (mortar).
+  bool carries_bond() const { return tensile_pa > 0 || cohesion_pa > 0; }
 };
 
 // Finest contact subdivision (ModelOptions::subdivision): 16^2 points per fan triangle.
@@ -113,6 +115,12 @@ struct ModelOptions {
   // The impulse analysis (MODEL.md section 6.1): every joint originally in contact bonded
   // with a strength it can never reach, no contact damping, no gravity; fixed blocks driven.
   bool linear_joints = false;
+  // Mortar that sets in the settled pose: the joints originally in contact are found
+  // without a bond, and World::form_bonds gives them theirs once the structure stands
+  // under its weight (a seismic run, after settling), as mortar laid wet hardens under
+  // the dead load and carries none of the tension of gravity switched on at once.
+  // false: bonded from the first step.
+  bool bonds_when_settled = false;
 };
 
 struct Model {

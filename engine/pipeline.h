@@ -23,6 +23,8 @@ std::vector<Pair> brute_force_pairs(const Model& model, const State& state);
 // contact, the only ones that may carry a bond. dt_s: the step that led to the current
 // pose (s), for how far re-clipped points moved.
 void update_contacts(const Model& model, State& state, bool first_detection, double dt_s);
+// World::form_bonds (contact_history.cpp).
+int form_bonds(const Model& model, State& state);
 
 // contact_law.cpp: spring and dashpot constants (MODEL.md section 3) of a sub-contact
 // of area S_i between blocks a and b, whose centroids lie l_A, l_B from the contact plane:

@@ -115,6 +115,8 @@ void World::step() {
   tuner_.record(seconds_since(step0));
 }
 
+int World::form_bonds() { return ishibashi::form_bonds(model_, state_); }
+
 std::uint64_t World::state_hash() const {
   std::uint64_t h = 1469598103934665603ull;  // FNV-1a over the raw bytes
   auto mix = [&](const void* data, std::size_t bytes) {

@@ -32,6 +32,10 @@ class World {
   // dashpots are capped, as the caps keep them within it). Sets *block to the limiting block.
   double critical_time_step_s(int* block = nullptr) const;
 
+  // Bonds every sub-contact originally in contact whose materials carry one and that has
+  // none (ModelOptions::bonds_when_settled), in its current pose; returns how many.
+  int form_bonds();
+
   // Hash of positions, orientations and velocities (for determinism checks).
   std::uint64_t state_hash() const;
 

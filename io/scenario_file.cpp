@@ -45,6 +45,9 @@ Scenario read_scenario(const std::filesystem::path& file) {
   std::string model_file;
   model.text("file", model_file);
   model.number("mortar_pa", sc.mortar_pa);  // < 0: as the model file says
+  std::string bonds = "settled";
+  model.text("mortar_bonds", bonds, {"settled", "initial"});
+  sc.bonds_when_settled = bonds == "settled";
   model.finish();
   if (model_file.empty()) throw InputError(file.string() + ": [model] file = \"...\" is required (a model file, e.g. models/nishida_a.toml)");
   sc.model_file = base / model_file;

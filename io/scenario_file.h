@@ -15,6 +15,8 @@ struct Scenario {
   std::filesystem::path model_file;    // [model] file
   ModelFile model;
   double mortar_pa = -1.0;             // [model] mortar_pa; < 0: as the model file says
+  bool bonds_when_settled = true;      // [model] mortar_bonds = "settled" (true) or "initial"
+                                       // (ModelOptions::bonds_when_settled)
   double dt_s = 0.0;                   // [run] dt_s; 0: a share of the stability limit
                                        // (kStudyDtShare, kCappedDtShare in seismic_run.h)
   double settle_max_s = 1.0;           // [run] longest gravity settling
