@@ -49,6 +49,13 @@ std::string job_key(const Job& job, const StudyFile& study) {
   return hex;
 }
 
+// A CSV field in quotes, inner quotes doubled (RFC 4180, as Python's csv reads it).
+std::string csv_quoted(const std::string& text) {
+  std::string q = "\"";
+  for (char c : text) q += c == '"' ? std::string("\"\"") : std::string(1, c == '\n' ? ' ' : c);
+  return q + "\"";
+}
+
 bool is_current(const Job& job) {
   return fs::exists(job.folder / "row.csv") && fs::exists(job.folder / "inputs.key") &&
          file_bytes(job.folder / "inputs.key") == job.key + "\n";
@@ -172,11 +179,8 @@ StudyOutcome run_study(const StudyFile& study, const StudyOptions& o) {
     outcome.ran += job.status == "ran";
     outcome.current += job.status == "current";
     outcome.failed += job.status == "failed";
-    std::string error = job.error;
-    for (char& c : error)
-      if (c == '"' || c == '\n') c = '\'';
     list << (job.kind == JobKind::run ? "run," : "frequencies,") << job.input.string() << "," << job.status << ","
-         << job.seconds << ",\"" << error << "\"\n";
+         << job.seconds << "," << csv_quoted(job.error) << "\n";
   }
   fs::create_directories(o.out);
   write_text_atomically(o.out / "jobs.csv", list.str());
@@ -188,6 +192,12 @@ StudyOutcome run_study(const StudyFile& study, const StudyOptions& o) {
   for (std::size_t k = 0; k < study.snapshot_times_s.size(); ++k) about << (k ? " " : "") << study.snapshot_times_s[k];
   about << "\n";
   write_text_atomically(o.out / "study.csv", about.str());
+  std::ostringstream reference;  // for the report: the study's own figures and verdicts
+  reference << "kind,key,x_hz,y_hz,z_hz,says\n";
+  for (const auto& [stem, hz] : study.reference_frequencies_hz)
+    reference << "frequencies," << stem << "," << hz[0] << "," << hz[1] << "," << hz[2] << ",\n";
+  for (const auto& [stem, says] : study.reference_says) reference << "says," << stem << ",,,," << csv_quoted(says) << "\n";
+  write_text_atomically(o.out / "reference.csv", reference.str());
 
   if (o.report && !stop_requested()) {
     const std::string command = python().string() + " " + ISHIBASHI_SOURCE_DIR "/analysis/report.py \"" + o.out.string() + "\"";

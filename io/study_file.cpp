@@ -17,10 +17,47 @@ void read_common(TableReader& t, const std::filesystem::path& file, StudyFile& s
   t.number("duration_s", s.duration_s);
 }
 
+// [reference]: every key names a model (frequencies_hz) or a scenario (says) of the study.
+void read_reference(const std::filesystem::path& file, const toml::table& root, StudyFile& s) {
+  TableReader reference(file, root, "reference");
+  const toml::table* frequencies = reference.subtable("frequencies_hz");
+  const toml::table* says = reference.subtable("says");
+  reference.finish();
+  auto listed = [](const std::vector<std::filesystem::path>& files, const std::string& stem) {
+    for (const auto& f : files)
+      if (f.stem() == stem) return true;
+    return false;
+  };
+  TableReader frequency_reader(file, frequencies, "reference.frequencies_hz");
+  if (frequencies)
+    for (const auto& [key, node] : *frequencies) {
+      const std::string stem(key.str());
+      if (!listed(s.models, stem)) frequency_reader.fail(node, "'" + stem + "' is no model file of [study] models");
+      const toml::array* a = node.as_array();
+      if (!a || a->size() != 3) frequency_reader.fail(node, "'" + stem + "' must be [x, y, z] in Hz");
+      std::array<double, 3> hz{};
+      for (int axis = 0; axis < 3; ++axis) {
+        const auto v = (*a)[axis].value<double>();
+        if (!v || *v <= 0) frequency_reader.fail(node, "'" + stem + "' must hold three frequencies > 0, in Hz");
+        hz[axis] = *v;
+      }
+      s.reference_frequencies_hz[stem] = hz;
+    }
+  TableReader says_reader(file, says, "reference.says");
+  if (says)
+    for (const auto& [key, node] : *says) {
+      const std::string stem(key.str());
+      if (!listed(s.scenarios, stem)) says_reader.fail(node, "'" + stem + "' is no scenario file of [study] scenarios");
+      const auto text = node.value<std::string>();
+      if (!text) says_reader.fail(node, "'" + stem + "' must be a string: what the study says of that run");
+      s.reference_says[stem] = *text;
+    }
+}
+
 }  // namespace
 
 StudyFile read_study(const std::filesystem::path& file, bool quick) {
-  const toml::table root = parse_toml_file(file, {"study", "frequencies", "quick"});
+  const toml::table root = parse_toml_file(file, {"study", "frequencies", "quick", "reference"});
   StudyFile s;
   s.file = file;
   TableReader study(file, root, "study");
@@ -31,6 +68,8 @@ StudyFile read_study(const std::filesystem::path& file, bool quick) {
   frequencies.integer("modes", s.modes);
   frequencies.number("impulse_s", s.impulse_s);
   frequencies.finish();
+
+  read_reference(file, root, s);  // against the whole study's models and scenarios
 
   TableReader short_version(file, root, "quick");
   StudyFile q = s;

@@ -2,7 +2,9 @@
 // run, and what the report shows; a [quick] table gives the short version CI runs.
 // Paths are relative to the study file. Errors name the file, line and key.
 #pragma once
+#include <array>
 #include <filesystem>
+#include <map>
 #include <string>
 #include <vector>
 
@@ -17,6 +19,11 @@ struct StudyFile {
   double duration_s = -1;                         // [study] seconds of shaking; < 0: each scenario's
   int modes = 12;                                 // [frequencies] modes
   double impulse_s = 1.0;                         // [frequencies] impulse response length, s
+  // What the published study reports, shown beside this program's results in the report:
+  // [reference.frequencies_hz] model file stem = [x, y, z], its first natural frequencies;
+  // [reference.says] scenario file stem = "what the study says of that run".
+  std::map<std::string, std::array<double, 3>> reference_frequencies_hz;
+  std::map<std::string, std::string> reference_says;
 };
 
 // With quick = true, the keys of [quick] (models, scenarios, snapshot_times_s,

@@ -33,6 +33,11 @@ TEST(Study, QuickStudyWritesTablesAndAReportWithEveryFigureThenKeepsCurrentOutpu
   EXPECT_EQ(count_of(html, "src='data:image/png;base64,"), 6) << html.substr(0, 500);
   const std::string md = text_of(out / "report.md");
   EXPECT_EQ(count_of(md, "](figures/"), 6);
+  // The study's own figures and verdicts beside ours (the study file's [reference]).
+  EXPECT_NE(md.find("## Natural frequencies against the study"), std::string::npos);
+  EXPECT_NE(md.find("| 17.6 |"), std::string::npos) << "model A's x frequency in the study";
+  EXPECT_NE(md.find("| collapses in plane: first horizontal crack at 4.0 s"), std::string::npos);
+  EXPECT_EQ(count_of(text_of(out / "reference.csv"), "\n"), 9);  // header, 3 models, 5 verdicts
   for (const char* figure : {"ground_motion.png", "crown_displacement.png", "impulse_spectra.png", "energy.png"})
     EXPECT_GT(std::filesystem::file_size(out / "figures" / figure), 10000u) << figure;
 
@@ -53,6 +58,15 @@ TEST(Study, BadStudyFileNamesTheFileAndLine) {
   const std::string missing = run_command(std::string(ISHIBASHI_BINARY) + " study " + file.string(), &status);
   EXPECT_NE(status, 0);
   EXPECT_NE(missing.find("nowhere.toml does not exist"), std::string::npos) << missing;
+  std::ofstream(file) << "[study]\nscenarios = [\"nowhere.toml\"]\n[reference.says]\nnowhere = \"stands\"\nelsewhere = \"falls\"\n";
+  const std::string unknown = run_command(std::string(ISHIBASHI_BINARY) + " study " + file.string(), &status);
+  EXPECT_NE(status, 0);
+  EXPECT_NE(unknown.find(file.string() + ":5: 'elsewhere' is no scenario file of [study] scenarios"), std::string::npos)
+      << unknown;
+  std::ofstream(file) << "[study]\nmodels = [\"a.toml\"]\n[reference]\nfrequencies_hz = { a = [1.0, 2.0] }\n";
+  const std::string short_list = run_command(std::string(ISHIBASHI_BINARY) + " study " + file.string(), &status);
+  EXPECT_NE(status, 0);
+  EXPECT_NE(short_list.find(file.string() + ":4: 'a' must be [x, y, z] in Hz"), std::string::npos) << short_list;
 }
 
 }  // namespace
