@@ -29,7 +29,7 @@ struct ImpulseResult {
 struct FrequencyOptions {
   int modes = 12;
   double impulse_s = 0.0;             // > 0: impulse responses of this length
-  std::vector<ImpulseSpec> impulses;  // empty: x, y and z, each read along itself at the crown
+  std::vector<ImpulseSpec> impulses;  // empty: study_impulses()
 };
 
 struct FrequencyAnalysis {
@@ -46,6 +46,11 @@ struct FrequencyAnalysis {
 // The modal analysis studies the model built with the loaded options, the impulse
 // responses the same blocks with linear joints (ModelOptions::linear_joints).
 FrequencyAnalysis analyse_frequencies(const LoadedModel& loaded, const FrequencyOptions& options, const std::filesystem::path& out);
+
+// The study's convention (MODEL.md section 6.1) at the crown unit: x, y and z steps each
+// read along itself, and the vertical response to the x and the y step (a study that
+// reads "the vertical response" may have read either).
+std::vector<ImpulseSpec> study_impulses();
 
 char axis_letter(int axis);
 // "x", "y" or "z" as 0, 1, 2; -1 otherwise.

@@ -128,7 +128,7 @@ def spectra_figure(out, frequencies, figures):
         return None
     fig, axes = panels(len(frequencies), 2.8)
     for a, f in zip(axes, frequencies):
-        folder = out / "frequencies" / f["file"]
+        folder = out / "frequencies" / f["folder"]
         top = 0.0
         for axis, colour in zip("xyz", ("C0", "C1", "C2")):
             for spectrum in sorted(folder.glob(f"spectrum_{axis}{axis}_block*.csv")):
@@ -138,10 +138,15 @@ def spectra_figure(out, frequencies, figures):
             mode = number(f[f"mode_{axis}_hz"])
             if mode > 0:
                 a.axvline(mode, color=colour, ls="--", lw=0.7)
+        for step, colour in zip("xy", ("C0", "C1")):  # the vertical response to the horizontal steps
+            for spectrum in sorted(folder.glob(f"spectrum_{step}z_block*.csv")):
+                hz, amplitude = columns(read_rows(spectrum), "frequency_hz", "amplitude_m")
+                a.semilogy(hz, amplitude, lw=0.6, ls=":", color=colour, label=f"{step} step, z response")
         a.set_xlim(0, 120)
         if top > 0:
             a.set_ylim(top * 1e-5, top * 3)
-        finish_panel(a, f"{f['model']} (dashed: first modes by modal analysis)", "frequency [Hz]", "amplitude [m]")
+        finish_panel(a, f"{f['model']}, {f['joint_rule']} rule (dashed: first modes by modal analysis)", "frequency [Hz]",
+                     "amplitude [m]")
         a.legend(fontsize=7)
     fig.tight_layout()
     return save(fig, figures / "impulse_spectra.png")
@@ -251,7 +256,8 @@ def table_html(header, rows):
 
 def study_frequency_rows(frequencies, reference):
     """Ours beside the study's first frequencies, per model the study gives: the impulse
-    response's first clear peak (the study's method) where it ran, else the modal one."""
+    response's first clear peak (the study's method) where it ran, else the modal one;
+    for z also the vertical response to the x and the y step (the study's z may be either)."""
     rows = []
     for f in frequencies:
         theirs = reference.get(Path(f["file"]).stem)
@@ -263,6 +269,9 @@ def study_frequency_rows(frequencies, reference):
             if not ours > 0:
                 ours = number(f[f"mode_{axis}_hz"])
             row += [fmt(ours), f"{study_hz:g}", fmt(ours / study_hz, 2) if ours > 0 else "-"]
+        for step in "xy":
+            ours = number(f.get(f"impulse_{step}z_hz"))
+            row += [fmt(ours), fmt(ours / theirs[2], 2) if ours > 0 else "-"]
         rows.append(row)
     return rows
 
@@ -309,7 +318,8 @@ def main():
                          "Ours (the impulse response's first clear peak, the study's method, where it ran; else the "
                          "modal analysis) beside the first natural frequencies the study reports, and their ratio.",
                          (["model", "joint rule", "x ours [Hz]", "x study [Hz]", "x ratio", "y ours [Hz]",
-                           "y study [Hz]", "y ratio", "z ours [Hz]", "z study [Hz]", "z ratio"], against), []))
+                           "y study [Hz]", "y ratio", "z ours [Hz]", "z study [Hz]", "z ratio", "z of x step [Hz]",
+                           "ratio", "z of y step [Hz]", "ratio"], against), []))
 
     run_rows = [[r["scenario"], r["settled"], fmt(r["shaking_s"], 2),
                  "none" if r["first_opening_s"] == "" else fmt(r["first_opening_s"], 3),

@@ -29,6 +29,7 @@ struct Job {
   JobKind kind;
   fs::path input;   // model or scenario file
   fs::path folder;  // its outputs
+  std::string joint_rule{};  // a frequency analysis under this rule; empty: the model's own
   std::string key{};  // fingerprint of everything the outputs depend on
   std::string status = "pending", error{};
   double seconds = 0;
@@ -43,7 +44,8 @@ std::string job_key(const Job& job, const StudyFile& study) {
     in << file_bytes(job.input) << file_bytes(read_scenario(job.input).model_file);
   else
     in << file_bytes(job.input);
-  if (job.kind == JobKind::frequencies) in << " modes " << study.modes << " impulse " << study.impulse_s;
+  if (job.kind == JobKind::frequencies)
+    in << " modes " << study.modes << " impulse " << study.impulse_s << " rule " << job.joint_rule;
   char hex[17];
   std::snprintf(hex, sizeof hex, "%016llx", static_cast<unsigned long long>(fnv1a(in.str())));
   return hex;
@@ -64,7 +66,8 @@ bool is_current(const Job& job) {
 // Which run, its result (run_result.h) and how it ran.
 const std::string kRunHeader = "scenario,model,mortar_pa," + result_csv_header() + ",dt_s,threads,monitored_block\n";
 constexpr const char* kFrequencyHeader =
-    "model,file,subdivision,joint_rule,sub_contacts,mode_x_hz,mode_y_hz,mode_z_hz,impulse_x_hz,impulse_y_hz,impulse_z_hz\n";
+    "model,file,folder,subdivision,joint_rule,sub_contacts,mode_x_hz,mode_y_hz,mode_z_hz,impulse_x_hz,impulse_y_hz,impulse_z_hz,"
+    "impulse_xz_hz,impulse_yz_hz\n";
 
 void run_job(const Job& job, const StudyFile& study, int threads) {
   use_threads(threads);
@@ -91,18 +94,20 @@ void run_job(const Job& job, const StudyFile& study, int threads) {
     row << kRunHeader << job.input.stem().string() << ",\"" << sc.model.name << "\"," << sc.model.bridge.mortar_pa << ","
         << result_csv_values(r) << "," << run.dt_s() << "," << threads << "," << run.monitored_block() << "\n";
   } else {
-    const LoadedModel loaded = load_model_or_scenario(job.input);
+    LoadedModel loaded = load_model_or_scenario(job.input);
+    if (!job.joint_rule.empty()) loaded.options.joint_rule = job.joint_rule == "moments" ? JointRule::moments : JointRule::corners;
     FrequencyOptions options;
     options.modes = study.modes;
     options.impulse_s = study.impulse_s;
     const FrequencyAnalysis a = analyse_frequencies(loaded, options, job.folder);
     row << kFrequencyHeader << "\"" << loaded.name << "\"," << job.input.stem().string() << ","
-        << loaded.options.subdivision << "," << joint_rule_name(loaded.options.joint_rule) << "," << a.sub_contacts;
+        << job.folder.filename().string() << "," << loaded.options.subdivision << "," << joint_rule_name(loaded.options.joint_rule) << "," << a.sub_contacts;
     for (double f : a.first_mode_hz) row << "," << f;
-    for (int axis = 0; axis < 3; ++axis) {
+    // The first clear peak of each step read along itself, then of the x and y steps read in z.
+    for (auto [step, read] : {std::pair{0, 0}, {1, 1}, {2, 2}, {0, 2}, {1, 2}}) {
       row << ",";
-      for (const ImpulseResult& i : a.impulses)  // the first clear peak of the step read along itself
-        if (i.spec.excitation_axis == axis && i.spec.response_axis == axis) row << first_peak_hz(i.spectrum);
+      for (const ImpulseResult& i : a.impulses)
+        if (i.spec.excitation_axis == step && i.spec.response_axis == read) row << first_peak_hz(i.spectrum);
     }
     row << "\n";
   }
@@ -129,7 +134,11 @@ StudyOutcome run_study(const StudyFile& study, const StudyOptions& o) {
   std::vector<Job> jobs;
   // The long runs first: the frequency analyses fill the gaps at the end.
   for (const fs::path& s : study.scenarios) jobs.push_back({JobKind::run, s, o.out / "runs" / s.stem()});
-  for (const fs::path& m : study.models) jobs.push_back({JobKind::frequencies, m, o.out / "frequencies" / m.stem()});
+  for (const fs::path& m : study.models) {
+    if (study.joint_rules.empty()) jobs.push_back({JobKind::frequencies, m, o.out / "frequencies" / m.stem()});
+    for (const std::string& rule : study.joint_rules)
+      jobs.push_back({JobKind::frequencies, m, o.out / "frequencies" / (m.stem().string() + "_" + rule), rule});
+  }
   for (Job& job : jobs) job.key = job_key(job, study);
 
   const int workers = std::max(1, std::min<int>(o.jobs, static_cast<int>(jobs.size())));
@@ -146,7 +155,7 @@ StudyOutcome run_study(const StudyFile& study, const StudyOptions& o) {
   auto worker = [&] {
     for (std::size_t i = next++; i < jobs.size() && !stop_requested(); i = next++) {
       Job& job = jobs[i];
-      const std::string name = (job.kind == JobKind::run ? "run " : "frequencies ") + job.input.stem().string();
+      const std::string name = (job.kind == JobKind::run ? "run " : "frequencies ") + job.folder.filename().string();
       if (!o.force && is_current(job)) {
         job.status = "current";
         event(name + ": current, kept");

@@ -67,6 +67,7 @@ StudyFile read_study(const std::filesystem::path& file, bool quick) {
   TableReader frequencies(file, root, "frequencies");
   frequencies.integer("modes", s.modes);
   frequencies.number("impulse_s", s.impulse_s);
+  frequencies.texts("joint_rules", s.joint_rules, {"corners", "moments"});
   frequencies.finish();
 
   read_reference(file, root, s);  // against the whole study's models and scenarios

@@ -19,6 +19,8 @@ struct StudyFile {
   double duration_s = -1;                         // [study] seconds of shaking; < 0: each scenario's
   int modes = 12;                                 // [frequencies] modes
   double impulse_s = 1.0;                         // [frequencies] impulse response length, s
+  std::vector<std::string> joint_rules;           // [frequencies] each model under each of these
+                                                  // rules; empty: the model's (scenario's) own
   // What the published study reports, shown beside this program's results in the report:
   // [reference.frequencies_hz] model file stem = [x, y, z], its first natural frequencies;
   // [reference.says] scenario file stem = "what the study says of that run".

@@ -102,6 +102,25 @@ class TableReader {
       }
     }
   }
+  // An array of strings, each one of `allowed`.
+  void texts(const char* key, std::vector<std::string>& out, std::initializer_list<const char*> allowed) {
+    if (const toml::node* n = find(key)) {
+      const toml::array* a = n->as_array();
+      if (!a) fail(*n, std::string("'") + key + "' must be an array of strings");
+      out.clear();
+      for (const toml::node& e : *a) {
+        auto v = e.value<std::string>();
+        bool ok = false;
+        std::string list;
+        for (const char* choice : allowed) {
+          ok = ok || (v && *v == choice);
+          list += std::string(list.empty() ? "\"" : ", \"") + choice + "\"";
+        }
+        if (!ok) fail(e, std::string("'") + key + "' may only hold " + list);
+        out.push_back(*v);
+      }
+    }
+  }
   void paths(const char* key, const std::filesystem::path& base, std::vector<std::filesystem::path>& out) {
     if (const toml::node* n = find(key)) {
       const toml::array* a = n->as_array();

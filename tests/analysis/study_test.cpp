@@ -22,10 +22,10 @@ TEST(Study, QuickStudyWritesTablesAndAReportWithEveryFigureThenKeepsCurrentOutpu
   const std::string study = std::string(ISHIBASHI_BINARY) + " study --quick --jobs 2 --out " + out.string();
   const std::string first = run_command(study, &status);
   ASSERT_EQ(status, 0) << first;
-  EXPECT_EQ(count_of(first, ": done"), 3) << first;  // two runs and one frequency analysis
+  EXPECT_EQ(count_of(first, ": done"), 4) << first;  // two runs, model A's frequencies under both joint rules
   // The tables: a row per job.
   EXPECT_EQ(count_of(text_of(out / "runs.csv"), "\n"), 3);
-  EXPECT_EQ(count_of(text_of(out / "frequencies.csv"), "\n"), 2);
+  EXPECT_EQ(count_of(text_of(out / "frequencies.csv"), "\n"), 3);
   // Model A's first modes by modal analysis: 22.58, 21.02, 42.00 Hz.
   EXPECT_NE(text_of(out / "frequencies.csv").find(",22.57"), std::string::npos) << text_of(out / "frequencies.csv");
   // The report: ground motion, crown, spectra, energy and one snapshot per run.
@@ -43,8 +43,8 @@ TEST(Study, QuickStudyWritesTablesAndAReportWithEveryFigureThenKeepsCurrentOutpu
 
   const std::string second = run_command(study, &status);
   ASSERT_EQ(status, 0) << second;
-  EXPECT_EQ(count_of(second, "current, kept"), 3) << second;
-  EXPECT_NE(second.find("0 jobs ran, 3 were current"), std::string::npos) << second;
+  EXPECT_EQ(count_of(second, "current, kept"), 4) << second;
+  EXPECT_NE(second.find("0 jobs ran, 4 were current"), std::string::npos) << second;
 }
 
 TEST(Study, BadStudyFileNamesTheFileAndLine) {
@@ -67,6 +67,10 @@ TEST(Study, BadStudyFileNamesTheFileAndLine) {
   const std::string short_list = run_command(std::string(ISHIBASHI_BINARY) + " study " + file.string(), &status);
   EXPECT_NE(status, 0);
   EXPECT_NE(short_list.find(file.string() + ":4: 'a' must be [x, y, z] in Hz"), std::string::npos) << short_list;
+  std::ofstream(file) << "[study]\nmodels = [\"a.toml\"]\n[frequencies]\njoint_rules = [\"corners\", \"edges\"]\n";
+  const std::string rule = run_command(std::string(ISHIBASHI_BINARY) + " study " + file.string(), &status);
+  EXPECT_NE(status, 0);
+  EXPECT_NE(rule.find(file.string() + ":4: 'joint_rules' may only hold \"corners\", \"moments\""), std::string::npos) << rule;
 }
 
 }  // namespace
