@@ -128,7 +128,7 @@ def spectra_figure(out, frequencies, figures):
         return None
     fig, axes = panels(len(frequencies), 2.8)
     for a, f in zip(axes, frequencies):
-        folder = out / "frequencies" / f["folder"]
+        folder = out / "frequencies" / f.get("folder", f["file"])  # older tables: one folder per model
         top = 0.0
         for axis, colour in zip("xyz", ("C0", "C1", "C2")):
             for spectrum in sorted(folder.glob(f"spectrum_{axis}{axis}_block*.csv")):
@@ -321,35 +321,36 @@ def main():
                            "y study [Hz]", "y ratio", "z ours [Hz]", "z study [Hz]", "z ratio", "z of x step [Hz]",
                            "ratio", "z of y step [Hz]", "ratio"], against), []))
 
-    run_rows = [[r["scenario"], r["settled"], fmt(r["shaking_s"], 2),
-                 "none" if r["first_opening_s"] == "" else fmt(r["first_opening_s"], 3),
-                 fmt(r["largest_crown_drop_m"], 1, 1000), r["fallen_stones"], r["collapse"],
-                 f"{r['joints_cracked']} / {r['joints']}", fmt(r["energy_balance_pct"], 3), fmt(r["wall_s"], 0),
-                 study_says.get(r["scenario"], "")]
-                for r in runs]
-    sections.append(("Seismic runs",
-                     "Settled under gravity, then shaken. First opening: seconds of shaking until a joint first "
-                     "opened by more than 1 mm (or lost its bond). Crown drop: the largest downward displacement "
-                     "of the crown unit relative to the ground. Energy balance: the fraction of the energy "
-                     "exchanged (ground work, dashpots, friction, bonds) that the balance misses. Study says: what "
-                     "the published study reports of that run, where the study file gives it (the study's time axis "
-                     "runs 3.8 s behind the record: its 4.0 s is the record's 7.8 s, 3.8 s of shaking from 4.0 s).",
-                     (["scenario", "settled", "shaking [s]", "first opening [s]", "crown drop [mm]",
-                       "stones fallen", "collapse", "joints cracked", "energy balance [%]", "wall [s]", "study says"],
-                      run_rows),
-                     [ground_motion_figure(out, runs, figures), crown_figure(out, runs, figures),
-                      energy_figure(out, runs, figures)]))
+    if runs:  # a study of frequencies alone has none
+        run_rows = [[r["scenario"], r["settled"], fmt(r["shaking_s"], 2),
+                     "none" if r["first_opening_s"] == "" else fmt(r["first_opening_s"], 3),
+                     fmt(r["largest_crown_drop_m"], 1, 1000), r["fallen_stones"], r["collapse"],
+                     f"{r['joints_cracked']} / {r['joints']}", fmt(r["energy_balance_pct"], 3), fmt(r["wall_s"], 0),
+                     study_says.get(r["scenario"], "")]
+                    for r in runs]
+        sections.append(("Seismic runs",
+                         "Settled under gravity, then shaken. First opening: seconds of shaking until a joint first "
+                         "opened by more than 1 mm (or lost its bond). Crown drop: the largest downward displacement "
+                         "of the crown unit relative to the ground. Energy balance: the fraction of the energy "
+                         "exchanged (ground work, dashpots, friction, bonds) that the balance misses. Study says: what "
+                         "the published study reports of that run, where the study file gives it (the study's time axis "
+                         "runs 3.8 s behind the record: its 4.0 s is the record's 7.8 s, 3.8 s of shaking from 4.0 s).",
+                         (["scenario", "settled", "shaking [s]", "first opening [s]", "crown drop [mm]",
+                           "stones fallen", "collapse", "joints cracked", "energy balance [%]", "wall [s]", "study says"],
+                          run_rows),
+                         [ground_motion_figure(out, runs, figures), crown_figure(out, runs, figures),
+                          energy_figure(out, runs, figures)]))
 
-    snapshots = []
-    for r in runs:
-        if not frames(out / "runs" / r["scenario"]):
-            continue
-        limits = model_limits(out, r)
-        limits = ([limits[0][0], limits[0][1], limits[0][2] - 1.0], limits[1])
-        for t in snapshot_times:
-            snapshots.append(snapshot_figure(out, r, t, figures, limits))
-    sections.append(("Snapshots", "Each run at the study's snapshot times, coloured by each block's displacement "
-                     "relative to the ground (open blocks.pvd in ParaView for the whole series).", None, snapshots))
+        snapshots = []
+        for r in runs:
+            if not frames(out / "runs" / r["scenario"]):
+                continue
+            limits = model_limits(out, r)
+            limits = ([limits[0][0], limits[0][1], limits[0][2] - 1.0], limits[1])
+            for t in snapshot_times:
+                snapshots.append(snapshot_figure(out, r, t, figures, limits))
+        sections.append(("Snapshots", "Each run at the study's snapshot times, coloured by each block's displacement "
+                         "relative to the ground (open blocks.pvd in ParaView for the whole series).", None, snapshots))
 
     failed = [j for j in jobs if j["status"] == "failed"]
     if failed:
