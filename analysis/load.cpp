@@ -64,6 +64,7 @@ LoadedModel load_model_or_scenario(const std::filesystem::path& file) {
   ModelOptions options;
   options.subdivision = sc.subdivision;
   options.joint_rule = sc.joint_rule;
+  options.shear_spring = sc.shear_spring;
   LoadedModel loaded{sc.model.name, file, load_model_builder(sc.model, sc.model_file), options};
   loaded.build();  // options checked now, with the scenario named
   return loaded;

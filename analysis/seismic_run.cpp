@@ -23,7 +23,7 @@ extern "C" void on_interrupt(int) { stop_flag = 1; }
 
 using Clock = std::chrono::steady_clock;
 
-constexpr char kCheckpointMagic[] = "ishibashi checkpoint 5\n";
+constexpr char kCheckpointMagic[] = "ishibashi checkpoint 6\n";
 
 // What the checkpoint's run was: the program, the input files and the run's settings
 // beyond the scenario file (command-line overrides), so that a resume rebuilds the same run.
@@ -35,13 +35,14 @@ struct CheckpointHeader {
   JointRule joint_rule = JointRule::corners;
   bool cap_damping = false;
   bool bonds_when_settled = false;
+  ShearSpring shear_spring = ShearSpring::shear_modulus;
 };
 
 template <class Archive, class H>
 void visit_header(Archive& a, H& h) {
   a.field(h.program), a.field(h.inputs), a.field(h.scenario_file), a.field(h.dt_s), a.field(h.duration_s);
   a.field(h.motion_duration_s), a.field(h.start_s), a.field(h.subdivision), a.field(h.joint_rule);
-  a.field(h.cap_damping), a.field(h.bonds_when_settled);
+  a.field(h.cap_damping), a.field(h.bonds_when_settled), a.field(h.shear_spring);
 }
 
 CheckpointHeader read_header(CheckpointReader& in, const std::filesystem::path& file) {
@@ -76,6 +77,7 @@ SeismicRun::SeismicRun(const Scenario& scenario, SeismicRunOptions options)
   model_options.cap_damping = scenario_.cap_damping;
   model_options.drive_fixed_blocks = true;
   model_options.bonds_when_settled = scenario_.bonds_when_settled;
+  model_options.shear_spring = scenario_.shear_spring;
   const Model model = load_model(scenario_.model, scenario_.model_file, model_options);
   limit_s_ = World(model, 1e-9).critical_time_step_s(&limiting_block_);
   const double share = scenario_.cap_damping ? kCappedDtShare : kStudyDtShare;
@@ -124,6 +126,7 @@ std::unique_ptr<SeismicRun> SeismicRun::resume(SeismicRunOptions options, int th
   sc.joint_rule = h.joint_rule;
   sc.cap_damping = h.cap_damping;
   sc.bonds_when_settled = h.bonds_when_settled;
+  sc.shear_spring = h.shear_spring;
   if (threads >= 0) sc.threads = threads;
   options.dt_factor = 1;  // h.dt_s is the step the run used
   auto run = std::make_unique<SeismicRun>(sc, std::move(options));
@@ -193,7 +196,8 @@ void SeismicRun::write_checkpoint(Progress& p) {
   const CheckpointHeader h{program_fingerprint(), scenario_fingerprint(scenario_.file),
                            std::filesystem::absolute(scenario_.file).string(), dt_, scenario_.duration_s,
                            scenario_.ground_motion.duration_s, scenario_.ground_motion.start_s, scenario_.subdivision,
-                           scenario_.joint_rule, scenario_.cap_damping, scenario_.bonds_when_settled};
+                           scenario_.joint_rule, scenario_.cap_damping, scenario_.bonds_when_settled,
+                           scenario_.shear_spring};
   write_atomically(options_.out / "checkpoint.bin", [&](const std::filesystem::path& tmp) {
     std::ofstream file(tmp, std::ios::binary);
     CheckpointWriter w(file);

@@ -88,6 +88,9 @@ int main(int argc, char** argv) {
   modal_cmd->add_option("--modes", modal.modes, "number of modes")->check(CLI::Range(1, 500));
   modal_cmd->add_option("--joint-rule", modal.joint_rule, "joint points: \"corners\" or \"moments\" (default: the scenario's, else corners)")
       ->check(CLI::IsMember({"corners", "moments"}));
+  modal_cmd->add_option("--shear-spring", modal.shear_spring,
+                        "joint shear spring: \"shear_modulus\" (K_s from G, MODEL.md) or \"normal\" (K_s = K_n) (default: the scenario's, else shear_modulus)")
+      ->check(CLI::IsMember({"shear_modulus", "normal"}));
   modal_cmd->add_option("--out", modal.out, "output folder (default: out/<name>_modal)");
   modal_cmd->add_option("--impulse", modal.impulse_s, "also run impulse responses of this many seconds (x, y, z steps)")
       ->check(CLI::NonNegativeNumber);

@@ -12,6 +12,8 @@ int run_modal(const ModalOptions& o) {
   const auto t0 = std::chrono::steady_clock::now();
   LoadedModel loaded = load_model_or_scenario(o.file);
   if (!o.joint_rule.empty()) loaded.options.joint_rule = o.joint_rule == "moments" ? JointRule::moments : JointRule::corners;
+  if (!o.shear_spring.empty())
+    loaded.options.shear_spring = o.shear_spring == "normal" ? ShearSpring::normal : ShearSpring::shear_modulus;
   FrequencyOptions options;
   options.modes = o.modes;
   options.impulse_s = o.impulse_s;
@@ -27,9 +29,9 @@ int run_modal(const ModalOptions& o) {
   const ModalResult& r = a.modal;
   const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 
-  std::printf("%s: %zu free blocks, %zu sub-contacts (subdivision %d, joint rule %s), joints held linear\n",
+  std::printf("%s: %zu free blocks, %zu sub-contacts (subdivision %d, joint rule %s, shear spring %s), joints held linear\n",
               loaded.name.c_str(), r.free_blocks.size(), a.sub_contacts, loaded.options.subdivision,
-              joint_rule_name(loaded.options.joint_rule));
+              joint_rule_name(loaded.options.joint_rule), shear_spring_name(loaded.options.shear_spring));
   std::printf("mode  frequency (Hz)  effective mass x / y / z (of %.1f t)  dominant\n", r.total_mass_kg / 1000);
   for (std::size_t k = 0; k < r.frequency_hz.size(); ++k) {
     const Vec3& e = r.effective_mass_ratio[k];

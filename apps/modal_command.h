@@ -16,6 +16,7 @@ struct ModalOptions {
   std::string read;            // the component read ("x", "y", "z"); empty: the excitation's
   int block = -1;              // the monitored block; -1: the unit on top of the crown
   std::string joint_rule;      // "corners" or "moments"; empty: the scenario's (corners for a model file)
+  std::string shear_spring;    // "shear_modulus" or "normal"; empty: the scenario's (shear_modulus for a model file)
 };
 
 int run_modal(const ModalOptions& options);

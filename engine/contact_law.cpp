@@ -17,7 +17,7 @@ SpringConstants spring_constants(const Model& m, int a, int b, double lever_a_m,
   const double ga = ma.young_pa / (2.0 * (1.0 + ma.poisson)), gb = mb.young_pa / (2.0 * (1.0 + mb.poisson));
   SpringConstants k;
   k.kn = area / (la / ma.young_pa + lb / mb.young_pa);
-  k.ks = area / (la / ga + lb / gb);
+  k.ks = m.options.shear_spring == ShearSpring::normal ? k.kn : area / (la / ga + lb / gb);
   const double meq = (ma.density_kg_m3 * la + mb.density_kg_m3 * lb) * area;
   k.cn = 2.0 * law.damping_normal * std::sqrt(meq * k.kn);
   k.cs = 2.0 * law.damping_shear * std::sqrt(meq * k.ks);

@@ -18,6 +18,7 @@ std::string Model::block_label(int b) const {
 }
 
 const char* joint_rule_name(JointRule rule) { return rule == JointRule::moments ? "moments" : "corners"; }
+const char* shear_spring_name(ShearSpring spring) { return spring == ShearSpring::normal ? "normal" : "shear_modulus"; }
 
 PairLaw default_pair_law(const Material& a, const Material& b) {
   PairLaw law;

@@ -93,6 +93,17 @@ enum class JointRule : std::uint8_t {
 };
 const char* joint_rule_name(JointRule rule);  // "corners", "moments"
 
+// The shear spring of a joint (MODEL.md section 3; the study's own formula is lost from our
+// copy, so this is a choice it leaves open).
+enum class ShearSpring : std::uint8_t {
+  // K_s = S / (l_A/G_A + l_B/G_B), G = E / (2 (1 + nu)): the series formula with the shear
+  // modulus, K_s = 0.39 K_n for the Nishida stone.
+  shear_modulus = 0,
+  // K_s = K_n, as many DEM codes take it for want of a better value.
+  normal = 1,
+};
+const char* shear_spring_name(ShearSpring spring);  // "shear_modulus", "normal"
+
 // What an analysis asks of a model beyond its blocks and materials. Applied and checked
 // once, by ModelBuilder::build; a built Model is never edited (the same blocks with other
 // options are built again from the same builder).
@@ -103,6 +114,7 @@ struct ModelOptions {
   // spring bed.
   int subdivision = 1;
   JointRule joint_rule = JointRule::corners;  // at subdivision 1; n > 1 refines either the same way
+  ShearSpring shear_spring = ShearSpring::shear_modulus;
   // false: every dashpot as the materials' h specify (MODEL.md section 3), so dt must stay
   // below the limit the dashpots set (h = 1 on a block held by many joints: a tenth
   // of the springs' limit or less). true: where a free block's dashpots would make the step

@@ -65,6 +65,9 @@ Scenario read_scenario(const std::filesystem::path& file) {
   std::string rule = joint_rule_name(sc.joint_rule);
   run.text("joint_rule", rule, {"corners", "moments"});
   sc.joint_rule = rule == "moments" ? JointRule::moments : JointRule::corners;
+  std::string shear = shear_spring_name(sc.shear_spring);
+  run.text("shear_spring", shear, {"shear_modulus", "normal"});
+  sc.shear_spring = shear == "normal" ? ShearSpring::normal : ShearSpring::shear_modulus;
   std::string damping = "study";
   run.text("damping", damping, {"study", "capped"});
   sc.cap_damping = damping == "capped";

@@ -26,6 +26,7 @@ struct Scenario {
   int threads = 0;                     // [run] 0: all cores
   int subdivision = 1;                 // [run] contact subdivision
   JointRule joint_rule = JointRule::corners;  // [run] joint_rule = "corners" or "moments" (model.h)
+  ShearSpring shear_spring = ShearSpring::shear_modulus;  // [run] shear_spring = "shear_modulus" or "normal"
   bool cap_damping = false;            // [run] damping = "study" (false) or "capped"
                                        // (ModelOptions::cap_damping)
   GroundMotionSpec ground_motion;      // [ground_motion] x, y, z = { file, format, scale, unit, dt_s }

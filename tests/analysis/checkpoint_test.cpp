@@ -106,17 +106,17 @@ TEST(Checkpoint, CheckpointOfAnotherBuildOrOfChangedInputsIsRefused) {
   const std::string good = text_of(out / "checkpoint.bin");
 
   std::string other_build = good;
-  other_build[std::string("ishibashi checkpoint 5\n").size() + 8] ^= 1;  // the program's fingerprint
+  other_build[std::string("ishibashi checkpoint 6\n").size() + 8] ^= 1;  // the program's fingerprint
   std::ofstream(out / "checkpoint.bin", std::ios::binary) << other_build;
   std::string message = run_command(kRun + "--resume " + out.string(), &status);
   EXPECT_NE(status, 0);
   EXPECT_NE(message.find("written by another build of ishibashi"), std::string::npos) << message;
 
   // The first byte after the header is the phase flag: a byte other than 0 or 1 is damage.
-  const std::string magic = "ishibashi checkpoint 5\n";
+  const std::string magic = "ishibashi checkpoint 6\n";
   // magic, program and inputs, scenario path, dt and durations and start, subdivision,
-  // joint rule, damping flag, mortar timing
-  const std::size_t header = 8 + magic.size() + 16 + 8 + std::filesystem::absolute(file).string().size() + 32 + 4 + 1 + 1 + 1;
+  // joint rule, damping flag, mortar timing, shear spring
+  const std::size_t header = 8 + magic.size() + 16 + 8 + std::filesystem::absolute(file).string().size() + 32 + 4 + 1 + 1 + 1 + 1;
   std::string bad_flag = good;
   bad_flag[header] = 7;
   std::ofstream(out / "checkpoint.bin", std::ios::binary) << bad_flag;

@@ -15,14 +15,15 @@ namespace {
 
 constexpr double kPi = 3.14159265358979323846, kRho = 1.88e3, kE = 1.4039e10, kNu = 0.28;
 
-TEST(Modal, BlockOnBaseMatchesSpringClosedForms) {
+// The block on its base with either shear spring: K_s from G, or K_s = K_n.
+void expect_block_on_base_closed_forms(ShearSpring spring) {
   // A 0.64 m cube on a fixed base 0.64 m thick: joint springs K_n = S / (l/E + l/E) and
   // K_s likewise with G, four corner sub-contacts (K_n / 4 each at x, y = +-a).
   const double h = 0.64, a = h / 2, area = h * h, mass = kRho * h * h * h, inertia = mass * h * h / 6;
-  const double kn = test::joint_normal_stiffness(area, a, a, kE), ks = kn / (2 * (1 + kNu));
+  const double kn = test::joint_normal_stiffness(area, a, a, kE), ks = spring == ShearSpring::normal ? kn : kn / (2 * (1 + kNu));
   ModelBuilder b = test::block_on_base(Vec3(h, h, h), test::stone(0.0));
   b.set_gravity(Vec3::Zero());
-  World w(b.build(), 1e-6);
+  World w(b.build({.shear_spring = spring}), 1e-6);
   const ModalResult r = modal_analysis(w.model(), w.state(), 6);
   ASSERT_EQ(r.frequency_hz.size(), 6u);
 
@@ -52,6 +53,12 @@ TEST(Modal, BlockOnBaseMatchesSpringClosedForms) {
       EXPECT_NEAR(r.effective_mass_ratio[i].z(), 1.0, 1e-6);
       EXPECT_EQ(r.dominant_direction(static_cast<int>(i)), 2);
     }
+}
+
+TEST(Modal, BlockOnBaseMatchesSpringClosedForms) { expect_block_on_base_closed_forms(ShearSpring::shear_modulus); }
+
+TEST(Modal, BlockOnBaseMatchesSpringClosedFormsWithTheShearSpringAsStiffAsTheNormal) {
+  expect_block_on_base_closed_forms(ShearSpring::normal);
 }
 
 // The same cube with each joint rule against the closed form of that rule's second moment:
