@@ -128,18 +128,23 @@ void gather_rows(const std::vector<Job>& jobs, JobKind kind, const std::string& 
 
 fs::path python() { return fs::exists("/usr/bin/python3") ? "/usr/bin/python3" : "python3"; }
 
+// The long runs first: the frequency analyses fill the gaps at the end.
+std::vector<Job> make_jobs(const StudyFile& study, const fs::path& out) {
+  std::vector<Job> jobs;
+  for (const fs::path& s : study.scenarios) jobs.push_back({JobKind::run, s, out / "runs" / s.stem()});
+  for (const fs::path& m : study.models) {
+    if (study.joint_rules.empty()) jobs.push_back({JobKind::frequencies, m, out / "frequencies" / m.stem()});
+    for (const std::string& rule : study.joint_rules)
+      jobs.push_back({JobKind::frequencies, m, out / "frequencies" / (m.stem().string() + "_" + rule), rule});
+  }
+  for (Job& job : jobs) job.key = job_key(job, study);
+  return jobs;
+}
+
 }  // namespace
 
 StudyOutcome run_study(const StudyFile& study, const StudyOptions& o) {
-  std::vector<Job> jobs;
-  // The long runs first: the frequency analyses fill the gaps at the end.
-  for (const fs::path& s : study.scenarios) jobs.push_back({JobKind::run, s, o.out / "runs" / s.stem()});
-  for (const fs::path& m : study.models) {
-    if (study.joint_rules.empty()) jobs.push_back({JobKind::frequencies, m, o.out / "frequencies" / m.stem()});
-    for (const std::string& rule : study.joint_rules)
-      jobs.push_back({JobKind::frequencies, m, o.out / "frequencies" / (m.stem().string() + "_" + rule), rule});
-  }
-  for (Job& job : jobs) job.key = job_key(job, study);
+  std::vector<Job> jobs = make_jobs(study, o.out);
 
   const int workers = std::max(1, std::min<int>(o.jobs, static_cast<int>(jobs.size())));
   const int threads = decide_thread_count(o.threads_per_job, workers);
