@@ -49,27 +49,25 @@ TEST(Study, QuickStudyWritesTablesAndAReportWithEveryFigureThenKeepsCurrentOutpu
 
 TEST(Study, BadStudyFileNamesTheFileAndLine) {
   const auto file = std::filesystem::temp_directory_path() / "ishibashi_bad_study.toml";
-  std::ofstream(file) << "[study]\nname = \"x\"\nscenarios = [\"nowhere.toml\"]\n[frequencies]\nmodes = 3\nimpulse = 2\n";
-  int status = 0;
-  const std::string output = run_command(std::string(ISHIBASHI_BINARY) + " study " + file.string(), &status);
-  EXPECT_NE(status, 0);
+  // Writes the study file, runs `study` on it and returns what it printed; it must fail.
+  auto refused = [&](const std::string& text) {
+    std::ofstream(file) << text;
+    int status = 0;
+    const std::string output = run_command(std::string(ISHIBASHI_BINARY) + " study " + file.string(), &status);
+    EXPECT_NE(status, 0) << text;
+    return output;
+  };
+  const std::string output = refused("[study]\nname = \"x\"\nscenarios = [\"nowhere.toml\"]\n[frequencies]\nmodes = 3\nimpulse = 2\n");
   EXPECT_NE(output.find(file.string() + ":6: unknown key 'impulse' in [frequencies]"), std::string::npos) << output;
-  std::ofstream(file) << "[study]\nscenarios = [\"nowhere.toml\"]\n";
-  const std::string missing = run_command(std::string(ISHIBASHI_BINARY) + " study " + file.string(), &status);
-  EXPECT_NE(status, 0);
+  const std::string missing = refused("[study]\nscenarios = [\"nowhere.toml\"]\n");
   EXPECT_NE(missing.find("nowhere.toml does not exist"), std::string::npos) << missing;
-  std::ofstream(file) << "[study]\nscenarios = [\"nowhere.toml\"]\n[reference.says]\nnowhere = \"stands\"\nelsewhere = \"falls\"\n";
-  const std::string unknown = run_command(std::string(ISHIBASHI_BINARY) + " study " + file.string(), &status);
-  EXPECT_NE(status, 0);
+  const std::string unknown =
+      refused("[study]\nscenarios = [\"nowhere.toml\"]\n[reference.says]\nnowhere = \"stands\"\nelsewhere = \"falls\"\n");
   EXPECT_NE(unknown.find(file.string() + ":5: 'elsewhere' is no scenario file of [study] scenarios"), std::string::npos)
       << unknown;
-  std::ofstream(file) << "[study]\nmodels = [\"a.toml\"]\n[reference]\nfrequencies_hz = { a = [1.0, 2.0] }\n";
-  const std::string short_list = run_command(std::string(ISHIBASHI_BINARY) + " study " + file.string(), &status);
-  EXPECT_NE(status, 0);
+  const std::string short_list = refused("[study]\nmodels = [\"a.toml\"]\n[reference]\nfrequencies_hz = { a = [1.0, 2.0] }\n");
   EXPECT_NE(short_list.find(file.string() + ":4: 'a' must be [x, y, z] in Hz"), std::string::npos) << short_list;
-  std::ofstream(file) << "[study]\nmodels = [\"a.toml\"]\n[frequencies]\njoint_rules = [\"corners\", \"edges\"]\n";
-  const std::string rule = run_command(std::string(ISHIBASHI_BINARY) + " study " + file.string(), &status);
-  EXPECT_NE(status, 0);
+  const std::string rule = refused("[study]\nmodels = [\"a.toml\"]\n[frequencies]\njoint_rules = [\"corners\", \"edges\"]\n");
   EXPECT_NE(rule.find(file.string() + ":4: 'joint_rules' may only hold \"corners\", \"moments\""), std::string::npos) << rule;
 }
 
