@@ -1,5 +1,6 @@
 #include "analysis/run_recorder.h"
 
+#include <algorithm>
 #include <cstdio>
 #include <sstream>
 
@@ -36,6 +37,16 @@ RunRecorder::RunRecorder(std::filesystem::path out, const Model& model, std::vec
   header << ",kinetic_j,gravitational_j,elastic_j,damping_j,friction_j,bond_j,left_model_j,ground_work_j,balance_error_j,"
             "open_joints,cracked_joints,slipped_joints,largest_opening_m,largest_slip_m,fallen_blocks,left_model_blocks\n";
   history_ = header.str();
+  // The camera frames the bridge as built; the ground slab reaches far beyond it.
+  view_.lower_m = Vec3::Constant(1e30);
+  view_.upper_m = Vec3::Constant(-1e30);
+  for (int b = 0; b < model.block_count; ++b) {
+    if (model.block_tag[b].part == static_cast<int>(Part::ground)) continue;
+    const Vec3 half = Vec3::Constant(0.5 * model.size_m[b]);
+    view_.lower_m = view_.lower_m.cwiseMin(model.initial_position[b] - half);
+    view_.upper_m = view_.upper_m.cwiseMax(model.initial_position[b] + half);
+  }
+  if (view_.lower_m.x() > view_.upper_m.x()) view_.lower_m = view_.upper_m = Vec3::Zero();
 }
 
 RunCounts RunRecorder::record(const char* phase, const State& s, const Vec3& ga, const Vec3& gd, Joints& joints) {
@@ -68,6 +79,14 @@ RunCounts RunRecorder::record(const char* phase, const State& s, const Vec3& ga,
   write_text_atomically(out_ / "history.csv", history_);
   blocks_.write(m, s, gd);
   contacts_.write(m, s, gd, &joints);
+  // One colour scale for the whole run: the largest displacement of a stone still standing
+  // (fallen ones are drawn apart, and would squash the scale).
+  for (int b = 0; b < m.block_count; ++b)
+    if (m.block_tag[b].part != static_cast<int>(Part::ground) && !is_fallen(m, s, b))
+      view_.colour_range_m = std::max(view_.colour_range_m, (s.position[b] - m.initial_position[b] - gd).norm());
+  view_.first_time_s = blocks_.frame_times().front();
+  view_.last_time_s = blocks_.frame_times().back();
+  write_paraview_state(out_ / "view.pvsm", view_);
   return c;
 }
 

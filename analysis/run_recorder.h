@@ -1,5 +1,5 @@
 // The outputs of a seismic run, written as it goes: the ParaView series (blocks.pvd,
-// contacts.pvd), history.csv and summary.json in the run's folder, each replaced
+// contacts.pvd) and their state file (view.pvsm), history.csv and summary.json in the run's folder, each replaced
 // atomically so that a run stopped at any moment leaves valid files.
 #pragma once
 #include <filesystem>
@@ -11,6 +11,7 @@
 #include "engine/joints.h"
 #include "engine/model.h"
 #include "engine/state.h"
+#include "io/paraview_state.h"
 #include "io/vtk_output.h"
 
 namespace ishibashi {
@@ -38,7 +39,8 @@ class RunRecorder {
   RunRecorder(std::filesystem::path out, const Model& model, std::vector<int> monitors,
               std::function<void(const std::string&)> on_warning);
 
-  // One row of history.csv and one frame of each series, of the state now; the ground's
+  // One row of history.csv and one frame of each series, of the state now (and view.pvsm
+  // rewritten, its colour scale the largest displacement so far); the ground's
   // acceleration ga and displacement gd (monitored displacements are relative to it).
   // Warns once of each block that left the model. Returns the frame's counts.
   RunCounts record(const char* phase, const State& s, const Vec3& ga, const Vec3& gd, Joints& joints);
@@ -48,7 +50,7 @@ class RunRecorder {
   // What a checkpoint keeps of the outputs so far (CheckpointWriter or CheckpointReader).
   template <class Archive>
   void visit(Archive& a) {
-    a.field(reported_left_), a.field(history_);
+    a.field(reported_left_), a.field(history_), a.field(view_.colour_range_m);
     std::vector<double> times = blocks_.frame_times();
     a.field(times);
     if constexpr (Archive::reading) blocks_.resume(times);
@@ -65,6 +67,7 @@ class RunRecorder {
   std::function<void(const std::string&)> on_warning_;
   JointThresholds thresholds_;  // 1 mm opening is a crack, 1 mm slip a slipped joint
   VtkSeriesWriter blocks_, contacts_;
+  ParaViewView view_;
   std::string history_;  // history.csv so far
   std::vector<std::uint8_t> reported_left_;  // (nb) warned that the block left the model
 };

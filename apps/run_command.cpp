@@ -78,7 +78,8 @@ int run_scenario(const RunOptions& o) {
                 r.steps, p.broadphase_rebuilds, p.contact_regroups, r.steps / total, double(p.thread_steps) / r.steps,
                 run.world().thread_tuner().max_threads());
   }
-  std::printf("outputs in %s: blocks.pvd, contacts.pvd (open in ParaView), history.csv, summary.json\n", options.out.c_str());
+  std::printf("outputs in %s: blocks.pvd, contacts.pvd, view.pvsm (ParaView: File > Load State, files searched in its "
+              "folder), history.csv, summary.json\n", options.out.c_str());
   return r.interrupted ? 130 : 0;
 }
 

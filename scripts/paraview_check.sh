@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
 # Opens a run's ParaView series with Debian 12's own ParaView 5.11 (pvbatch, headless
-# under Xvfb), checks every frame and renders the last one:
+# under Xvfb), checks every frame and renders the last one, then loads the run's state
+# file (view.pvsm) from a copy of the folder elsewhere and renders its last frame:
 #   bash scripts/paraview_check.sh RUN_DIR [PNG_DIR]
 # Debian's python3-paraview cannot be installed beside libvtk9-dev, so ParaView lives in
 # a minimal Debian chroot made with debootstrap (PARAVIEW_ROOT, default
@@ -32,7 +33,7 @@ fi
 work=$($sudo mktemp -d "$chroot_dir/tmp/check.XXXXXX")
 trap '$sudo rm -rf "$work"' EXIT
 $sudo cp -r "$run_dir" "$work/run"
-$sudo cp "$root/scripts/paraview_render.py" "$work/"
+$sudo cp "$root/scripts/paraview_render.py" "$root/scripts/paraview_state_check.py" "$work/"
 $sudo mkdir -p "$work/png"
 inside=${work#"$chroot_dir"}
 log="$png_dir/pvbatch.log"
@@ -41,6 +42,11 @@ for attempt in 1 2 3; do
   status=0
   $sudo chroot "$chroot_dir" xvfb-run -a pvbatch "$inside/paraview_render.py" "$inside/run" "$inside/png" > "$log" 2>&1 ||
     status=$?
+  # The run's state file, loaded from the copy: a moved run folder must still open.
+  if [ $status -eq 0 ] && [ -f "$run_dir/view.pvsm" ]; then
+    $sudo chroot "$chroot_dir" xvfb-run -a pvbatch "$inside/paraview_state_check.py" "$inside/run" "$inside/png" >> "$log" 2>&1 ||
+      status=$?
+  fi
   grep -q "bad X server connection" "$log" || break
   sleep 2
 done

@@ -1,10 +1,13 @@
 // `ishibashi run` end to end on a small model: the outputs load in VTK with the arrays
-// named in the docs, and a run stopped by a signal leaves valid files.
+// named in the docs, the ParaView state file plays them, and a run stopped by a signal
+// leaves valid files. (scripts/paraview_check.sh loads the state file in ParaView itself.)
 #include <gtest/gtest.h>
 #include <vtkCellData.h>
 #include <vtkPointData.h>
 #include <vtkUnstructuredGrid.h>
 
+#include <algorithm>
+#include <cmath>
 #include <cstdlib>
 #include <fstream>
 #include <sstream>
@@ -27,6 +30,51 @@ std::filesystem::path short_scenario(double duration_s) {
                    << "y = { file = \"" << (kobe / "RSN1106_KOBE_KJM000.AT2").string() << "\" }\n"
                    << "z = { file = \"" << (kobe / "RSN1106_KOBE_KJM-UP.AT2").string() << "\" }\n";
   return f;
+}
+
+// The values of property `name` of proxy `id` in a state file (one property per line).
+std::vector<std::string> state_values(const std::string& pvsm, const std::string& id, const std::string& name) {
+  const std::size_t at = pvsm.find("id=\"" + id + "." + name + "\"");
+  std::vector<std::string> values;
+  if (at == std::string::npos) return values;
+  const std::string line = pvsm.substr(at, pvsm.find('\n', at) - at);
+  for (std::size_t v = line.find("value=\""); v != std::string::npos; v = line.find("value=\"", v + 1)) {
+    const std::size_t begin = v + 7;
+    values.push_back(line.substr(begin, line.find('"', begin) - begin));
+  }
+  return values;
+}
+
+// view.pvsm names the series without a folder, plays their frames and colours on one
+// scale that holds every standing stone's displacement in every frame.
+void expect_valid_state(const std::filesystem::path& out, const std::vector<PvdEntry>& blocks) {
+  std::ifstream file(out / "view.pvsm");
+  ASSERT_TRUE(file) << "no view.pvsm in " << out;
+  std::stringstream text;
+  text << file.rdbuf();
+  const std::string pvsm = text.str();
+  EXPECT_EQ(state_values(pvsm, "100", "FileName"), std::vector<std::string>{"blocks.pvd"});
+  EXPECT_EQ(state_values(pvsm, "104", "FileName"), std::vector<std::string>{"contacts.pvd"});
+  const auto end = state_values(pvsm, "142", "EndTime"), start = state_values(pvsm, "142", "AnimationTime");
+  ASSERT_EQ(end.size(), 1u);
+  ASSERT_EQ(start.size(), 1u);
+  EXPECT_NEAR(std::stod(end[0]), blocks.back().time_s, 1e-5);
+  EXPECT_NEAR(std::stod(start[0]), blocks.front().time_s, 1e-5);
+  const auto rgb = state_values(pvsm, "110", "RGBPoints");
+  ASSERT_EQ(rgb.size() % 4, 0u);
+  ASSERT_GE(rgb.size(), 8u);
+  const double top = std::stod(rgb[rgb.size() - 4]);
+  double largest = 0;
+  for (const auto& e : blocks) {
+    vtkUnstructuredGrid* g = read_vtu(e.file);
+    vtkDataArray* d = g->GetCellData()->GetArray("displacement_relative_to_ground");
+    for (vtkIdType c = 0; c < g->GetNumberOfCells(); ++c)
+      if (g->GetCellData()->GetArray("part")->GetComponent(c, 0) != 0 && g->GetCellData()->GetArray("fallen")->GetComponent(c, 0) == 0)
+        largest = std::max(largest, std::hypot(d->GetComponent(c, 0), d->GetComponent(c, 1), d->GetComponent(c, 2)));
+    g->Delete();
+  }
+  EXPECT_GE(top, largest * (1 - 1e-5));
+  EXPECT_LE(top, std::max(largest * (1 + 1e-5), 1e-3));  // the scale is the largest, not a guess
 }
 
 void expect_valid_outputs(const std::filesystem::path& out) {
@@ -67,6 +115,7 @@ void expect_valid_outputs(const std::filesystem::path& out) {
   EXPECT_NE(text.str().find("\"largest_crown_drop_m\""), std::string::npos);
   EXPECT_EQ(text.str().back(), '\n');
   EXPECT_TRUE(std::filesystem::exists(out / "scenario.toml"));
+  expect_valid_state(out, blocks);
   for (const auto& f : std::filesystem::directory_iterator(out))
     EXPECT_EQ(f.path().string().find(".tmp"), std::string::npos) << f.path();
 }

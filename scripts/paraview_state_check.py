@@ -1,0 +1,49 @@
+# Loads a run's view.pvsm in ParaView (pvbatch) as a user would after moving the run's
+# folder: files looked up in the state file's folder. Checks that the standing stones,
+# the cracked joints and the colour scale come out as the state says, renders the last
+# frame to view.png, and exits non-zero on any failure.
+#   pvbatch paraview_state_check.py RUN_DIR PNG_DIR
+import os
+import sys
+
+from paraview.simple import FindSource, GetActiveView, GetAnimationScene, GetSources, LoadState, SaveScreenshot
+
+run_dir, png_dir = os.path.abspath(sys.argv[1]), sys.argv[2]
+state = os.path.join(run_dir, "view.pvsm")
+LoadState(state, data_directory=run_dir)
+failures = []
+names = sorted(name for name, _ in GetSources().keys())
+for wanted in ("blocks.pvd", "contacts.pvd", "standing stones", "fallen stones", "cracked joints"):
+    if wanted not in names:
+        failures.append("view.pvsm has no source '%s' (it has %s)" % (wanted, ", ".join(names)))
+scene = GetAnimationScene()
+blocks = FindSource("blocks.pvd")
+times = list(blocks.TimestepValues) if blocks and blocks.TimestepValues else []
+if not times or abs(scene.StartTime - times[0]) > 1e-9 or abs(scene.EndTime - times[-1]) > 1e-9:
+    failures.append("the animation runs %g to %g s, the series %s" % (scene.StartTime, scene.EndTime, times[:1] + times[-1:]))
+if abs(scene.AnimationTime - scene.StartTime) > 1e-9:
+    failures.append("the state opens at %g s, not at the first frame" % scene.AnimationTime)
+scene.AnimationTime = scene.EndTime
+counts = {}
+for name in ("standing stones", "fallen stones", "cracked joints"):
+    source = FindSource(name)
+    if source:
+        source.UpdatePipeline(scene.EndTime)
+        counts[name] = source.GetDataInformation().GetNumberOfCells()
+standing = FindSource("standing stones")
+if standing and "displacement_relative_to_ground" not in standing.CellData.keys():
+    failures.append("standing stones: no displacement_relative_to_ground to colour by")
+if counts.get("standing stones", 0) + counts.get("fallen stones", 0) == 0:
+    failures.append("no stones shown at the last frame")
+ground = FindSource("blocks.pvd")
+ground.UpdatePipeline(scene.EndTime)
+shown = counts.get("standing stones", 0) + counts.get("fallen stones", 0)
+if shown >= ground.GetDataInformation().GetNumberOfCells():
+    failures.append("the ground slab is not hidden (%d of %d blocks shown)" % (shown, ground.GetDataInformation().GetNumberOfCells()))
+png = os.path.join(png_dir, "view.png")
+SaveScreenshot(png, GetActiveView(), ImageResolution=[1280, 720])
+print("view.pvsm: %d frames from %g to %g s; at the last: %s; rendered to %s" % (
+    len(times), scene.StartTime, scene.EndTime, ", ".join("%d %s" % (n, k) for k, n in counts.items()), png))
+if failures:
+    print("FAILED:\n  " + "\n  ".join(failures))
+    sys.exit(1)
