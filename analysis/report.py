@@ -2,8 +2,9 @@
 """The report of a study made by `ishibashi study`: report.md and a standalone
 report.html (figures embedded) with the frequency and run tables, and PNG figures in
 figures/: the ground motion's three components, the crown unit's vertical displacement
-of every run on one page, the impulse spectra, the energy terms, and snapshots of each
-run at the study's snapshot times (rendered headless from the runs' .vtu files).
+of every run on one page, the impulse spectra, the energy terms, snapshots of each
+run at the study's snapshot times and an animated GIF of each run beside its ground
+motion (rendered headless from the runs' .vtu files; Pillow writes the GIF).
 
     /usr/bin/python3 analysis/report.py OUT        (OUT: the study's output folder)
 
@@ -179,9 +180,10 @@ def frames(folder):
     return [(float(d.get("timestep")), folder / d.get("file")) for d in root.iter("DataSet")]
 
 
-def block_faces(vtu):
+def block_faces(vtu, with_fallen=False):
     """The faces of the blocks other than the ground slab, as polygons, with each face's
-    displacement relative to the ground (m)."""
+    displacement relative to the ground (m) (and whether its block has fallen, and how
+    many stones have)."""
     from vtkmodules.util.numpy_support import vtk_to_numpy
     from vtkmodules.vtkFiltersGeometry import vtkDataSetSurfaceFilter
     from vtkmodules.vtkIOXML import vtkXMLUnstructuredGridReader
@@ -202,7 +204,12 @@ def block_faces(vtu):
     part = vtk_to_numpy(poly.GetCellData().GetArray("part"))  # 0: the ground slab
     keep = [i for i in range(len(offsets) - 1) if part[i] != 0]
     faces = [points[connectivity[offsets[i]:offsets[i + 1]]] for i in keep]
-    return faces, [math.sqrt(float(moved[i] @ moved[i])) for i in keep]
+    moved = [math.sqrt(float(moved[i] @ moved[i])) for i in keep]
+    if not with_fallen:
+        return faces, moved
+    fallen = vtk_to_numpy(poly.GetCellData().GetArray("fallen"))
+    stones = int(vtk_to_numpy(reader.GetOutput().GetCellData().GetArray("fallen")).sum())
+    return faces, moved, [bool(fallen[i]) for i in keep], stones
 
 
 def snapshot_figure(out, run, shaking_s, figures, limits):
@@ -230,6 +237,69 @@ def snapshot_figure(out, run, shaking_s, figures, limits):
     fig.colorbar(mappable, ax=a, shrink=0.6, label="displacement relative to the ground [mm]")
     a.set_title(f"{run['scenario']} after {time - t0:.2f} s of shaking", fontsize=10)
     return save(fig, figures / f"snapshot_{run['scenario']}_{shaking_s:g}s.png")
+
+
+ANIMATION_FRAMES = 40  # at most, spread over the shaking: a few MB per run
+
+
+def animation_frames(series, t0, shaking):
+    """Up to ANIMATION_FRAMES of a run's frames, evenly over its shaking."""
+    shaking_frames = [f for f in series if f[0] >= t0 - 1e-9 and f[0] <= t0 + shaking + 1e-9]
+    if len(shaking_frames) <= ANIMATION_FRAMES:
+        return shaking_frames
+    step = (len(shaking_frames) - 1) / (ANIMATION_FRAMES - 1)
+    return [shaking_frames[round(k * step)] for k in range(ANIMATION_FRAMES)]
+
+
+def animation(out, run, figures, limits):
+    """The run as an animated GIF: the bridge (coloured by displacement relative to the
+    ground on one scale for the whole run, fallen stones red) beside the ground motion
+    with a cursor at the frame's time."""
+    from matplotlib.animation import PillowWriter
+
+    folder = out / "runs" / run["scenario"]
+    t0, shaking = number(run["settle_time_s"], 0.0), number(run["shaking_s"], 0.0)
+    chosen = animation_frames(frames(folder), t0, shaking)
+    if len(chosen) < 2:
+        return None
+    scenes = [block_faces(vtu, with_fallen=True) for _, vtu in chosen]
+    top = max([m for _, moved, fallen, _ in scenes for m, f in zip(moved, fallen) if not f] + [1e-3])
+    motion = read_rows(folder / "ground_motion.csv")
+    fig = plt.figure(figsize=(10, 3.6))
+    bridge = fig.add_axes([0.0, 0.0, 0.6, 0.9], projection="3d")
+    title = fig.text(0.02, 0.95, "", fontsize=9)
+    mappable = plt.cm.ScalarMappable(cmap="viridis", norm=plt.Normalize(0, 1000 * top))
+    fig.colorbar(mappable, ax=bridge, shrink=0.6, pad=0.0, label="displacement relative to the ground [mm]")
+    ground = [fig.add_axes([0.68, 0.68 - 0.28 * k, 0.3, 0.22]) for k in range(3)]
+    t, *acc = columns(motion, "time_s", "ax_m_s2", "ay_m_s2", "az_m_s2") if motion else ([], [], [], [])
+    cursors = []
+    for a, values, name in zip(ground, acc, ("x", "y", "z")):
+        a.plot(t, [v / G for v in values], lw=0.5, color="k")
+        a.set_ylabel(f"{name} [g]", fontsize=8)
+        a.tick_params(labelsize=7)
+        a.set_xlim(0, max(shaking, 1e-3))
+        cursors.append(a.axvline(0, color="tab:red", lw=1.2))
+    ground[-1].set_xlabel("time of shaking [s]", fontsize=8)
+    lo, hi = limits
+    path = figures / f"animation_{run['scenario']}.gif"
+    writer = PillowWriter(fps=8)
+    with writer.saving(fig, path, dpi=80):
+        for (time, _), (faces, moved, fallen, stones) in zip(chosen, scenes):
+            bridge.cla()
+            colours = [(0.85, 0.1, 0.1, 1.0) if f else plt.cm.viridis(min(m / top, 1.0)) for m, f in zip(moved, fallen)]
+            bridge.add_collection3d(Poly3DCollection(faces, facecolors=colours, edgecolors=(0, 0, 0, 0.25), linewidths=0.2))
+            bridge.set_xlim(lo[0], hi[0])
+            bridge.set_ylim(lo[1], hi[1])
+            bridge.set_zlim(lo[2], hi[2])
+            bridge.set_box_aspect([max(hi[i] - lo[i], 1e-3) for i in range(3)])
+            bridge.view_init(elev=12, azim=-75)
+            bridge.set_axis_off()
+            title.set_text(f"{run['scenario']}: {time - t0:.2f} s of shaking, {stones} stones fallen")
+            for c in cursors:
+                c.set_xdata([time - t0, time - t0])
+            writer.grab_frame()
+    plt.close(fig)
+    return path
 
 
 def model_limits(out, run):
@@ -359,7 +429,7 @@ def main():
                          [ground_motion_figure(out, runs, figures), crown_figure(out, runs, figures),
                           energy_figure(out, runs, figures)]))
 
-        snapshots = []
+        snapshots, animations = [], []
         for r in runs:
             if not frames(out / "runs" / r["scenario"]):
                 continue
@@ -367,8 +437,13 @@ def main():
             limits = ([limits[0][0], limits[0][1], limits[0][2] - 1.0], limits[1])
             for t in snapshot_times:
                 snapshots.append(snapshot_figure(out, r, t, figures, limits))
+            animations.append(animation(out, r, figures, limits))
         sections.append(("Snapshots", "Each run at the study's snapshot times, coloured by each block's displacement "
-                         "relative to the ground (open blocks.pvd in ParaView for the whole series).", None, snapshots))
+                         "relative to the ground (open view.pvsm in ParaView for the whole series).", None, snapshots))
+        sections.append(("Animations", f"Each run through its shaking ({ANIMATION_FRAMES} frames at most), coloured by "
+                         "displacement relative to the ground on one scale for the run (its largest displacement of a "
+                         "stone still standing), fallen stones red, beside the ground motion with the frame's time.",
+                         None, animations))
 
     failed = [j for j in jobs if j["status"] == "failed"]
     if failed:
@@ -394,7 +469,8 @@ def main():
                 continue
             md += [f"![{fig.stem}](figures/{fig.name})", ""]
             data = base64.b64encode(fig.read_bytes()).decode()
-            page.append(f"<p><img alt='{fig.stem}' src='data:image/png;base64,{data}'></p>")
+            kind = "gif" if fig.suffix == ".gif" else "png"
+            page.append(f"<p><img alt='{fig.stem}' src='data:image/{kind};base64,{data}'></p>")
     page.append("</body></html>")
     (out / "report.md").write_text("\n".join(md) + "\n")
     (out / "report.html").write_text("\n".join(page) + "\n")

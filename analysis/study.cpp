@@ -14,6 +14,7 @@
 #include "analysis/frequencies.h"
 #include "analysis/load.h"
 #include "analysis/seismic_run.h"
+#include "analysis/study_progress.h"
 #include "engine/cores.h"
 #include "io/atomic_file.h"
 #include "io/scenario_file.h"
@@ -69,7 +70,8 @@ constexpr const char* kFrequencyHeader =
     "model,file,folder,subdivision,joint_rule,sub_contacts,mode_x_hz,mode_y_hz,mode_z_hz,impulse_x_hz,impulse_y_hz,impulse_z_hz,"
     "impulse_xz_hz,impulse_yz_hz\n";
 
-void run_job(const Job& job, const StudyFile& study, int threads) {
+// `on_fraction`: how much of a run's shaking is done, after each of its frames.
+void run_job(const Job& job, const StudyFile& study, int threads, const std::function<void(double)>& on_fraction) {
   use_threads(threads);
   fs::remove_all(job.folder);  // no frames of an older, longer run left behind
   fs::create_directories(job.folder);
@@ -81,6 +83,7 @@ void run_job(const Job& job, const StudyFile& study, int threads) {
     sc.threads = threads;
     SeismicRunOptions options;
     options.out = job.folder;
+    options.on_frame = on_fraction;
     SeismicRun run(sc, options);
     const SeismicRunResult r = run.run();
     if (r.interrupted) throw std::runtime_error("interrupted");
@@ -156,6 +159,12 @@ StudyOutcome run_study(const StudyFile& study, const StudyOptions& o) {
   event("study '" + study.name + "': " + std::to_string(jobs.size()) + " jobs, " + std::to_string(workers) + " at a time, " +
         std::to_string(threads) + " threads each, outputs in " + o.out.string());
 
+  std::vector<JobProgress> progress_jobs;
+  for (const Job& job : jobs)
+    progress_jobs.push_back({(job.kind == JobKind::run ? "run " : "frequencies ") + job.folder.filename().string(),
+                             job.kind == JobKind::run});
+  StudyProgress progress(std::move(progress_jobs), workers, o.progress_every_s, event);
+
   std::atomic<std::size_t> next{0};
   auto worker = [&] {
     for (std::size_t i = next++; i < jobs.size() && !stop_requested(); i = next++) {
@@ -164,12 +173,14 @@ StudyOutcome run_study(const StudyFile& study, const StudyOptions& o) {
       if (!o.force && is_current(job)) {
         job.status = "current";
         event(name + ": current, kept");
+        progress.finished(i, true);
         continue;
       }
       event(name + ": started");
+      progress.started(i);
       const auto t0 = std::chrono::steady_clock::now();
       try {
-        run_job(job, study, threads);
+        run_job(job, study, threads, [&progress, i](double done) { progress.advanced(i, done); });
         job.status = "ran";
       } catch (const std::exception& e) {
         job.status = "failed";
@@ -179,6 +190,7 @@ StudyOutcome run_study(const StudyFile& study, const StudyOptions& o) {
       char took[64];
       std::snprintf(took, sizeof took, " (%.1f s)", job.seconds);
       event(name + (job.status == "ran" ? ": done" : ": FAILED: " + job.error) + took);
+      progress.finished(i, false);
     }
   };
   std::vector<std::thread> pool;

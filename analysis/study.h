@@ -22,7 +22,8 @@ struct StudyOptions {
   int threads_per_job = 0;   // 0: the cores shared among the jobs
   bool force = false;        // rerun jobs whose outputs are current
   bool report = true;        // write the report (python3 with matplotlib)
-  std::function<void(const std::string&)> on_event;  // a job started, finished, was skipped or failed
+  std::function<void(const std::string&)> on_event;  // a job started, finished, was skipped or failed; progress
+  double progress_every_s = 60;  // a progress line at most this often while runs advance
 };
 
 struct StudyOutcome {

@@ -11,7 +11,7 @@ packages=(
   libtomlplusplus-dev libcli11-dev libfmt-dev   # scenario files, command line, formatting
   libspectra-dev                       # sparse eigensolver (modal analysis)
   libgtest-dev libgmock-dev libbenchmark-dev    # tests and benchmarks
-  python3-matplotlib python3-vtk9      # the study's report: figures, snapshots read from the .vtu
+  python3-matplotlib python3-vtk9 python3-pil  # the study's report: figures, snapshots from the .vtu, GIFs
   libopenmpi-dev openmpi-bin           # sweeps across machines (mpirun)
 )
 

@@ -1,0 +1,102 @@
+#include "analysis/study_progress.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+
+namespace ishibashi {
+
+double estimate_seconds_left(const std::vector<JobProgress>& jobs, int workers) {
+  constexpr double kFirstFraction = 0.05;  // before it, a run's pace is mostly its settling
+  // The whole duration of each kind's jobs so far: done ones as they took, running runs projected.
+  double sum[2] = {0, 0};
+  int count[2] = {0, 0};
+  for (const JobProgress& j : jobs) {
+    double total = -1;
+    if (j.state == JobProgress::done) total = j.elapsed_s;
+    if (j.state == JobProgress::running && j.is_run && j.fraction >= kFirstFraction) total = j.elapsed_s / j.fraction;
+    if (total >= 0) sum[j.is_run] += total, ++count[j.is_run];
+  }
+  double work = 0, longest = 0;  // seconds of work left in all; the longest single job's
+  for (const JobProgress& j : jobs) {
+    if (j.state == JobProgress::done || j.state == JobProgress::skipped) continue;
+    double left;
+    if (j.state == JobProgress::running && j.is_run && j.fraction >= kFirstFraction)
+      left = j.elapsed_s / j.fraction - j.elapsed_s;
+    else if (count[j.is_run] > 0)
+      left = std::max(0.0, sum[j.is_run] / count[j.is_run] - (j.state == JobProgress::running ? j.elapsed_s : 0.0));
+    else
+      return -1;
+    work += left;
+    longest = std::max(longest, left);
+  }
+  return std::max(longest, work / std::max(workers, 1));
+}
+
+std::string duration_text(double seconds) {
+  char text[64];
+  const long s = std::lround(seconds);
+  if (s >= 3600)
+    std::snprintf(text, sizeof text, "%ld h %02ld min", s / 3600, (s % 3600) / 60);
+  else if (s >= 60)
+    std::snprintf(text, sizeof text, "%ld min", (s + 30) / 60);
+  else
+    std::snprintf(text, sizeof text, "%ld s", s);
+  return text;
+}
+
+StudyProgress::StudyProgress(std::vector<JobProgress> jobs, int workers, double every_s,
+                             std::function<void(const std::string&)> print)
+    : jobs_(std::move(jobs)),
+      started_(jobs_.size()),
+      workers_(workers),
+      every_s_(every_s),
+      last_print_(Clock::now()),
+      print_(std::move(print)) {}
+
+void StudyProgress::started(std::size_t job) {
+  const std::lock_guard<std::mutex> guard(lock_);
+  jobs_[job].state = JobProgress::running;
+  started_[job] = Clock::now();
+}
+
+void StudyProgress::advanced(std::size_t job, double fraction) {
+  const std::lock_guard<std::mutex> guard(lock_);
+  jobs_[job].fraction = fraction;
+  if (std::chrono::duration<double>(Clock::now() - last_print_).count() >= every_s_) print_locked();
+}
+
+void StudyProgress::finished(std::size_t job, bool skipped) {
+  const std::lock_guard<std::mutex> guard(lock_);
+  JobProgress& j = jobs_[job];
+  j.state = skipped ? JobProgress::skipped : JobProgress::done;
+  if (!skipped) j.elapsed_s = std::chrono::duration<double>(Clock::now() - started_[job]).count();
+  if (!skipped) print_locked();
+}
+
+void StudyProgress::print_locked() {
+  last_print_ = Clock::now();
+  int done = 0, total = 0;
+  std::string running;
+  for (std::size_t k = 0; k < jobs_.size(); ++k) {
+    JobProgress& j = jobs_[k];
+    if (j.state == JobProgress::skipped) continue;
+    ++total;
+    done += j.state == JobProgress::done;
+    if (j.state != JobProgress::running) continue;
+    j.elapsed_s = std::chrono::duration<double>(last_print_ - started_[k]).count();
+    char text[200];
+    if (j.is_run)
+      std::snprintf(text, sizeof text, "%s%s %.0f %% of its shaking", running.empty() ? "" : ", ", j.name.c_str(), 100 * j.fraction);
+    else
+      std::snprintf(text, sizeof text, "%s%s", running.empty() ? "" : ", ", j.name.c_str());
+    running += text + (" (" + duration_text(j.elapsed_s) + ")");
+  }
+  const double left = estimate_seconds_left(jobs_, workers_);
+  std::string line = "progress: " + std::to_string(done) + " of " + std::to_string(total) + " jobs done";
+  if (!running.empty()) line += "; running " + running;
+  if (done < total) line += left >= 0 ? "; about " + duration_text(left) + " left" : "; time left not known yet";
+  print_(line);
+}
+
+}  // namespace ishibashi

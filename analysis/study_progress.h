@@ -1,0 +1,52 @@
+// What `ishibashi study` says while its jobs run: which jobs are running and how far each
+// has got, how many are done, and about how long the whole study has left.
+#pragma once
+#include <chrono>
+#include <cstddef>
+#include <functional>
+#include <mutex>
+#include <string>
+#include <vector>
+
+namespace ishibashi {
+
+struct JobProgress {
+  enum State { pending, running, done, skipped };
+  std::string name;       // e.g. "run nishida_b_kobe_dry"
+  bool is_run = false;    // a seismic run (else a frequency analysis)
+  State state = pending;
+  double fraction = 0;    // of its shaking, for a running run
+  double elapsed_s = 0;   // wall time since it started (running) or in all (done)
+};
+
+// Wall seconds the study has left with `workers` jobs at once, from the jobs so far: a run
+// at fraction f after e s takes e / f in all (once f >= 0.05); a pending job as long as the
+// mean of the done and projected jobs of its kind. Negative while a pending or running
+// job's kind has nothing to go by yet.
+double estimate_seconds_left(const std::vector<JobProgress>& jobs, int workers);
+
+// "1 h 05 min", "12 min", "40 s".
+std::string duration_text(double seconds);
+
+// Thread-safe: each worker reports its own job; a line goes to `print` when a job starts
+// or ends and at most every `every_s` seconds while runs advance.
+class StudyProgress {
+ public:
+  StudyProgress(std::vector<JobProgress> jobs, int workers, double every_s, std::function<void(const std::string&)> print);
+  void started(std::size_t job);
+  void advanced(std::size_t job, double fraction);
+  void finished(std::size_t job, bool skipped);
+
+ private:
+  using Clock = std::chrono::steady_clock;
+  void print_locked();  // with lock_ held
+  std::mutex lock_;
+  std::vector<JobProgress> jobs_;
+  std::vector<Clock::time_point> started_;
+  int workers_;
+  double every_s_;
+  Clock::time_point last_print_;
+  std::function<void(const std::string&)> print_;
+};
+
+}  // namespace ishibashi

@@ -1,0 +1,61 @@
+// The study's estimate of the time it has left, against the arithmetic by hand.
+#include <gtest/gtest.h>
+
+#include "analysis/study_progress.h"
+
+namespace ishibashi {
+namespace {
+
+JobProgress job(bool is_run, JobProgress::State state, double fraction, double elapsed_s) {
+  return {"job", is_run, state, fraction, elapsed_s};
+}
+
+TEST(StudyProgress, TimeLeftProjectsRunningRunsAndAveragesPendingJobsOfTheirKind) {
+  // One run done in 600 s; one at 25 % after 100 s (400 s in all, 300 left); two runs
+  // pending at the mean of 600 and 400 = 500 s each; one analysis done in 60 s, one pending.
+  const std::vector<JobProgress> jobs = {
+      job(true, JobProgress::done, 1, 600), job(true, JobProgress::running, 0.25, 100), job(true, JobProgress::pending, 0, 0),
+      job(true, JobProgress::pending, 0, 0), job(false, JobProgress::done, 0, 60), job(false, JobProgress::pending, 0, 0)};
+  // Work left 300 + 500 + 500 + 60 = 1360 s; on two workers 680 s (longer than any one job).
+  EXPECT_DOUBLE_EQ(estimate_seconds_left(jobs, 2), 680);
+  EXPECT_DOUBLE_EQ(estimate_seconds_left(jobs, 1), 1360);
+  // On eight workers the longest single job (500 s) bounds it, not 1360 / 8.
+  EXPECT_DOUBLE_EQ(estimate_seconds_left(jobs, 8), 500);
+}
+
+TEST(StudyProgress, SkippedJobsCountNothingAndUnknownKindsSaySo) {
+  std::vector<JobProgress> jobs = {job(true, JobProgress::skipped, 0, 0), job(true, JobProgress::running, 0.5, 200)};
+  EXPECT_DOUBLE_EQ(estimate_seconds_left(jobs, 2), 200);
+  // Early in a run (under 5 % of its shaking) there is nothing to go by.
+  jobs[1].fraction = 0.01;
+  EXPECT_LT(estimate_seconds_left(jobs, 2), 0);
+  // A pending analysis with none done yet: not known either.
+  jobs = {job(true, JobProgress::running, 0.5, 200), job(false, JobProgress::pending, 0, 0)};
+  EXPECT_LT(estimate_seconds_left(jobs, 2), 0);
+  // Everything done: nothing left.
+  jobs = {job(true, JobProgress::done, 1, 200), job(false, JobProgress::skipped, 0, 0)};
+  EXPECT_DOUBLE_EQ(estimate_seconds_left(jobs, 2), 0);
+}
+
+TEST(StudyProgress, DurationsReadAsAPersonWouldSayThem) {
+  EXPECT_EQ(duration_text(40), "40 s");
+  EXPECT_EQ(duration_text(12 * 60 + 10), "12 min");
+  EXPECT_EQ(duration_text(3600 + 5 * 60 + 20), "1 h 05 min");
+}
+
+TEST(StudyProgress, PrintsWhichJobsRunAndHowFar) {
+  std::vector<std::string> lines;
+  StudyProgress p({{"run a", true}, {"run b", true}}, 2, 0.0, [&](const std::string& l) { lines.push_back(l); });
+  p.started(0);
+  p.started(1);
+  p.advanced(0, 0.5);
+  ASSERT_EQ(lines.size(), 1u);
+  EXPECT_NE(lines[0].find("0 of 2 jobs done"), std::string::npos) << lines[0];
+  EXPECT_NE(lines[0].find("run a 50 % of its shaking"), std::string::npos) << lines[0];
+  EXPECT_NE(lines[0].find("run b 0 %"), std::string::npos) << lines[0];
+  p.finished(0, false);
+  EXPECT_NE(lines.back().find("1 of 2 jobs done"), std::string::npos) << lines.back();
+}
+
+}  // namespace
+}  // namespace ishibashi
