@@ -36,6 +36,10 @@ struct Job {
   double seconds = 0;
 };
 
+std::string job_name(const Job& job) {
+  return (job.kind == JobKind::run ? "run " : "frequencies ") + job.folder.filename().string();
+}
+
 std::string job_key(const Job& job, const StudyFile& study) {
   std::ostringstream in;
   in << program_fingerprint() << (job.kind == JobKind::run ? " run " : " frequencies ");
@@ -144,6 +148,32 @@ std::vector<Job> make_jobs(const StudyFile& study, const fs::path& out) {
   return jobs;
 }
 
+// The study's tables: what ran (jobs.csv), a row per run and per analysis, what the
+// report needs to know of the study, and the published study's own figures and verdicts.
+void write_tables(const std::vector<Job>& jobs, const StudyFile& study, const fs::path& out) {
+  std::ostringstream list;
+  list << "kind,input,status,seconds,error\n";
+  for (const Job& job : jobs)
+    list << (job.kind == JobKind::run ? "run," : "frequencies,") << job.input.string() << "," << job.status << ","
+         << job.seconds << "," << csv_quoted(job.error) << "\n";
+  fs::create_directories(out);
+  write_text_atomically(out / "jobs.csv", list.str());
+  gather_rows(jobs, JobKind::run, kRunHeader, out / "runs.csv");
+  gather_rows(jobs, JobKind::frequencies, kFrequencyHeader, out / "frequencies.csv");
+  std::ostringstream about;
+  about << "name," << study.name << "\nstudy_file," << fs::absolute(study.file).string() << "\n";
+  about << "snapshot_times_s,";
+  for (std::size_t k = 0; k < study.snapshot_times_s.size(); ++k) about << (k ? " " : "") << study.snapshot_times_s[k];
+  about << "\n";
+  write_text_atomically(out / "study.csv", about.str());
+  std::ostringstream reference;  // for the report: the study's own figures and verdicts
+  reference << "kind,key,x_hz,y_hz,z_hz,says\n";
+  for (const auto& [stem, hz] : study.reference_frequencies_hz)
+    reference << "frequencies," << stem << "," << hz[0] << "," << hz[1] << "," << hz[2] << ",\n";
+  for (const auto& [stem, says] : study.reference_says) reference << "says," << stem << ",,,," << csv_quoted(says) << "\n";
+  write_text_atomically(out / "reference.csv", reference.str());
+}
+
 }  // namespace
 
 StudyOutcome run_study(const StudyFile& study, const StudyOptions& o) {
@@ -161,15 +191,14 @@ StudyOutcome run_study(const StudyFile& study, const StudyOptions& o) {
 
   std::vector<JobProgress> progress_jobs;
   for (const Job& job : jobs)
-    progress_jobs.push_back({(job.kind == JobKind::run ? "run " : "frequencies ") + job.folder.filename().string(),
-                             job.kind == JobKind::run});
+    progress_jobs.push_back({job_name(job), job.kind == JobKind::run});
   StudyProgress progress(std::move(progress_jobs), workers, o.progress_every_s, event);
 
   std::atomic<std::size_t> next{0};
   auto worker = [&] {
     for (std::size_t i = next++; i < jobs.size() && !stop_requested(); i = next++) {
       Job& job = jobs[i];
-      const std::string name = (job.kind == JobKind::run ? "run " : "frequencies ") + job.folder.filename().string();
+      const std::string name = job_name(job);
       if (!o.force && is_current(job)) {
         job.status = "current";
         event(name + ": current, kept");
@@ -199,31 +228,12 @@ StudyOutcome run_study(const StudyFile& study, const StudyOptions& o) {
   for (std::thread& t : pool) t.join();
 
   StudyOutcome outcome;
-  std::ostringstream list;
-  list << "kind,input,status,seconds,error\n";
   for (const Job& job : jobs) {
     outcome.ran += job.status == "ran";
     outcome.current += job.status == "current";
     outcome.failed += job.status == "failed";
-    list << (job.kind == JobKind::run ? "run," : "frequencies,") << job.input.string() << "," << job.status << ","
-         << job.seconds << "," << csv_quoted(job.error) << "\n";
   }
-  fs::create_directories(o.out);
-  write_text_atomically(o.out / "jobs.csv", list.str());
-  gather_rows(jobs, JobKind::run, kRunHeader, o.out / "runs.csv");
-  gather_rows(jobs, JobKind::frequencies, kFrequencyHeader, o.out / "frequencies.csv");
-  std::ostringstream about;
-  about << "name," << study.name << "\nstudy_file," << fs::absolute(study.file).string() << "\n";
-  about << "snapshot_times_s,";
-  for (std::size_t k = 0; k < study.snapshot_times_s.size(); ++k) about << (k ? " " : "") << study.snapshot_times_s[k];
-  about << "\n";
-  write_text_atomically(o.out / "study.csv", about.str());
-  std::ostringstream reference;  // for the report: the study's own figures and verdicts
-  reference << "kind,key,x_hz,y_hz,z_hz,says\n";
-  for (const auto& [stem, hz] : study.reference_frequencies_hz)
-    reference << "frequencies," << stem << "," << hz[0] << "," << hz[1] << "," << hz[2] << ",\n";
-  for (const auto& [stem, says] : study.reference_says) reference << "says," << stem << ",,,," << csv_quoted(says) << "\n";
-  write_text_atomically(o.out / "reference.csv", reference.str());
+  write_tables(jobs, study, o.out);
 
   if (o.report && !stop_requested()) {
     const std::string command = python().string() + " " + ISHIBASHI_SOURCE_DIR "/analysis/report.py \"" + o.out.string() + "\"";

@@ -28,11 +28,18 @@ TEST(Study, QuickStudyWritesTablesAndAReportWithEveryFigureThenKeepsCurrentOutpu
   EXPECT_EQ(count_of(text_of(out / "frequencies.csv"), "\n"), 3);
   // Model A's first modes by modal analysis: 22.58, 21.02, 42.00 Hz.
   EXPECT_NE(text_of(out / "frequencies.csv").find(",22.57"), std::string::npos) << text_of(out / "frequencies.csv");
-  // The report: ground motion, crown, spectra, energy and one snapshot per run.
+  // The report: ground motion, crown, spectra, energy and one snapshot per run, and an
+  // animation of each run (scripts/check_report.py checks their frames in CI).
   const std::string html = text_of(out / "report.html");
   EXPECT_EQ(count_of(html, "src='data:image/png;base64,"), 6) << html.substr(0, 500);
+  EXPECT_EQ(count_of(html, "src='data:image/gif;base64,"), 2);
   const std::string md = text_of(out / "report.md");
-  EXPECT_EQ(count_of(md, "](figures/"), 6);
+  EXPECT_EQ(count_of(md, "](figures/"), 8);
+  // What it said while it worked: a progress line after each job, the last with all done.
+  EXPECT_EQ(count_of(first, "progress: "), 4) << first;
+  EXPECT_NE(first.find("progress: 4 of 4 jobs done\n"), std::string::npos) << first;
+  for (const char* run : {"nishida_a_kobe_dry", "nishida_a_kobe_mortar"})
+    EXPECT_TRUE(std::filesystem::exists(out / "runs" / run / "view.pvsm")) << run;
   // The study's own figures and verdicts beside ours (the study file's [reference]).
   EXPECT_NE(md.find("## Natural frequencies against the study"), std::string::npos);
   EXPECT_NE(md.find("| 17.6 |"), std::string::npos) << "model A's x frequency in the study";
