@@ -30,9 +30,14 @@ for name in ("standing stones", "fallen stones", "cracked joints"):
     if source:
         source.UpdatePipeline(scene.EndTime)
         counts[name] = source.GetDataInformation().GetNumberOfCells()
-standing = FindSource("standing stones")
-if standing and "displacement_relative_to_ground" not in standing.CellData.keys():
-    failures.append("standing stones: no displacement_relative_to_ground to colour by")
+# Every array the state thresholds or colours by, among those the run wrote.
+for reader, data, arrays in (("blocks.pvd", "CellData", ("part", "fallen", "displacement_relative_to_ground")),
+                             ("contacts.pvd", "PointData", ("joint_cracked",))):
+    source = FindSource(reader)
+    written = getattr(source, data).keys() if source else []
+    for array in arrays:
+        if array not in written:
+            failures.append("%s: the state uses %s, which the run did not write" % (reader, array))
 if counts.get("standing stones", 0) + counts.get("fallen stones", 0) == 0:
     failures.append("no stones shown at the last frame")
 ground = FindSource("blocks.pvd")
