@@ -70,56 +70,82 @@ bool is_current(const Job& job) {
 
 // Which run, its result (run_result.h) and how it ran.
 const std::string kRunHeader = "scenario,model,mortar_pa," + result_csv_header() + ",dt_s,threads,monitored_block\n";
+constexpr double kStudyCheckpointWallS = 600;
 constexpr const char* kFrequencyHeader =
     "model,file,folder,subdivision,joint_rule,sub_contacts,mode_x_hz,mode_y_hz,mode_z_hz,impulse_x_hz,impulse_y_hz,impulse_z_hz,"
     "impulse_xz_hz,impulse_yz_hz\n";
 
-// `on_fraction`: how much of a run's shaking is done, after each of its frames.
-void run_job(const Job& job, const StudyFile& study, int threads, const std::function<void(double)>& on_fraction) {
-  use_threads(threads);
-  fs::remove_all(job.folder);  // no frames of an older, longer run left behind
-  fs::create_directories(job.folder);
-  std::ostringstream row;
-  row.precision(9);
-  if (job.kind == JobKind::run) {
+// A run's row of runs.csv, and its ground motion as the report plots it. A run stopped
+// part way (Ctrl-C, a session's or a cluster job's end) goes on from its last checkpoint
+// (written every 10 min of wall time) when the study runs again with the same job key;
+// otherwise it starts afresh. `on_fraction`: how much of its shaking is done, per frame.
+bool resumable(const Job& job) {
+  const fs::path started = job.folder / "started.key";
+  return job.kind == JobKind::run && fs::exists(job.folder / "checkpoint.bin") && fs::exists(started) &&
+         file_bytes(started) == job.key + "\n";
+}
+
+std::string seismic_job(const Job& job, const StudyFile& study, int threads, const std::function<void(double)>& on_fraction,
+                        bool resumed) {
+  if (!resumed) {
+    fs::remove_all(job.folder);  // no frames of an older, longer run left behind
+    fs::create_directories(job.folder);
+    write_text_atomically(job.folder / "started.key", job.key + "\n");
+  }
+  SeismicRunOptions options;
+  options.out = job.folder;
+  options.on_frame = on_fraction;
+  options.checkpoint_wall_s = kStudyCheckpointWallS;
+  std::unique_ptr<SeismicRun> run;
+  if (resumed) {
+    run = SeismicRun::resume(options, threads);
+  } else {
     Scenario sc = read_scenario(job.input);
     if (study.duration_s >= 0) sc.duration_s = sc.ground_motion.duration_s = study.duration_s;
     sc.threads = threads;
-    SeismicRunOptions options;
-    options.out = job.folder;
-    options.on_frame = on_fraction;
-    SeismicRun run(sc, options);
-    const SeismicRunResult r = run.run();
-    if (r.interrupted) throw std::runtime_error("interrupted");
-    // The ground motion as the report plots it: 200 samples per second.
-    const GroundMotion g = prepare_ground_motion(sc.ground_motion, 0.005);
-    std::ostringstream csv;
-    csv << "time_s,ax_m_s2,ay_m_s2,az_m_s2\n";
-    for (std::size_t k = 0; k < g.accel_m_s2.size(); ++k)
-      csv << k * g.dt_s << "," << g.accel_m_s2[k].x() << "," << g.accel_m_s2[k].y() << "," << g.accel_m_s2[k].z() << "\n";
-    write_text_atomically(job.folder / "ground_motion.csv", csv.str());
-    row << kRunHeader << job.input.stem().string() << ",\"" << sc.model.name << "\"," << sc.model.bridge.mortar_pa << ","
-        << result_csv_values(r) << "," << run.dt_s() << "," << threads << "," << run.monitored_block() << "\n";
-  } else {
-    LoadedModel loaded = load_model_or_scenario(job.input);
-    if (!job.joint_rule.empty()) loaded.options.joint_rule = job.joint_rule == "moments" ? JointRule::moments : JointRule::corners;
-    FrequencyOptions options;
-    options.modes = study.modes;
-    options.impulse_s = study.impulse_s;
-    const FrequencyAnalysis a = analyse_frequencies(loaded, options, job.folder);
-    row << kFrequencyHeader << "\"" << loaded.name << "\"," << job.input.stem().string() << ","
-        << job.folder.filename().string() << "," << loaded.options.subdivision << "," << joint_rule_name(loaded.options.joint_rule) << "," << a.sub_contacts;
-    for (double f : a.first_mode_hz) row << "," << f;
-    // The first clear peak of each step read along itself, then of the x and y steps read in z.
-    for (auto [step, read] : {std::pair{0, 0}, {1, 1}, {2, 2}, {0, 2}, {1, 2}}) {
-      row << ",";
-      for (const ImpulseResult& i : a.impulses)
-        if (i.spec.excitation_axis == step && i.spec.response_axis == read) row << first_peak_hz(i.spectrum);
-    }
-    row << "\n";
+    run = std::make_unique<SeismicRun>(sc, options);
   }
-  write_text_atomically(job.folder / "row.csv", row.str());
-  write_text_atomically(job.folder / "inputs.key", job.key + "\n");  // last: the outputs are complete
+  const SeismicRunResult r = run->run();
+  if (r.interrupted) throw std::runtime_error("interrupted (its checkpoint is kept: the next study goes on from it)");
+  fs::remove(job.folder / "checkpoint.bin");
+  const Scenario& sc = run->scenario();
+  // The ground motion as the report plots it: 200 samples per second.
+  const GroundMotion g = prepare_ground_motion(sc.ground_motion, 0.005);
+  std::ostringstream csv;
+  csv << "time_s,ax_m_s2,ay_m_s2,az_m_s2\n";
+  for (std::size_t k = 0; k < g.accel_m_s2.size(); ++k)
+    csv << k * g.dt_s << "," << g.accel_m_s2[k].x() << "," << g.accel_m_s2[k].y() << "," << g.accel_m_s2[k].z() << "\n";
+  write_text_atomically(job.folder / "ground_motion.csv", csv.str());
+  std::ostringstream row;
+  row.precision(9);
+  row << kRunHeader << job.input.stem().string() << ",\"" << sc.model.name << "\"," << sc.model.bridge.mortar_pa << ","
+      << result_csv_values(r) << "," << run->dt_s() << "," << threads << "," << run->monitored_block() << "\n";
+  return row.str();
+}
+
+// A frequency analysis's row of frequencies.csv.
+std::string frequency_job(const Job& job, const StudyFile& study) {
+  fs::remove_all(job.folder);
+  fs::create_directories(job.folder);
+  LoadedModel loaded = load_model_or_scenario(job.input);
+  if (!job.joint_rule.empty()) loaded.options.joint_rule = job.joint_rule == "moments" ? JointRule::moments : JointRule::corners;
+  FrequencyOptions options;
+  options.modes = study.modes;
+  options.impulse_s = study.impulse_s;
+  const FrequencyAnalysis a = analyse_frequencies(loaded, options, job.folder);
+  std::ostringstream row;
+  row.precision(9);
+  row << kFrequencyHeader << "\"" << loaded.name << "\"," << job.input.stem().string() << ","
+      << job.folder.filename().string() << "," << loaded.options.subdivision << "," << joint_rule_name(loaded.options.joint_rule) << "," << a.sub_contacts;
+  for (double f : a.first_mode_hz) row << "," << f;
+  // The first clear peak of each step read along itself, then of the x and y steps read in z.
+  for (auto [step, read] : {std::pair{0, 0}, {1, 1}, {2, 2}, {0, 2}, {1, 2}}) {
+    row << ",";
+    for (const ImpulseResult& i : a.impulses)
+      if (i.spec.excitation_axis == step && i.spec.response_axis == read) row << first_peak_hz(i.spectrum);
+  }
+  row << "\n";
+  return row.str();
 }
 
 // One table of every job's row (their header once).
@@ -205,11 +231,18 @@ StudyOutcome run_study(const StudyFile& study, const StudyOptions& o) {
         progress.finished(i, true);
         continue;
       }
-      event(name + ": started");
+      const bool resumed = !o.force && resumable(job);
+      event(name + (resumed ? ": goes on from its checkpoint" : ": started"));
       progress.started(i);
       const auto t0 = std::chrono::steady_clock::now();
       try {
-        run_job(job, study, threads, [&progress, i](double done) { progress.advanced(i, done); });
+        use_threads(threads);
+        const std::string row =
+            job.kind == JobKind::run
+                ? seismic_job(job, study, threads, [&progress, i](double done) { progress.advanced(i, done); }, resumed)
+                : frequency_job(job, study);
+        write_text_atomically(job.folder / "row.csv", row);
+        write_text_atomically(job.folder / "inputs.key", job.key + "\n");  // last: the outputs are complete
         job.status = "ran";
       } catch (const std::exception& e) {
         job.status = "failed";

@@ -54,6 +54,37 @@ TEST(Study, QuickStudyWritesTablesAndAReportWithEveryFigureThenKeepsCurrentOutpu
   EXPECT_NE(second.find("0 jobs ran, 4 were current"), std::string::npos) << second;
 }
 
+TEST(Study, InterruptedStudyGoesOnFromItsRunsCheckpointAndEndsAsIfNeverStopped) {
+  const auto whole = tmp_dir() / "ishibashi_study_whole", stopped = tmp_dir() / "ishibashi_study_stopped";
+  std::filesystem::remove_all(whole);
+  std::filesystem::remove_all(stopped);
+  const std::string study = std::string(ISHIBASHI_BINARY) + " study --quick --jobs 1 --threads-per-job 1 --no-report --out ";
+  int status = 0;
+  const std::string reference = run_command(study + whole.string(), &status);
+  ASSERT_EQ(status, 0) << reference;
+  // SIGINT half a second after the first run's first frame (its 0.45 s take about 4 s here).
+  const auto run = stopped / "runs" / "nishida_a_kobe_dry";
+  const std::string stop = "bash -c '" + study + stopped.string() + " & s=$!; while [ ! -f " + (run / "blocks.pvd").string() +
+                           " ] && kill -0 $s 2> /dev/null; do sleep 0.05; done; sleep 0.5; kill -INT $s; wait $s'";
+  const std::string first = run_command(stop, &status);
+  EXPECT_NE(status, 0) << first;
+  ASSERT_TRUE(std::filesystem::exists(run / "checkpoint.bin")) << first;
+  const std::string second = run_command(study + stopped.string(), &status);
+  ASSERT_EQ(status, 0) << second;
+  EXPECT_NE(second.find("run nishida_a_kobe_dry: goes on from its checkpoint"), std::string::npos) << second;
+  EXPECT_FALSE(std::filesystem::exists(run / "checkpoint.bin"));  // done with
+  // Bit-identical to the run never stopped: its whole history and final state.
+  const auto reference_run = whole / "runs" / "nishida_a_kobe_dry";
+  EXPECT_EQ(text_of(run / "history.csv"), text_of(reference_run / "history.csv"));
+  auto hash = [](const std::filesystem::path& summary) {
+    const std::string text = text_of(summary);
+    const std::size_t at = text.find("\"state_hash\"");
+    return at == std::string::npos ? std::string() : text.substr(at, 40);
+  };
+  EXPECT_FALSE(hash(run / "summary.json").empty());
+  EXPECT_EQ(hash(run / "summary.json"), hash(reference_run / "summary.json"));
+}
+
 TEST(Study, BadStudyFileNamesTheFileAndLine) {
   const auto file = std::filesystem::temp_directory_path() / "ishibashi_bad_study.toml";
   // Writes the study file, runs `study` on it and returns what it printed; it must fail.
