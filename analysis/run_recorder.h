@@ -1,6 +1,7 @@
 // The outputs of a seismic run, written as it goes: the ParaView series (blocks.pvd,
-// contacts.pvd) and their state file (view.pvsm), history.csv and summary.json in the run's folder, each replaced
-// atomically so that a run stopped at any moment leaves valid files.
+// contacts.pvd) and their state file (view.pvsm), history.csv and summary.json in the
+// run's folder, each replaced atomically so that a run stopped at any moment leaves valid
+// files.
 #pragma once
 #include <filesystem>
 #include <functional>
