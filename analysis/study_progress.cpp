@@ -6,7 +6,7 @@
 
 namespace ishibashi {
 
-double estimate_seconds_left(const std::vector<JobProgress>& jobs, int workers) {
+TimeLeft estimate_time_left(const std::vector<JobProgress>& jobs, int workers) {
   constexpr double kFirstFraction = 0.05;  // before it, a run's pace is mostly its settling
   // The whole duration of each kind's jobs so far: done ones as they took, running runs projected.
   double sum[2] = {0, 0};
@@ -17,6 +17,7 @@ double estimate_seconds_left(const std::vector<JobProgress>& jobs, int workers) 
     if (j.state == JobProgress::running && j.is_run && j.fraction >= kFirstFraction) total = j.elapsed_s / j.fraction;
     if (total >= 0) sum[j.is_run] += total, ++count[j.is_run];
   }
+  TimeLeft t;
   double work = 0, longest = 0;  // seconds of work left in all; the longest single job's
   for (const JobProgress& j : jobs) {
     if (j.state == JobProgress::done || j.state == JobProgress::skipped) continue;
@@ -25,12 +26,15 @@ double estimate_seconds_left(const std::vector<JobProgress>& jobs, int workers) 
       left = j.elapsed_s / j.fraction - j.elapsed_s;
     else if (count[j.is_run] > 0)
       left = std::max(0.0, sum[j.is_run] / count[j.is_run] - (j.state == JobProgress::running ? j.elapsed_s : 0.0));
-    else
-      return -1;
+    else {
+      ++t.not_counted;
+      continue;
+    }
     work += left;
     longest = std::max(longest, left);
   }
-  return std::max(longest, work / std::max(workers, 1));
+  t.seconds = std::max(longest, work / std::max(workers, 1));
+  return t;
 }
 
 std::string duration_text(double seconds) {
@@ -92,10 +96,14 @@ void StudyProgress::print_locked() {
       std::snprintf(text, sizeof text, "%s%s", running.empty() ? "" : ", ", j.name.c_str());
     running += text + (" (" + duration_text(j.elapsed_s) + ")");
   }
-  const double left = estimate_seconds_left(jobs_, workers_);
+  const TimeLeft left = estimate_time_left(jobs_, workers_);
   std::string line = "progress: " + std::to_string(done) + " of " + std::to_string(total) + " jobs done";
   if (!running.empty()) line += "; running " + running;
-  if (done < total) line += left >= 0 ? "; about " + duration_text(left) + " left" : "; time left not known yet";
+  if (done < total && left.not_counted == total - done)
+    line += "; time left not known yet";
+  else if (done < total)
+    line += "; about " + duration_text(left.seconds) + " left" +
+            (left.not_counted ? " (and " + std::to_string(left.not_counted) + " more not estimated: none of their kind has run yet)" : "");
   print_(line);
 }
 

@@ -21,9 +21,13 @@ struct JobProgress {
 
 // Wall seconds the study has left with `workers` jobs at once, from the jobs so far: a run
 // at fraction f after e s takes e / f in all (once f >= 0.05); a pending job as long as the
-// mean of the done and projected jobs of its kind. Negative while a pending or running
-// job's kind has nothing to go by yet.
-double estimate_seconds_left(const std::vector<JobProgress>& jobs, int workers);
+// mean of the done and projected jobs of its kind. Jobs of a kind with nothing to go by yet
+// (say the frequency analyses, which run last) are left out and counted in `not_counted`.
+struct TimeLeft {
+  double seconds = 0;
+  int not_counted = 0;
+};
+TimeLeft estimate_time_left(const std::vector<JobProgress>& jobs, int workers);
 
 // "1 h 05 min", "12 min", "40 s".
 std::string duration_text(double seconds);

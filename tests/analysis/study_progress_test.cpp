@@ -17,24 +17,28 @@ TEST(StudyProgress, TimeLeftProjectsRunningRunsAndAveragesPendingJobsOfTheirKind
       job(true, JobProgress::done, 1, 600), job(true, JobProgress::running, 0.25, 100), job(true, JobProgress::pending, 0, 0),
       job(true, JobProgress::pending, 0, 0), job(false, JobProgress::done, 0, 60), job(false, JobProgress::pending, 0, 0)};
   // Work left 300 + 500 + 500 + 60 = 1360 s; on two workers 680 s (longer than any one job).
-  EXPECT_DOUBLE_EQ(estimate_seconds_left(jobs, 2), 680);
-  EXPECT_DOUBLE_EQ(estimate_seconds_left(jobs, 1), 1360);
+  EXPECT_DOUBLE_EQ(estimate_time_left(jobs, 2).seconds, 680);
+  EXPECT_DOUBLE_EQ(estimate_time_left(jobs, 1).seconds, 1360);
+  EXPECT_EQ(estimate_time_left(jobs, 1).not_counted, 0);
   // On eight workers the longest single job (500 s) bounds it, not 1360 / 8.
-  EXPECT_DOUBLE_EQ(estimate_seconds_left(jobs, 8), 500);
+  EXPECT_DOUBLE_EQ(estimate_time_left(jobs, 8).seconds, 500);
 }
 
 TEST(StudyProgress, SkippedJobsCountNothingAndUnknownKindsSaySo) {
   std::vector<JobProgress> jobs = {job(true, JobProgress::skipped, 0, 0), job(true, JobProgress::running, 0.5, 200)};
-  EXPECT_DOUBLE_EQ(estimate_seconds_left(jobs, 2), 200);
+  EXPECT_DOUBLE_EQ(estimate_time_left(jobs, 2).seconds, 200);
   // Early in a run (under 5 % of its shaking) there is nothing to go by.
   jobs[1].fraction = 0.01;
-  EXPECT_LT(estimate_seconds_left(jobs, 2), 0);
-  // A pending analysis with none done yet: not known either.
-  jobs = {job(true, JobProgress::running, 0.5, 200), job(false, JobProgress::pending, 0, 0)};
-  EXPECT_LT(estimate_seconds_left(jobs, 2), 0);
+  EXPECT_EQ(estimate_time_left(jobs, 2).not_counted, 1);
+  // Pending analyses with none done yet are left out, and counted as such.
+  jobs = {job(true, JobProgress::running, 0.5, 200), job(false, JobProgress::pending, 0, 0),
+          job(false, JobProgress::pending, 0, 0)};
+  EXPECT_DOUBLE_EQ(estimate_time_left(jobs, 1).seconds, 200);
+  EXPECT_EQ(estimate_time_left(jobs, 1).not_counted, 2);
   // Everything done: nothing left.
   jobs = {job(true, JobProgress::done, 1, 200), job(false, JobProgress::skipped, 0, 0)};
-  EXPECT_DOUBLE_EQ(estimate_seconds_left(jobs, 2), 0);
+  EXPECT_DOUBLE_EQ(estimate_time_left(jobs, 2).seconds, 0);
+  EXPECT_EQ(estimate_time_left(jobs, 2).not_counted, 0);
 }
 
 TEST(StudyProgress, DurationsReadAsAPersonWouldSayThem) {
@@ -53,6 +57,7 @@ TEST(StudyProgress, PrintsWhichJobsRunAndHowFar) {
   EXPECT_NE(lines[0].find("0 of 2 jobs done"), std::string::npos) << lines[0];
   EXPECT_NE(lines[0].find("run a 50 % of its shaking"), std::string::npos) << lines[0];
   EXPECT_NE(lines[0].find("run b 0 %"), std::string::npos) << lines[0];
+  EXPECT_NE(lines[0].find("; about "), std::string::npos) << lines[0];  // b, under 5 %, taken as long as a
   p.finished(0, false);
   EXPECT_NE(lines.back().find("1 of 2 jobs done"), std::string::npos) << lines.back();
 }
