@@ -7,7 +7,8 @@
 #   ArchRing.*Stands* (13 min), Impact.EdgeAndCornerDrops* and Impact.RandomDrops* (4 min),
 #   LimitState.*, the presets B-F's CGAL validation (Presets.*nishida_[b-f]: CGAL code,
 #   compiled plain), and the end-to-end analyses, each several seismic runs (more than
-#   4 min each): SeismicRun.*, Study.QuickStudy*, Sweep.*, Checkpoint.* (the checkpoint
+#   4 min each): SeismicRun.*, Study.QuickStudy* and Study.Interrupted* (two quick studies
+#   each), Sweep.*, Checkpoint.* (the checkpoint
 #   test also stops a run after 3 s, before a run under the sanitizers has settled).
 #   Determinism.*OneToFourThreads (75 s each): the same steps on 1 to 4 threads, compared
 #   bit for bit in the Release run; the team-size change test stays.
@@ -25,4 +26,4 @@ cmake --build "$build" --target engine_tests io_tests analysis_tests replay_corp
 export ASAN_OPTIONS=detect_leaks=1:abort_on_error=1
 export UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1:suppressions=$root/scripts/ubsan.supp
 cd "$build" && ctest --output-on-failure --timeout 600 -j 2 \
-  -E 'PresetHashes\.|ArchRing\..*Stands|Impact\.EdgeAndCornerDrops|Impact\.RandomDrops|LimitState\.|Presets\..*nishida_[b-f]|SeismicRun\.|Study\.QuickStudy|Sweep\.|Checkpoint\.|Determinism\..*OneToFourThreads'
+  -E 'PresetHashes\.|ArchRing\..*Stands|Impact\.EdgeAndCornerDrops|Impact\.RandomDrops|LimitState\.|Presets\..*nishida_[b-f]|SeismicRun\.|Study\.(QuickStudy|Interrupted)|Sweep\.|Checkpoint\.|Determinism\..*OneToFourThreads'
