@@ -70,21 +70,22 @@ bool is_current(const Job& job) {
 
 // Which run, its result (run_result.h) and how it ran.
 const std::string kRunHeader = "scenario,model,mortar_pa," + result_csv_header() + ",dt_s,threads,monitored_block\n";
-constexpr double kStudyCheckpointWallS = 600;
 constexpr const char* kFrequencyHeader =
     "model,file,folder,subdivision,joint_rule,sub_contacts,mode_x_hz,mode_y_hz,mode_z_hz,impulse_x_hz,impulse_y_hz,impulse_z_hz,"
     "impulse_xz_hz,impulse_yz_hz\n";
+constexpr double kStudyCheckpointWallS = 600;  // a stopped study loses at most 10 min of each run
 
-// A run's row of runs.csv, and its ground motion as the report plots it. A run stopped
-// part way (Ctrl-C, a session's or a cluster job's end) goes on from its last checkpoint
-// (written every 10 min of wall time) when the study runs again with the same job key;
-// otherwise it starts afresh. `on_fraction`: how much of its shaking is done, per frame.
+// A run stopped part way (Ctrl-C, a session's or a cluster job's end) with a checkpoint
+// of the same job key (same program, inputs and duration).
 bool resumable(const Job& job) {
   const fs::path started = job.folder / "started.key";
   return job.kind == JobKind::run && fs::exists(job.folder / "checkpoint.bin") && fs::exists(started) &&
          file_bytes(started) == job.key + "\n";
 }
 
+// A run's row of runs.csv, and its ground motion as the report plots it. A resumable run
+// goes on from its last checkpoint; otherwise it starts afresh. `on_fraction`: how much of
+// its shaking is done, after each frame.
 std::string seismic_job(const Job& job, const StudyFile& study, int threads, const std::function<void(double)>& on_fraction,
                         bool resumed) {
   if (!resumed) {
