@@ -236,14 +236,25 @@ void SeismicRun::settle(Progress& p) {
   State& s = world.state();
   const double settle_max_s = scenario_.settle_max_s;
   if (s.step == 0) p.record("settle", m, s);
+  // Rest is judged every kSettleCheckS whatever the output interval, so that finer frames
+  // do not end the settling elsewhere; a frame is written at the end of it too.
+  const long check_steps = std::max(1L, std::lround(kSettleCheckS / dt_));
   while (!stop_requested() && s.time_s < settle_max_s) {
-    world.run(std::min<long>(steps_per_frame_, std::lround((settle_max_s - s.time_s) / dt_) + 1));
-    p.record("settle", m, s);
-    if (s.energy.kinetic_j < scenario_.settle_kinetic_j) {
+    const long to_frame = steps_per_frame_ - s.step % steps_per_frame_, to_check = check_steps - s.step % check_steps;
+    const long to_end = std::lround((settle_max_s - s.time_s) / dt_) + 1;
+    const long steps = std::min({to_frame, to_check, to_end});
+    world.run(steps);
+    const bool last = steps == to_end;  // settle_max_s reached: a frame and a check
+    const bool frame = last || s.step % steps_per_frame_ == 0;
+    if ((last || s.step % check_steps == 0) && s.energy.kinetic_j < scenario_.settle_kinetic_j) {
       p.result.settled = true;
+      p.record("settle", m, s);
       break;
     }
-    maybe_checkpoint(p);
+    if (frame) {
+      p.record("settle", m, s);
+      maybe_checkpoint(p);
+    }
   }
   if (stop_requested()) return;
   p.result.settle_time_s = s.time_s;

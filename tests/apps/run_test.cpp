@@ -20,11 +20,13 @@ namespace {
 const std::filesystem::path kRoot = ISHIBASHI_SOURCE_DIR;
 
 // A short scenario on model A with the Kobe record (absolute paths: written to /tmp).
-std::filesystem::path short_scenario(double duration_s) {
-  const auto f = std::filesystem::temp_directory_path() / "ishibashi_short.toml";
+std::filesystem::path short_scenario(double duration_s, double settle_max_s = 0.1, double output_interval_s = 0.05) {
+  const auto f = std::filesystem::temp_directory_path() /
+                 ("ishibashi_short_" + std::to_string(settle_max_s) + "_" + std::to_string(output_interval_s) + ".toml");
   const auto kobe = kRoot / "data/ground_motions/kobe_1995_jma";
   std::ofstream(f) << "[model]\nfile = \"" << (kRoot / "models/nishida_a.toml").string() << "\"\n"
-                   << "[run]\nsettle_max_s = 0.1\nduration_s = " << duration_s << "\noutput_interval_s = 0.05\n"
+                   << "[run]\nsettle_max_s = " << settle_max_s << "\nduration_s = " << duration_s
+                   << "\noutput_interval_s = " << output_interval_s << "\n"
                    << "[ground_motion]\nstart_s = 7.0\n"
                    << "x = { file = \"" << (kobe / "RSN1106_KOBE_KJM090.AT2").string() << "\" }\n"
                    << "y = { file = \"" << (kobe / "RSN1106_KOBE_KJM000.AT2").string() << "\" }\n"
@@ -126,6 +128,29 @@ TEST(Run, ShortSeismicRunWritesOutputsVtkReads) {
   const std::string cmd = std::string(ISHIBASHI_BINARY) + " run --quiet " + short_scenario(0.1).string() + " --out " + out.string();
   ASSERT_EQ(std::system(cmd.c_str()), 0) << cmd;
   expect_valid_outputs(out);
+}
+
+// Frames are for watching: asking for five times as many must not change the run (the
+// settling is judged every 0.05 s whatever the frames; model A settles in about 0.15 s).
+TEST(Run, FinerFramesDoNotChangeTheRun) {
+  std::string summaries[2];
+  for (int k = 0; k < 2; ++k) {
+    const auto out = std::filesystem::temp_directory_path() / ("ishibashi_frames_" + std::to_string(k));
+    std::filesystem::remove_all(out);
+    const std::string cmd = std::string(ISHIBASHI_BINARY) + " run --quiet " + short_scenario(0.05, 1.0, k ? 0.01 : 0.05).string() +
+                            " --out " + out.string() + " > /dev/null";
+    ASSERT_EQ(std::system(cmd.c_str()), 0) << cmd;
+    std::ifstream summary(out / "summary.json");
+    std::stringstream text;
+    text << summary.rdbuf();
+    summaries[k] = text.str();
+  }
+  auto field = [](const std::string& json, const std::string& name) {
+    const std::size_t at = json.find("\"" + name + "\"");
+    return at == std::string::npos ? std::string("missing") : json.substr(at, json.find('\n', at) - at);
+  };
+  for (const char* name : {"settle_time_s", "state_hash", "steps"})
+    EXPECT_EQ(field(summaries[0], name), field(summaries[1], name)) << name;
 }
 
 TEST(Run, InterruptedRunLeavesValidFiles) {
