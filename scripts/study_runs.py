@@ -1,0 +1,59 @@
+#!/usr/bin/python3
+"""The run table of a study (issue 27's columns), one row per finished run, from each run's
+summary.json, history.csv and last blocks frame:
+
+    /usr/bin/python3 scripts/study_runs.py STUDY_OUT COMMIT > scenarios/results/study_runs.csv
+
+model (a-f), variant (dry|mortar), collapse (0|1), fallen_stones, fallen_ring_stones,
+first_opening_s, first_fall_s (seconds of shaking; empty if none), largest_crown_drop_m,
+energy_balance_relative, dt_s, wall_s, commit (of the program that ran the study).
+"""
+import csv
+import json
+import sys
+import xml.etree.ElementTree as ET
+from pathlib import Path
+
+from vtkmodules.util.numpy_support import vtk_to_numpy
+from vtkmodules.vtkIOXML import vtkXMLUnstructuredGridReader
+
+RING = 1  # the generator's part label of voussoirs (geometry/bridge.h)
+
+
+def fallen_ring_stones(run):
+    last = list(ET.parse(run / "blocks.pvd").getroot().iter("DataSet"))[-1]
+    reader = vtkXMLUnstructuredGridReader()
+    reader.SetFileName(str(run / last.get("file")))
+    reader.Update()
+    data = reader.GetOutput().GetCellData()
+    part, fallen = vtk_to_numpy(data.GetArray("part")), vtk_to_numpy(data.GetArray("fallen"))
+    return int(((part == RING) & (fallen != 0)).sum())
+
+
+def first_fall_s(run, settle_time_s):
+    with open(run / "history.csv", newline="") as f:
+        for row in csv.DictReader(f):
+            if row["phase"] != "settle" and int(row["fallen_blocks"]) > 0:
+                return f"{float(row['time_s']) - settle_time_s:.3f}"
+    return ""
+
+
+def main():
+    out, commit = Path(sys.argv[1]), sys.argv[2]
+    writer = csv.writer(sys.stdout, lineterminator="\n")
+    writer.writerow(["model", "variant", "collapse", "fallen_stones", "fallen_ring_stones", "first_opening_s", "first_fall_s",
+                     "largest_crown_drop_m", "energy_balance_relative", "dt_s", "wall_s", "commit"])
+    for run in sorted((out / "runs").iterdir()):
+        if not (run / "row.csv").exists():  # not finished
+            continue
+        s = json.loads((run / "summary.json").read_text())
+        name = run.name.split("_")  # nishida_<model>_kobe_<variant>
+        opening = s["first_opening_time_s"]
+        writer.writerow([name[1], name[3], int(s["collapse"]), s["fallen_stones"], fallen_ring_stones(run),
+                         "" if opening < 0 else f"{opening:.3f}", first_fall_s(run, s["settle_time_s"]),
+                         f"{s['largest_crown_drop_m']:.4f}", f"{s['energy_balance_error_relative']:.2e}",
+                         f"{s['dt_s']:.4e}", f"{s['wall_time_s']:.0f}", commit])
+
+
+if __name__ == "__main__":
+    main()
