@@ -180,10 +180,10 @@ def frames(folder):
     return [(float(d.get("timestep")), folder / d.get("file")) for d in root.iter("DataSet")]
 
 
-def block_faces(vtu, with_fallen=False):
+def block_faces(vtu):
     """The faces of the blocks other than the ground slab, as polygons, with each face's
-    displacement relative to the ground (m) (and whether its block has fallen, and how
-    many stones have)."""
+    displacement relative to the ground (m), whether its block has fallen, and how many
+    stones have."""
     from vtkmodules.util.numpy_support import vtk_to_numpy
     from vtkmodules.vtkFiltersGeometry import vtkDataSetSurfaceFilter
     from vtkmodules.vtkIOXML import vtkXMLUnstructuredGridReader
@@ -205,8 +205,6 @@ def block_faces(vtu, with_fallen=False):
     keep = [i for i in range(len(offsets) - 1) if part[i] != 0]
     faces = [points[connectivity[offsets[i]:offsets[i + 1]]] for i in keep]
     moved = [math.sqrt(float(moved[i] @ moved[i])) for i in keep]
-    if not with_fallen:
-        return faces, moved
     fallen = vtk_to_numpy(poly.GetCellData().GetArray("fallen"))
     stones = int(vtk_to_numpy(reader.GetOutput().GetCellData().GetArray("fallen")).sum())
     return faces, moved, [bool(fallen[i]) for i in keep], stones
@@ -220,7 +218,7 @@ def snapshot_figure(out, run, shaking_s, figures, limits):
         return None
     t0 = number(run["settle_time_s"], 0.0)
     time, vtu = min(series, key=lambda f: abs(f[0] - (t0 + shaking_s)))
-    faces, moved = block_faces(vtu)
+    faces, moved, _, _ = block_faces(vtu)
     fig = plt.figure(figsize=(9, 4.5))
     a = fig.add_subplot(projection="3d")
     top = max(max(moved), 1e-3)
@@ -262,7 +260,7 @@ def animation(out, run, figures, limits):
     chosen = animation_frames(frames(folder), t0, shaking)
     if len(chosen) < 2:
         return None
-    scenes = [block_faces(vtu, with_fallen=True) for _, vtu in chosen]
+    scenes = [block_faces(vtu) for _, vtu in chosen]
     # One scale for the run: the 99th percentile of standing stones' displacements over its
     # frames (a stone in flight, not yet counted fallen, would squash the largest).
     standing = sorted(m for _, moved, fallen, _ in scenes for m, f in zip(moved, fallen) if not f)
@@ -312,7 +310,7 @@ def animation(out, run, figures, limits):
 def model_limits(out, run):
     """Bounds of the model in its first frame, with room for stones that fall out."""
     series = frames(out / "runs" / run["scenario"])
-    faces, _ = block_faces(series[0][1])
+    faces = block_faces(series[0][1])[0]
     xs = [p for f in faces for p in f]
     lo = [min(p[i] for p in xs) for i in range(3)]
     hi = [max(p[i] for p in xs) for i in range(3)]
