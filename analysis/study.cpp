@@ -229,7 +229,7 @@ StudyOutcome run_study(const StudyFile& study, const StudyOptions& o) {
       if (!o.force && is_current(job)) {
         job.status = "current";
         event(name + ": current, kept");
-        progress.finished(i, true);
+        progress.finished(i, JobProgress::skipped);
         continue;
       }
       const bool resumed = !o.force && resumable(job);
@@ -253,7 +253,7 @@ StudyOutcome run_study(const StudyFile& study, const StudyOptions& o) {
       char took[64];
       std::snprintf(took, sizeof took, " (%.1f s)", job.seconds);
       event(name + (job.status == "ran" ? ": done" : ": FAILED: " + job.error) + took);
-      progress.finished(i, false);
+      progress.finished(i, job.status == "ran" ? JobProgress::done : JobProgress::failed);
     }
   };
   std::vector<std::thread> pool;

@@ -20,7 +20,7 @@ TimeLeft estimate_time_left(const std::vector<JobProgress>& jobs, int workers) {
   TimeLeft t;
   double work = 0, longest = 0;  // seconds of work left in all; the longest single job's
   for (const JobProgress& j : jobs) {
-    if (j.state == JobProgress::done || j.state == JobProgress::skipped) continue;
+    if (j.state != JobProgress::pending && j.state != JobProgress::running) continue;
     double left;
     if (j.state == JobProgress::running && j.is_run && j.fraction >= kFirstFraction)
       left = j.elapsed_s / j.fraction - j.elapsed_s;
@@ -70,23 +70,25 @@ void StudyProgress::advanced(std::size_t job, double fraction) {
   if (std::chrono::duration<double>(Clock::now() - last_print_).count() >= every_s_) print_locked();
 }
 
-void StudyProgress::finished(std::size_t job, bool skipped) {
+void StudyProgress::finished(std::size_t job, JobProgress::State how) {
   const std::lock_guard<std::mutex> guard(lock_);
   JobProgress& j = jobs_[job];
-  j.state = skipped ? JobProgress::skipped : JobProgress::done;
-  if (!skipped) j.elapsed_s = std::chrono::duration<double>(Clock::now() - started_[job]).count();
-  if (!skipped) print_locked();
+  j.state = how;
+  if (how == JobProgress::skipped) return;
+  j.elapsed_s = std::chrono::duration<double>(Clock::now() - started_[job]).count();
+  print_locked();
 }
 
 void StudyProgress::print_locked() {
   last_print_ = Clock::now();
-  int done = 0, total = 0;
+  int done = 0, failed = 0, total = 0;
   std::string running;
   for (std::size_t k = 0; k < jobs_.size(); ++k) {
     JobProgress& j = jobs_[k];
     if (j.state == JobProgress::skipped) continue;
     ++total;
     done += j.state == JobProgress::done;
+    failed += j.state == JobProgress::failed;
     if (j.state != JobProgress::running) continue;
     j.elapsed_s = std::chrono::duration<double>(last_print_ - started_[k]).count();
     char text[200];
@@ -98,6 +100,8 @@ void StudyProgress::print_locked() {
   }
   const TimeLeft left = estimate_time_left(jobs_, workers_);
   std::string line = "progress: " + std::to_string(done) + " of " + std::to_string(total) + " jobs done";
+  if (failed) line += ", " + std::to_string(failed) + " failed";
+  total -= failed;  // what is left to do
   if (!running.empty()) line += "; running " + running;
   if (done < total && left.not_counted == total - done)
     line += "; time left not known yet";

@@ -11,7 +11,7 @@
 namespace ishibashi {
 
 struct JobProgress {
-  enum State { pending, running, done, skipped };
+  enum State { pending, running, done, failed, skipped };
   std::string name;       // e.g. "run nishida_b_kobe_dry"
   bool is_run = false;    // a seismic run (else a frequency analysis)
   State state = pending;
@@ -39,7 +39,7 @@ class StudyProgress {
   StudyProgress(std::vector<JobProgress> jobs, int workers, double every_s, std::function<void(const std::string&)> print);
   void started(std::size_t job);
   void advanced(std::size_t job, double fraction);
-  void finished(std::size_t job, bool skipped);
+  void finished(std::size_t job, JobProgress::State how);  // done, failed or skipped
 
  private:
   using Clock = std::chrono::steady_clock;

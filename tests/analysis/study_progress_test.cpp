@@ -58,8 +58,11 @@ TEST(StudyProgress, PrintsWhichJobsRunAndHowFar) {
   EXPECT_NE(lines[0].find("run a 50 % of its shaking"), std::string::npos) << lines[0];
   EXPECT_NE(lines[0].find("run b 0 %"), std::string::npos) << lines[0];
   EXPECT_NE(lines[0].find("; about "), std::string::npos) << lines[0];  // b, under 5 %, taken as long as a
-  p.finished(0, false);
+  p.finished(0, JobProgress::done);
   EXPECT_NE(lines.back().find("1 of 2 jobs done"), std::string::npos) << lines.back();
+  p.finished(1, JobProgress::failed);  // interrupted: not done, and nothing left to run
+  EXPECT_NE(lines.back().find("1 of 2 jobs done, 1 failed"), std::string::npos) << lines.back();
+  EXPECT_EQ(lines.back().find("left"), std::string::npos) << lines.back();
 }
 
 }  // namespace
