@@ -176,11 +176,14 @@ std::vector<BridgeBlock> generate_bridge(const BridgeSpec& s) {
   const double y_min = -0.5 * s.ring.width_m;
   const double dy = s.ring.width_m / g.across;
   auto add_prisms = [&](const std::vector<Vec3>& xz, int course) {
+    double lowest = xz.front().z();
+    for (const Vec3& p : xz) lowest = std::min(lowest, p.z());
+    const bool fixed = s.fixed_bottom_course && lowest < 1e-9;  // stands on the ground
     for (int k = 0; k < g.across; ++k) {
       const bool face_wall = k == 0 || k == g.across - 1;
       const Part part = s.backfill == Backfill::soil ? (face_wall ? Part::wall : Part::soil)
                                                      : (face_wall ? Part::wall : Part::fill);
-      blocks.push_back(BridgeBlock{make_prism_xz(xz, y_min + k * dy, y_min + (k + 1) * dy), part, course, false});
+      blocks.push_back(BridgeBlock{make_prism_xz(xz, y_min + k * dy, y_min + (k + 1) * dy), part, course, fixed});
     }
   };
 

@@ -35,6 +35,10 @@ struct BridgeSpec {
   // The ground's joints with the stones it carries take the soil's E, density and friction
   // angle and are never bonded by mortar, as the study gives them (MODEL.md section 4).
   GroundMaterial ground = GroundMaterial::soil;
+  // Walls, fill and soil units of the lowest course, those standing on the ground, are
+  // fixed like the springers (MODEL.md section 5: "bottom stones are fixed"); false: they
+  // rest on the ground's joints and may slide and rock on it.
+  bool fixed_bottom_course = false;
   Material stone;                  // empty name: the Nishida stone
   Material soil;                   // empty name: the Nishida soil (MODEL.md section 4)
   double mortar_pa = 0.0;          // f_t = c of stone joints originally in contact; 0: dry

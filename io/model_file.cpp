@@ -51,6 +51,7 @@ ModelFile read_model_file(const std::filesystem::path& file) {
   std::string ground = b.ground == GroundMaterial::soil ? "soil" : "stone";
   bridge.text("ground", ground, {"stone", "soil"});
   b.ground = ground == "soil" ? GroundMaterial::soil : GroundMaterial::stone;
+  bridge.boolean("fixed_bottom_course", b.fixed_bottom_course);
   bridge.non_negative("mortar_pa", b.mortar_pa);
   bridge.finish();
 

@@ -134,7 +134,7 @@ class TableReader {
   }
   void boolean(const char* key, bool& out) {
     if (const toml::node* n = find(key)) {
-      if (auto v = n->value<bool>()) out = *v;
+      if (auto v = n->value_exact<bool>()) out = *v;  // value<bool> would take 0 and 1
       else fail(*n, std::string("'") + key + "' must be true or false");
     }
   }

@@ -122,6 +122,30 @@ TEST(Bridge, GroundReachesItsMarginBeyondTheBridge) {
   EXPECT_NEAR(reach(spec).first.y(), 30.0, 1e-9);
 }
 
+// fixed_bottom_course fixes exactly the walls, fill and soil units that stand on the
+// ground (lowest vertex at z = 0), as the springers are; without it they are free.
+TEST(Bridge, FixedBottomCourseFixesWhatStandsOnTheGround) {
+  for (Backfill backfill : {Backfill::stone, Backfill::soil})
+    for (bool fixed_bottom : {false, true}) {
+      BridgeSpec s;
+      s.fill_height_m = 5.8;
+      s.length_m = 24.0;
+      s.backfill = backfill;
+      s.fixed_bottom_course = fixed_bottom;
+      int on_ground = 0, fixed_fill = 0;
+      for (const BridgeBlock& b : generate_bridge(s)) {
+        if (b.part != Part::wall && b.part != Part::fill && b.part != Part::soil) continue;
+        double lowest = 1e9;
+        for (const Vec3& v : b.shape.vertices) lowest = std::min(lowest, v.z());
+        on_ground += lowest < 1e-9;
+        fixed_fill += b.fixed;
+        EXPECT_EQ(b.fixed, fixed_bottom && lowest < 1e-9) << part_name(b.part) << " at z " << lowest;
+      }
+      EXPECT_GT(on_ground, 2 * 5) << "a course of stones five across on each side of the ring";
+      EXPECT_EQ(fixed_fill, fixed_bottom ? on_ground : 0);
+    }
+}
+
 TEST(Bridge, ImpossibleParametersAreClearErrors) {
   using ::testing::HasSubstr;
   auto error = [](const BridgeSpec& s) {

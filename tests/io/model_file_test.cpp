@@ -41,6 +41,7 @@ TEST(ModelFile, UnknownKeyNamesFileLineAndKey) {
 TEST(ModelFile, WrongTypeAndBadChoiceAreErrors) {
   EXPECT_THAT(error_of("[bridge]\n\nfill_height_m = \"high\"\n"), HasSubstr(":3: 'fill_height_m' must be a number"));
   EXPECT_THAT(error_of("[bridge]\nbackfill = \"gravel\"\n"), HasSubstr("allowed: \"stone\", \"soil\""));
+  EXPECT_THAT(error_of("[bridge]\nfixed_bottom_course = 1\n"), HasSubstr(":2: 'fixed_bottom_course' must be true or false"));
   EXPECT_THAT(error_of("[brigde]\n"), HasSubstr("unknown table or key 'brigde'"));
   EXPECT_THAT(error_of("[ring\n"), HasSubstr("ishibashi_model_test.toml:1"));
 }
