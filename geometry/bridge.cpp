@@ -176,9 +176,7 @@ std::vector<BridgeBlock> generate_bridge(const BridgeSpec& s) {
   const double y_min = -0.5 * s.ring.width_m;
   const double dy = s.ring.width_m / g.across;
   auto add_prisms = [&](const std::vector<Vec3>& xz, int course) {
-    double lowest = xz.front().z();
-    for (const Vec3& p : xz) lowest = std::min(lowest, p.z());
-    const bool fixed = s.fixed_bottom_course && lowest < 1e-9;  // stands on the ground
+    const bool fixed = s.fixed_bottom_course && std::any_of(xz.begin(), xz.end(), [](const Vec3& p) { return p.z() < 1e-9; });
     for (int k = 0; k < g.across; ++k) {
       const bool face_wall = k == 0 || k == g.across - 1;
       const Part part = s.backfill == Backfill::soil ? (face_wall ? Part::wall : Part::soil)
@@ -293,11 +291,10 @@ std::vector<BridgeBlock> generate_bridge(const BridgeSpec& s) {
                                    Part::side_wall, 0, true});
     }
   if (s.ground_thickness_m > 0) {
-    // By default wide enough to catch what falls: four times the bridge's height H beyond
-    // it on every side. A wall toppling out of plane brings its top down at up to
-    // sqrt(3 g H) and throws stones about sqrt(6) H = 2.4 H, then they hop and roll (model
-    // B with mortar threw four past 2 H). What leaves it anyway is frozen below it
-    // (Model::leave_depth_m).
+    // By default wide enough to catch what falls: four times the bridge's height H beyond it
+    // on every side. A wall toppling out of plane brings its top down at up to sqrt(3 g H) and
+    // throws stones about sqrt(6) H = 2.4 H, then they hop and roll (model B with mortar threw
+    // four past 2 H). What leaves it anyway is frozen below it (Model::leave_depth_m).
     const double margin = s.ground_margin_m > 0 ? s.ground_margin_m : std::max(2 * stone, 4 * height);
     const double length = 2 * (half_length + s.side_wall_width_m + margin);
     blocks.push_back(BridgeBlock{make_box(Vec3(0, 0, -0.5 * s.ground_thickness_m),
