@@ -114,7 +114,7 @@ void RunRecorder::write_summary(const RunDescription& run, const SeismicRunResul
   j << ",\n  \"largest_crown_drop_m\": " << r.largest_crown_drop_m << ",\n  \"monitored_block\": " << run.monitored_block
     << ",\n  \"energy_balance_error_j\": " << r.balance_error_j
     << ",\n  \"energy_balance_error_relative\": " << r.balance_error_relative << ",\n  \"dt_s\": " << run.dt_s
-    << ",\n  \"damping\": \"" << (run.capped_damping ? "capped" : "study") << "\""
+    << ",\n  \"damping\": \"" << run.damping << "\""
     << ",\n  \"joint_rule\": \"" << run.joint_rule << "\""
     << ",\n  \"steps\": " << s.step << ",\n  \"threads\": " << run.threads
     << ",\n  \"mean_team_size\": " << (s.step > 0 ? double(s.profile.thread_steps) / s.step : 0.0) << ",\n  \"state_hash\": \""

@@ -30,7 +30,7 @@ struct RunDescription {
   std::string model_name;
   int monitored_block = -1;
   double dt_s = 0;
-  bool capped_damping = false;
+  const char* damping = "study";
   const char* joint_rule = "corners";
   int threads = 0;
 };

@@ -23,7 +23,7 @@ extern "C" void on_interrupt(int) { stop_flag = 1; }
 
 using Clock = std::chrono::steady_clock;
 
-constexpr char kCheckpointMagic[] = "ishibashi checkpoint 7\n";
+constexpr char kCheckpointMagic[] = "ishibashi checkpoint 8\n";
 
 // What the checkpoint's run was: the program, the input files and the run's settings
 // beyond the scenario file (command-line overrides), so that a resume rebuilds the same run.
@@ -33,7 +33,7 @@ struct CheckpointHeader {
   double dt_s = 0, duration_s = 0, motion_duration_s = 0, start_s = 0;
   int subdivision = 1;
   JointRule joint_rule = JointRule::corners;
-  bool cap_damping = false;
+  Damping damping = Damping::study;
   bool bonds_when_settled = false;
   ShearSpring shear_spring = ShearSpring::shear_modulus;
 };
@@ -42,7 +42,7 @@ template <class Archive, class H>
 void visit_header(Archive& a, H& h) {
   a.field(h.program), a.field(h.inputs), a.field(h.scenario_file), a.field(h.dt_s), a.field(h.duration_s);
   a.field(h.motion_duration_s), a.field(h.start_s), a.field(h.subdivision), a.field(h.joint_rule);
-  a.field(h.cap_damping), a.field(h.bonds_when_settled), a.field(h.shear_spring);
+  a.field(h.damping), a.field(h.bonds_when_settled), a.field(h.shear_spring);
 }
 
 CheckpointHeader read_header(CheckpointReader& in, const std::filesystem::path& file) {
@@ -74,13 +74,13 @@ SeismicRun::SeismicRun(const Scenario& scenario, SeismicRunOptions options)
   ModelOptions model_options;
   model_options.subdivision = scenario_.subdivision;
   model_options.joint_rule = scenario_.joint_rule;
-  model_options.cap_damping = scenario_.cap_damping;
+  model_options.damping = scenario_.damping;
   model_options.drive_fixed_blocks = true;
   model_options.bonds_when_settled = scenario_.bonds_when_settled;
   model_options.shear_spring = scenario_.shear_spring;
   const Model model = load_model(scenario_.model, scenario_.model_file, model_options);
   limit_s_ = World(model, 1e-9).critical_time_step_s(&limiting_block_);
-  const double share = scenario_.cap_damping ? kCappedDtShare : kStudyDtShare;
+  const double share = scenario_.damping == Damping::capped ? kCappedDtShare : kStudyDtShare;
   dt_ = (scenario_.dt_s > 0 ? scenario_.dt_s : share * limit_s_) * options_.dt_factor;
   steps_per_frame_ = std::max(1L, std::lround(scenario_.output_interval_s / dt_));
   ground_ = prepare_ground_motion(scenario_.ground_motion, dt_);
@@ -124,7 +124,7 @@ std::unique_ptr<SeismicRun> SeismicRun::resume(SeismicRunOptions options, int th
   sc.ground_motion.start_s = h.start_s;
   sc.subdivision = h.subdivision;
   sc.joint_rule = h.joint_rule;
-  sc.cap_damping = h.cap_damping;
+  sc.damping = h.damping;
   sc.bonds_when_settled = h.bonds_when_settled;
   sc.shear_spring = h.shear_spring;
   if (threads >= 0) sc.threads = threads;
@@ -185,7 +185,7 @@ void SeismicRun::write_summary(Progress& p, bool finished) {
   r.steps = s.step;
   r.state_hash = world_->state_hash();
   r.wall_s = std::chrono::duration<double>(Clock::now() - p.wall0).count();
-  const RunDescription run{scenario_.model.name, monitored_block(), dt_, scenario_.cap_damping,
+  const RunDescription run{scenario_.model.name, monitored_block(), dt_, damping_name(scenario_.damping),
                            joint_rule_name(scenario_.joint_rule), world_->thread_tuner().max_threads()};
   p.recorder.write_summary(run, r, s, p.joints, finished);
 }
@@ -196,7 +196,7 @@ void SeismicRun::write_checkpoint(Progress& p) {
   const CheckpointHeader h{program_fingerprint(), scenario_fingerprint(scenario_.file),
                            std::filesystem::absolute(scenario_.file).string(), dt_, scenario_.duration_s,
                            scenario_.ground_motion.duration_s, scenario_.ground_motion.start_s, scenario_.subdivision,
-                           scenario_.joint_rule, scenario_.cap_damping, scenario_.bonds_when_settled,
+                           scenario_.joint_rule, scenario_.damping, scenario_.bonds_when_settled,
                            scenario_.shear_spring};
   write_atomically(options_.out / "checkpoint.bin", [&](const std::filesystem::path& tmp) {
     std::ofstream file(tmp, std::ios::binary);

@@ -65,8 +65,9 @@ int main(int argc, char** argv) {
       ->check(CLI::IsMember({"corners", "moments"}));
   run_cmd->add_option("--damping", run.damping,
                       "dashpots, replacing the scenario's: \"study\" (as specified; dt set by them) or \"capped\" "
-                      "(scaled down where dt would not resolve them; dt set by the springs)")
-      ->check(CLI::IsMember({"study", "capped"}));
+                      "(scaled down where dt would not resolve them; dt set by the springs) or \"implicit\" (as specified, integrated "
+                      "implicitly; dt set by the springs)")
+      ->check(CLI::IsMember({"study", "capped", "implicit"}));
   run_cmd->add_flag("--fixed-threads", run.fixed_threads,
                     "every step on all threads (default: the team size that is fastest as the run goes)");
   run_cmd->add_option("--checkpoint-every", run.checkpoint_every_s, "write a checkpoint every this many simulated seconds")

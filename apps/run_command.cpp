@@ -35,7 +35,7 @@ int run_scenario(const RunOptions& o) {
     if (o.start_s >= 0) sc.ground_motion.start_s = o.start_s;
     if (o.dt_s >= 0) sc.dt_s = o.dt_s;
     if (o.subdivision > 0) sc.subdivision = o.subdivision;
-    if (!o.damping.empty()) sc.cap_damping = o.damping == "capped";
+    if (!o.damping.empty()) sc.damping = parse_damping(o.damping);
     if (!o.joint_rule.empty()) sc.joint_rule = o.joint_rule == "moments" ? JointRule::moments : JointRule::corners;
     resumed = std::make_unique<SeismicRun>(sc, options);
   }
@@ -49,8 +49,10 @@ int run_scenario(const RunOptions& o) {
               sc.ground_motion.start_s);
   std::printf("  stability limit %.3g s, set by %s and its joints%s\n", run.stability_limit_s(),
               m.block_label(run.limiting_block()).c_str(),
-              sc.cap_damping ? " (springs alone: dashpots capped where dt would not resolve them)" : "");
-  if (sc.cap_damping) {
+              sc.damping == Damping::capped     ? " (springs alone: dashpots capped where dt would not resolve them)"
+              : sc.damping == Damping::implicit ? " (springs alone: dashpots implicit)"
+                                                : "");
+  if (sc.damping == Damping::capped) {
     const std::vector<double>& scale = run.world().state().damping_scale;
     const long capped = std::count_if(scale.begin(), scale.end(), [](double f) { return f < 1; });
     std::printf("  dashpots capped on %ld blocks (smallest factor %.3f)\n", capped, *std::min_element(scale.begin(), scale.end()));
@@ -68,15 +70,19 @@ int run_scenario(const RunOptions& o) {
   if (o.profile) {
     const Profile& p = run.world().state().profile;
     const double total =
-        p.pose_s + p.broadphase_s + p.narrowphase_s + p.contact_law_s + p.gather_s + p.integrate_s + p.damping_caps_s;
+        p.pose_s + p.broadphase_s + p.narrowphase_s + p.contact_law_s + p.gather_s + p.integrate_s + p.damping_caps_s +
+        p.damping_solve_s;
     std::printf("stage         seconds   share\n");
     for (const auto& [name, t] : {std::pair{"pose", p.pose_s}, {"broadphase", p.broadphase_s}, {"narrowphase", p.narrowphase_s},
                                   {"contact law", p.contact_law_s}, {"gather", p.gather_s}, {"integrate", p.integrate_s},
-                                  {"damping caps", p.damping_caps_s}})
+                                  {"damping caps", p.damping_caps_s}, {"damping solve", p.damping_solve_s}})
       std::printf("%-12s %8.2f  %5.1f %%\n", name, t, 100 * t / total);
     std::printf("steps %ld, broadphase rebuilds %ld, contact regroups %ld, %.1f steps/s, mean team %.2f of %d threads\n",
                 r.steps, p.broadphase_rebuilds, p.contact_regroups, r.steps / total, double(p.thread_steps) / r.steps,
                 run.world().thread_tuner().max_threads());
+    if (sc.damping == Damping::implicit)
+      std::printf("implicit dashpots: %.2f conjugate-gradient iterations per step, %ld steps stopped unconverged\n",
+                  double(p.damping_iterations) / r.steps, p.damping_unconverged);
   }
   std::printf("outputs in %s: blocks.pvd, contacts.pvd, view.pvsm (ParaView: File > Load State, files searched in its "
               "folder), history.csv, summary.json\n", options.out.c_str());

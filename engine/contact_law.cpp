@@ -39,6 +39,7 @@ double apply_contact_law(const Model& m, State& s, double dt) {
   const std::ptrdiff_t np = static_cast<std::ptrdiff_t>(s.pairs.size());
   s.pair_force_n.resize(np);
   s.pair_moment_nm.resize(2 * np);
+  const bool implicit_dashpots = m.options.damping == Damping::implicit;
   std::array<EnergyParts, kReductionChunks> parts{};
   // Pair by pair: what the sub-contacts of a pair share (blocks, velocities, law) is
   // loaded once, and their resultant is summed here so that the gather works on pairs.
@@ -56,8 +57,10 @@ double apply_contact_law(const Model& m, State& s, double dt) {
       const Vec3 v0 = s.velocity[b] - s.velocity[a] - s.angular_velocity[b].cross(d);
       const Vec3 w_rel = s.angular_velocity[b] - s.angular_velocity[a];
       const PairLaw& law = m.law(m.material[a], m.material[b]);
-      const double damping_scale = std::min(s.damping_scale[a], s.damping_scale[b]);  // 1 unless capped
+      // 1 unless capped; 0 when implicit_damping.cpp applies the dashpots after the law.
+      const double damping_scale = implicit_dashpots ? 0.0 : std::min(s.damping_scale[a], s.damping_scale[b]);
       Vec3 pair_force = Vec3::Zero(), pair_torque = Vec3::Zero();
+
       for (int i = pair.sub_begin; i < pair.sub_begin + pair.sub_count; ++i) {
         const Vec3 r = c.point[i] - xa;
         const Vec3& n = c.normal[i];
@@ -156,8 +159,10 @@ double apply_contact_law(const Model& m, State& s, double dt) {
         }
         c.normal_stretch_m[i] = un;
         c.shear_stretch_m[i] = us;
-        e.damping -= 0.5 * dt * (damping_before + damping_force).dot(v_rel);
-        c.damping_force_n[i] = damping_force;
+        if (!implicit_dashpots) {
+          e.damping -= 0.5 * dt * (damping_before + damping_force).dot(v_rel);
+          c.damping_force_n[i] = damping_force;
+        }
         c.flags[i] = flags;
         pair_force += force;
         pair_torque += r.cross(force);

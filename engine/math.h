@@ -8,6 +8,7 @@ namespace ishibashi {
 using Vec3 = Eigen::Vector3d;
 using Vec6 = Eigen::Matrix<double, 6, 1>;  // 3 translations, 3 rotations of a block
 using Mat3 = Eigen::Matrix3d;
+using Mat6 = Eigen::Matrix<double, 6, 6>;
 using Quat = Eigen::Quaterniond;
 
 // Quaternion of a rotation by the vector `rotation_rad` (axis * angle).

@@ -19,6 +19,14 @@ std::string Model::block_label(int b) const {
 
 const char* joint_rule_name(JointRule rule) { return rule == JointRule::moments ? "moments" : "corners"; }
 const char* shear_spring_name(ShearSpring spring) { return spring == ShearSpring::normal ? "normal" : "shear_modulus"; }
+const char* damping_name(Damping damping) {
+  return damping == Damping::capped ? "capped" : damping == Damping::implicit ? "implicit" : "study";
+}
+Damping parse_damping(const std::string& name) {
+  for (Damping d : {Damping::study, Damping::capped, Damping::implicit})
+    if (name == damping_name(d)) return d;
+  throw ModelError("damping is \"" + name + "\"; it must be \"study\", \"capped\" or \"implicit\"");
+}
 
 PairLaw default_pair_law(const Material& a, const Material& b) {
   PairLaw law;

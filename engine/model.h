@@ -104,6 +104,22 @@ enum class ShearSpring : std::uint8_t {
 };
 const char* shear_spring_name(ShearSpring spring);  // "shear_modulus", "normal"
 
+// How the dashpots of MODEL.md section 3 enter the step.
+enum class Damping : std::uint8_t {
+  // Explicit, every dashpot as the materials' h specify: dt must stay below the limit the
+  // dashpots set (h = 1 on a block held by many joints: a tenth of the springs' or less).
+  study = 0,
+  // Explicit, but where a free block's dashpots would make the step unstable they are
+  // scaled down just enough (stability.cpp), so the springs alone limit dt; every joint
+  // the step resolves keeps its h. Quick exploration, not verdicts.
+  capped = 1,
+  // Every dashpot as specified, integrated implicitly (implicit_damping.cpp): the springs
+  // alone limit dt, and each step solves for the dashpots over the whole structure.
+  implicit = 2,
+};
+const char* damping_name(Damping damping);  // "study", "capped", "implicit"
+Damping parse_damping(const std::string& name);  // damping_name's inverse; throws ModelError
+
 // What an analysis asks of a model beyond its blocks and materials. Applied and checked
 // once, by ModelBuilder::build; a built Model is never edited (the same blocks with other
 // options are built again from the same builder).
@@ -115,12 +131,7 @@ struct ModelOptions {
   int subdivision = 1;
   JointRule joint_rule = JointRule::corners;  // at subdivision 1; n > 1 refines either the same way
   ShearSpring shear_spring = ShearSpring::shear_modulus;
-  // false: every dashpot as the materials' h specify (MODEL.md section 3), so dt must stay
-  // below the limit the dashpots set (h = 1 on a block held by many joints: a tenth
-  // of the springs' limit or less). true: where a free block's dashpots would make the step
-  // unstable, they are scaled down just enough (stability.cpp), so the springs alone
-  // limit dt; every joint the step resolves keeps its h.
-  bool cap_damping = false;
+  Damping damping = Damping::study;
   // Fixed blocks become prescribed: a driver sets their velocity each step (the ground of
   // a seismic run or an impulse response).
   bool drive_fixed_blocks = false;

@@ -41,7 +41,7 @@ double apply_contact_law(const Model& model, State& state, double dt_s);
 // per block and degree of freedom 2/omega (sqrt(1 + zeta^2) - zeta), omega^2 = K/M; with
 // zeta = 0 unless with_damping. Sets *block to the limiting block.
 double stability_limit_s(const Model& model, const State& state, bool with_damping, int* block);
-// stability.cpp (ModelOptions::cap_damping): sets State::damping_scale so that every
+// stability.cpp (Damping::capped): sets State::damping_scale so that every
 // free block's damping ratio zeta in each degree of freedom keeps dt within
 // kDampingCapMargin (model.h) of its limit; 1 where the materials' h already does.
 void update_damping_caps(const Model& model, State& state, double dt_s);
@@ -49,6 +49,20 @@ void update_damping_caps(const Model& model, State& state, double dt_s);
 // gather.cpp: resultant force and torque on each block, race-free (block -> contacts index).
 // Returns the power that prescribed blocks put into the system (W).
 double gather_forces(const Model& model, State& state);
+
+// implicit_damping.cpp (Damping::implicit), between gather and integrate: the
+// dashpot forces at the end-of-step velocities (backward Euler), added to State::force and
+// torque. Conjugate gradients stop when the preconditioned residual is below
+// kDampingSolveTolerance of the right-hand side's.
+constexpr double kDampingSolveTolerance = 1e-3;
+constexpr int kDampingSolveMaxIterations = 200;
+struct DampingSolve {
+  int iterations = 0;
+  bool converged = true;
+  double work_j = 0.0;             // work of the dashpots over the step (<= 0 up to the solve's tolerance)
+  double prescribed_power_w = 0.0;  // power the prescribed blocks put in against the dashpots
+};
+DampingSolve solve_implicit_damping(const Model& model, State& state, double dt_s);
 
 // integrate.cpp: semi-implicit Euler with Euler's rotation equations in the principal frame;
 // reads State::rotation, so update_pose must have run on the current orientations.

@@ -1,6 +1,6 @@
 // Stability of the explicit step, block by block: the stiffness and damping that a free
 // block's sub-contacts give each of its six degrees of freedom, the largest stable dt they
-// allow, and (ModelOptions::cap_damping) the dashpot caps that keep a chosen dt stable.
+// allow, and (Damping::capped) the dashpot caps that keep a chosen dt stable.
 #include <cmath>
 
 #include "engine/pipeline.h"

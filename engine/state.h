@@ -139,10 +139,28 @@ struct Energy {
 
 struct Profile {  // seconds spent in each stage since the start
   double pose_s = 0, broadphase_s = 0, narrowphase_s = 0, contact_law_s = 0, gather_s = 0, integrate_s = 0;
-  double damping_caps_s = 0;  // ModelOptions::cap_damping only
+  double damping_caps_s = 0;  // Damping::capped only
+  double damping_solve_s = 0;  // Damping::implicit only
+  long damping_iterations = 0;   // conjugate-gradient iterations, summed over the steps
+  long damping_unconverged = 0;  // steps whose solve stopped at kDampingSolveMaxIterations
   long broadphase_rebuilds = 0;
   long contact_regroups = 0;  // steps whose sub-contact arrays were regrouped (a count changed)
   long thread_steps = 0;      // sum over steps of the team size (/ steps: the mean team)
+};
+
+// Implicit dashpots (implicit_damping.cpp).
+// A symmetric 6x6 matrix as its lower triangle, row-major: (i, j), j <= i, at i (i + 1) / 2 + j.
+struct Sym6 {
+  double v[21];
+};
+// Work vectors, world frame.
+struct ImplicitDamping {
+  std::vector<int> pairs;              // the pairs with sub-contacts (indices into State::pairs)
+  std::vector<Sym6> pair_matrix;       // (np) each pair's dashpots, summed by the contact law (pair_damping.h)
+  std::vector<Vec6> velocity;          // (nb) v* (without dashpots); prescribed: theirs
+  std::vector<Vec6> delta;             // (nb) v_new - v*; last step's is the solve's first guess
+  std::vector<Vec6> residual, preconditioned, direction, product;  // (nb) conjugate gradients
+  std::vector<Mat6> diagonal;          // (nb) each block's 6x6 block of M + dt C, inverted
 };
 
 struct State {
@@ -183,8 +201,9 @@ struct State {
   bool gather_index_valid = false;
   std::vector<double> damping_scale;     // (nb) factor on the dashpots of a block's sub-contacts
                                          // (a pair takes the smaller): 1 unless
-                                         // ModelOptions::cap_damping caps them
+                                         // Damping::capped caps them
   std::vector<Vec6> cap_stiffness, cap_damping;  // (nb) scratch of update_damping_caps
+  ImplicitDamping implicit;              // Damping::implicit
 
   // ---- broadphase ----
   std::vector<Vec3> position_at_rebuild; // (nb)

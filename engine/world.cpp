@@ -33,7 +33,7 @@ World::World(Model model, double dt_s)
       throw ModelError(msg.str());
     }
   }
-  if (model_.options.cap_damping) update_damping_caps(model_, state_, dt_s);
+  if (model_.options.damping == Damping::capped) update_damping_caps(model_, state_, dt_s);
   int block = -1;
   const double limit = critical_time_step_s(&block);
   if (dt_s > limit) {
@@ -45,8 +45,10 @@ World::World(Model model, double dt_s)
 }
 
 double World::critical_time_step_s(int* block) const {
-  // Capped dashpots never set the limit (they are scaled to stay within it).
-  return stability_limit_s(model_, state_, /*with_damping=*/!model_.options.cap_damping, block);
+  // Capped dashpots never set the limit (they are scaled to stay within it), nor do
+  // implicit ones (backward Euler damps every mode).
+  const bool explicit_dashpots = model_.options.damping == Damping::study;
+  return stability_limit_s(model_, state_, /*with_damping=*/explicit_dashpots, block);
 }
 
 void World::step() {
@@ -71,7 +73,7 @@ void World::step() {
 
   // Caps follow the blocks' joints as they change, checked when the pair list is rebuilt
   // (a block moved half the margin): between rebuilds a block's joints barely change.
-  if (rebuilt && m.options.cap_damping) {
+  if (rebuilt && m.options.damping == Damping::capped) {
     t0 = Clock::now();
     update_damping_caps(m, s, dt_s_);
     p.damping_caps_s += seconds_since(t0);
@@ -84,6 +86,16 @@ void World::step() {
   t0 = Clock::now();
   const double prescribed_power = gather_forces(m, s);
   p.gather_s += seconds_since(t0);
+
+  if (m.options.damping == Damping::implicit) {
+    t0 = Clock::now();
+    const DampingSolve solve = solve_implicit_damping(m, s, dt_s_);
+    s.energy.damping_j -= solve.work_j;
+    s.energy.prescribed_work_j += solve.prescribed_power_w * dt_s_;
+    p.damping_iterations += solve.iterations;
+    if (!solve.converged) ++p.damping_unconverged;
+    p.damping_solve_s += seconds_since(t0);
+  }
 
   t0 = Clock::now();
   const BlockEnergy before = integrate(m, s, dt_s_);

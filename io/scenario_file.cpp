@@ -68,9 +68,9 @@ Scenario read_scenario(const std::filesystem::path& file) {
   std::string shear = shear_spring_name(sc.shear_spring);
   run.text("shear_spring", shear, {"shear_modulus", "normal"});
   sc.shear_spring = shear == "normal" ? ShearSpring::normal : ShearSpring::shear_modulus;
-  std::string damping = "study";
-  run.text("damping", damping, {"study", "capped"});
-  sc.cap_damping = damping == "capped";
+  std::string damping = damping_name(sc.damping);
+  run.text("damping", damping, {"study", "capped", "implicit"});
+  sc.damping = parse_damping(damping);
   run.finish();
 
   TableReader gm(file, root, "ground_motion");

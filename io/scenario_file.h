@@ -27,8 +27,7 @@ struct Scenario {
   int subdivision = 1;                 // [run] contact subdivision
   JointRule joint_rule = JointRule::corners;  // [run] joint_rule = "corners" or "moments" (model.h)
   ShearSpring shear_spring = ShearSpring::shear_modulus;  // [run] shear_spring = "shear_modulus" or "normal"
-  bool cap_damping = false;            // [run] damping = "study" (false) or "capped"
-                                       // (ModelOptions::cap_damping)
+  Damping damping = Damping::study;    // [run] damping = "study", "capped" or "implicit"
   GroundMotionSpec ground_motion;      // [ground_motion] x, y, z = { file, format, scale, unit, dt_s }
   std::vector<int> monitor_blocks;     // [monitor] blocks; empty: the unit on top of the crown
 };

@@ -3,7 +3,8 @@
 # on 1 and 2 threads, through `ishibashi run --profile` (settling, shaking, outputs).
 # Usage: perf/bridge_benchmark.sh [SHAKING_S] [SETTLE_S]   (defaults 0.5 and 0.05:
 # a sample of the run; 10 s of shaking is SHAKING_S=10 SETTLE_S=1.0, the scenario's own).
-# Prints one CSV row per thread count and extrapolates the wall time of 10 s of shaking.
+# Prints one CSV row per thread count (THREADS="1 2" by default) and extrapolates the wall
+# time of 10 s of shaking.
 set -euo pipefail
 root=$(cd "$(dirname "$0")/.." && pwd)
 shaking=${1:-0.5}
@@ -16,7 +17,7 @@ trap 'rm -rf "$work"' EXIT
 sed -e "s#\"\.\./#\"$root/#g" -e "s#^settle_max_s = [0-9.]*#settle_max_s = $settle#" \
   "$root/scenarios/nishida_f_kobe_dry.toml" > "$work/scenario.toml"
 echo "threads,blocks,subcontacts,dt_s,steps,wall_s,steps_per_s,shaking_s,extrapolated_10s_min"
-for threads in 1 2; do
+for threads in ${THREADS:-1 2}; do
   log="$work/log_$threads.txt"
   # RUN_ARGS: more options of `ishibashi run`, e.g. RUN_ARGS="--joint-rule moments"
   # shellcheck disable=SC2086

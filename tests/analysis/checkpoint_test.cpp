@@ -91,6 +91,12 @@ TEST(Checkpoint, RunWithCappedDashpotsResumesBitIdentical) {
   expect_killed_run_resumes_bit_identical("ishibashi_checkpoint_capped", " --damping capped", 0.4);
 }
 
+// The implicit dashpots' first guess (last step's solution) is part of the state: without
+// it, the resumed run's solves would stop at other iterates.
+TEST(Checkpoint, RunWithImplicitDashpotsResumesBitIdentical) {
+  expect_killed_run_resumes_bit_identical("ishibashi_checkpoint_implicit", " --damping implicit", 0.4);
+}
+
 TEST(Checkpoint, CheckpointOfAnotherBuildOrOfChangedInputsIsRefused) {
   const auto file = scenario("ishibashi_checkpoint_refused.toml", 0.1, 20.0);
   const auto out = tmp_dir() / "ishibashi_cp_refused";

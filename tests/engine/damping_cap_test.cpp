@@ -1,4 +1,4 @@
-// Capped dashpots (ModelOptions::cap_damping) against closed forms: the cap of a stone
+// Capped dashpots (Damping::capped) against closed forms: the cap of a stone
 // on a base from its six modes worked out by hand, no change where the step resolves the
 // dashpots, and a stack that settles stably at a step the study's dashpots cannot take.
 #include <gtest/gtest.h>
@@ -23,7 +23,7 @@ Model stone_on_base(double h, bool capped, int stones = 1) {
     b.add_block(p.vertices, p.faces, 0, Motion::free, "stone " + std::to_string(i));
   }
   b.set_gravity(Vec3(0, 0, -kG));
-  return b.build({.cap_damping = capped});
+  return b.build({.damping = capped ? Damping::capped : Damping::study});
 }
 
 // The largest damping ratio a mode of angular frequency omega may keep at dt:
@@ -84,7 +84,7 @@ TEST(DampingCap, DashpotsThatTheStepResolvesAreLeftAsSpecified) {
     spec.courses = 4;
     spec.stones_per_course = 5;
     const double dt = 0.8 * World(make_wall_model(spec), 1e-9).critical_time_step_s();
-    spec.options.cap_damping = capped;
+    spec.options.damping = capped ? Damping::capped : Damping::study;
     World w(make_wall_model(spec), dt);
     for (double f : w.state().damping_scale) EXPECT_EQ(f, 1.0);
     for (int i = 0; i < 2000; ++i) {

@@ -12,17 +12,19 @@ namespace ishibashi {
 namespace {
 
 // adaptive = false: every step on `threads`; true: on the team sizes the tuner picks.
-// capped: dashpots capped (ModelOptions::cap_damping) at three times the step, which
-// the caps, recomputed at every pair-list rebuild, keep stable.
-std::uint64_t shaken_wall_hash(int threads, bool adaptive = false, long* thread_steps = nullptr, bool capped = false) {
+// Damping::capped: dashpots capped at three times the step, which the caps, recomputed at
+// every pair-list rebuild, keep stable; Damping::implicit: the same step, the dashpots
+// solved for by conjugate gradients (their sums in fixed chunks).
+std::uint64_t shaken_wall_hash(int threads, bool adaptive = false, long* thread_steps = nullptr,
+                               Damping damping = Damping::study) {
   omp_set_num_threads(threads);
   WallSpec spec;
   spec.courses = 5;
   spec.stones_per_course = 14;  // 141 blocks: enough for the loops to run on threads
   spec.leaves = 2;
-  spec.options.cap_damping = capped;
-  World w(make_wall_model(spec), capped ? 3e-5 : 1e-5);
-  if (capped) EXPECT_LT(*std::min_element(w.state().damping_scale.begin(), w.state().damping_scale.end()), 1.0);
+  spec.options.damping = damping;
+  World w(make_wall_model(spec), damping == Damping::study ? 1e-5 : 3e-5);
+  if (damping == Damping::capped) EXPECT_LT(*std::min_element(w.state().damping_scale.begin(), w.state().damping_scale.end()), 1.0);
   w.set_adaptive_threads(adaptive);
   State& s = w.state();
   for (int i = 0; i < 3000; ++i) {
@@ -41,10 +43,13 @@ TEST(Determinism, SameStateHashForOneToFourThreads) {
   omp_set_num_threads(saved);
 }
 
-TEST(Determinism, CappedDashpotsSameStateHashForOneToFourThreads) {
+TEST(Determinism, CappedAndImplicitDashpotsSameStateHashForOneToFourThreads) {
   const int saved = omp_get_max_threads();
-  const std::uint64_t one = shaken_wall_hash(1, false, nullptr, true);
-  for (int threads : {2, 3, 4}) EXPECT_EQ(shaken_wall_hash(threads, false, nullptr, true), one) << threads << " threads";
+  for (Damping damping : {Damping::capped, Damping::implicit}) {
+    const std::uint64_t one = shaken_wall_hash(1, false, nullptr, damping);
+    for (int threads : {2, 3, 4})
+      EXPECT_EQ(shaken_wall_hash(threads, false, nullptr, damping), one) << threads << " threads, " << damping_name(damping);
+  }
   omp_set_num_threads(saved);
 }
 

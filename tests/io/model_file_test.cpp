@@ -69,13 +69,15 @@ void write_scenario(const std::filesystem::path& file, const std::string& run_li
                       << (root / "data/ground_motions/kobe_1995_jma/RSN1106_KOBE_KJM090.AT2").string() << "\" }\n";
 }
 
-TEST(ScenarioFile, DampingIsStudyOrCappedAndABadChoiceNamesItsLine) {
+TEST(ScenarioFile, DampingIsStudyCappedOrImplicitAndABadChoiceNamesItsLine) {
   const auto file = std::filesystem::temp_directory_path() / "ishibashi_scenario_damping.toml";
   auto write = [&](const std::string& damping) { write_scenario(file, damping); };
   write("");
-  EXPECT_FALSE(read_scenario(file).cap_damping);
+  EXPECT_EQ(read_scenario(file).damping, Damping::study);
   write("damping = \"capped\"");
-  EXPECT_TRUE(read_scenario(file).cap_damping);
+  EXPECT_EQ(read_scenario(file).damping, Damping::capped);
+  write("damping = \"implicit\"");
+  EXPECT_EQ(read_scenario(file).damping, Damping::implicit);
   write("damping = \"none\"");
   try {
     read_scenario(file);
