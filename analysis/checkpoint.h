@@ -105,7 +105,7 @@ void visit_state(Archive& a, S& s) {
   a.field(s.position), a.field(s.orientation), a.field(s.velocity), a.field(s.angular_velocity);
   a.field(s.applied_force), a.field(s.applied_torque), a.field(s.left_model);
   a.field(s.damping_scale);
-  a.field(s.implicit.delta);  // the implicit dashpots' first guess (Damping::implicit)
+  a.field(s.implicit.delta), a.field(s.implicit.diagonal);  // first guess, preconditioner (Damping::implicit)
   a.field(s.pairs), a.field(s.pairs_changed), a.field(s.position_at_rebuild);
   a.field(s.pairs_valid);
   s.contacts.for_each_array([&](auto& array) { a.field(array); });

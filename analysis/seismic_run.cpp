@@ -80,7 +80,9 @@ SeismicRun::SeismicRun(const Scenario& scenario, SeismicRunOptions options)
   model_options.shear_spring = scenario_.shear_spring;
   const Model model = load_model(scenario_.model, scenario_.model_file, model_options);
   limit_s_ = World(model, 1e-9).critical_time_step_s(&limiting_block_);
-  const double share = scenario_.damping == Damping::capped ? kCappedDtShare : kStudyDtShare;
+  const double share = scenario_.damping == Damping::capped     ? kCappedDtShare
+                       : scenario_.damping == Damping::implicit ? kImplicitDtShare
+                                                                : kStudyDtShare;
   dt_ = (scenario_.dt_s > 0 ? scenario_.dt_s : share * limit_s_) * options_.dt_factor;
   steps_per_frame_ = std::max(1L, std::lround(scenario_.output_interval_s / dt_));
   ground_ = prepare_ground_motion(scenario_.ground_motion, dt_);

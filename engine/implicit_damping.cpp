@@ -202,11 +202,14 @@ double for_solved_blocks(const Model& m, const State& s, Fn&& fn) {
 }
 
 // The velocities v* integrate() gives without the dashpots (prescribed blocks keep theirs,
-// fixed and frozen blocks are at rest), the preconditioner, and the first residual. The
+// fixed and frozen blocks are at rest), the preconditioner when `refresh`, and the first
+// residual. The preconditioner only steers the iterations (any symmetric positive definite
+// one leads to the same solution): refreshed every kPreconditionerRefreshSteps steps, it
+// costs a tenth, for a tenth more iterations (model F). The
 // first guess is last step's delta, so the first residual
 // dt F_d(v*) - (M + dt C) x = dt F_d(v* + x) - M x is one pass over the pairs. Returns r.z
 // and sets *scale2 to the dashpots' impulse at the first guess, squared in D^-1's norm.
-double first_residual(const Model& m, State& s, double dt, double* scale2) {
+double first_residual(const Model& m, State& s, double dt, bool refresh, double* scale2) {
   ImplicitDamping& w = s.implicit;
   std::vector<Vec6>& x = w.delta;
   parallel_for(m.block_count, [&](std::ptrdiff_t b) {
@@ -229,7 +232,7 @@ double first_residual(const Model& m, State& s, double dt, double* scale2) {
   });
   dashpot_resultants(s, w.product, /*assemble=*/true);
   const double rz = for_solved_blocks(m, s, [&](std::ptrdiff_t b) {
-    w.diagonal[b] = diagonal_inverse(m, s, b, dt);
+    if (refresh) w.diagonal[b] = diagonal_inverse(m, s, b, dt);
     w.product[b] = dt * gathered(s, b);  // the dashpots' impulse at the first guess
     w.residual[b] = w.product[b] - mass_times(m, s, b, x[b]);
     w.preconditioned[b] = w.direction[b] = w.diagonal[b] * w.residual[b];
@@ -319,11 +322,12 @@ DampingSolve solve_implicit_damping(const Model& m, State& s, double dt) {
   w.preconditioned.resize(nb);
   w.direction.assign(nb, Vec6::Zero());  // zero where not solved: the products read it
   w.product.resize(nb);
+  const bool fresh = w.diagonal.size() != static_cast<std::size_t>(nb);  // none yet, nor from a checkpoint
   w.diagonal.resize(nb);
 
   DampingSolve result;
   double scale2 = 0;
-  const double rz = first_residual(m, s, dt, &scale2);
+  const double rz = first_residual(m, s, dt, fresh || s.step % kPreconditionerRefreshSteps == 0, &scale2);
   // Converged when the residual is a small share of the dashpots' impulse.
   const double target = kDampingSolveTolerance * kDampingSolveTolerance * scale2;
   result.iterations = conjugate_gradients(m, s, dt, rz, target, &result.converged);

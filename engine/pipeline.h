@@ -56,6 +56,7 @@ double gather_forces(const Model& model, State& state);
 // kDampingSolveTolerance of the right-hand side's.
 constexpr double kDampingSolveTolerance = 1e-3;
 constexpr int kDampingSolveMaxIterations = 200;
+constexpr long kPreconditionerRefreshSteps = 10;
 struct DampingSolve {
   int iterations = 0;
   bool converged = true;

@@ -160,7 +160,8 @@ struct ImplicitDamping {
   std::vector<Vec6> velocity;          // (nb) v* (without dashpots); prescribed: theirs
   std::vector<Vec6> delta;             // (nb) v_new - v*; last step's is the solve's first guess
   std::vector<Vec6> residual, preconditioned, direction, product;  // (nb) conjugate gradients
-  std::vector<Mat6> diagonal;          // (nb) each block's 6x6 block of M + dt C, inverted
+  std::vector<Mat6> diagonal;          // (nb) each block's 6x6 block of M + dt C, inverted (the
+                                       // preconditioner, refreshed every kPreconditionerRefreshSteps)
 };
 
 struct State {
