@@ -67,6 +67,9 @@ int run_scenario(const RunOptions& o) {
               r.joint_counts.open, r.joint_counts.largest_slip_m, r.largest_crown_drop_m,
               r.first_opening_s < 0 ? "none" : (std::to_string(r.first_opening_s) + " s").c_str());
   std::printf("energy balance error %.3g %% of the energy exchanged\n", 100 * r.balance_error_relative);
+  if (const long unconverged = run.world().state().profile.damping_unconverged; unconverged > 0)
+    std::printf("warning: in %ld steps the implicit dashpots' solve stopped at its iteration limit before its tolerance; "
+                "a smaller dt (--dt) makes it converge\n", unconverged);
   if (o.profile) {
     const Profile& p = run.world().state().profile;
     const double total =

@@ -6,7 +6,8 @@
 // matrix of the free blocks' sub-contacts and v_p the prescribed blocks' velocities. Its
 // unknown is the change the dashpots make, delta = v_new - v* (6 per free block), found
 // by conjugate gradients preconditioned with each block's own 6x6 diagonal block of
-// M + dt C, matrix-free: a product is one pass over the pairs' sub-contacts and a gather.
+// M + dt C, matrix-free: a product is one pass over the pairs' 6x6 dashpot matrices
+// (pair_damping.h, summed from the sub-contacts once a step) and a gather.
 // Backward Euler never amplifies a damped mode, so dt is limited by the springs alone
 // (explicit dashpots with h = 1 on a block held by many joints: a tenth of that or less).
 // The change is handed to integrate() as the force M delta / dt.
@@ -31,45 +32,6 @@ Vec6 mass_times(const Model& m, const State& s, std::ptrdiff_t b, const Vec6& x)
   const Mat3& r = s.rotation[b];
   Vec6 y;
   y << m.mass_kg[b] * linear(x), r * m.inertia_kg_m2[b].cwiseProduct(r.transpose() * angular(x));
-  return y;
-}
-
-// A 6x6 symmetric positive definite matrix as its Cholesky factor L (row-major lower
-// triangle, L(i, j) at i (i + 1) / 2 + j) with the diagonal stored inverted.
-struct Cholesky6 {
-  double lower[21];
-};
-
-Cholesky6 factor(const Mat6& a) {
-  Cholesky6 f;
-  double* l = f.lower;
-  for (int i = 0; i < 6; ++i) {
-    double* li = l + i * (i + 1) / 2;
-    for (int j = 0; j <= i; ++j) {
-      const double* lj = l + j * (j + 1) / 2;
-      double sum = a(i, j);
-      for (int k = 0; k < j; ++k) sum -= li[k] * lj[k];
-      li[j] = i == j ? 1.0 / std::sqrt(sum) : sum * lj[j];  // lj[j] holds 1 / L(j, j)
-    }
-  }
-  return f;
-}
-
-// x = A^-1 r for A = L L^T.
-Vec6 solve(const Cholesky6& f, const Vec6& r) {
-  const double* l = f.lower;
-  Vec6 y;
-  for (int i = 0; i < 6; ++i) {
-    const double* li = l + i * (i + 1) / 2;
-    double sum = r[i];
-    for (int k = 0; k < i; ++k) sum -= li[k] * y[k];
-    y[i] = sum * li[i];
-  }
-  for (int i = 5; i >= 0; --i) {
-    double sum = y[i];
-    for (int k = i + 1; k < 6; ++k) sum -= l[k * (k + 1) / 2 + i] * y[k];
-    y[i] = sum * l[i * (i + 1) / 2 + i];
-  }
   return y;
 }
 
@@ -180,10 +142,7 @@ Mat6 diagonal_inverse(const Model& m, const State& s, std::ptrdiff_t b, double d
   const Mat3& rot = s.rotation[b];
   d.topLeftCorner<3, 3>().diagonal().array() += m.mass_kg[b];
   d.bottomRightCorner<3, 3>() += rot * m.inertia_kg_m2[b].asDiagonal() * rot.transpose();
-  const Cholesky6 f = factor(d);
-  Mat6 inverse;
-  for (int col = 0; col < 6; ++col) inverse.col(col) = solve(f, Vec6::Unit(col));
-  return inverse;
+  return d.llt().solve(Mat6::Identity());
 }
 
 // fn(b) on every solved block, in fixed chunks; returns the sum of its values in chunk order.
@@ -205,10 +164,10 @@ double for_solved_blocks(const Model& m, const State& s, Fn&& fn) {
 // fixed and frozen blocks are at rest), the preconditioner when `refresh`, and the first
 // residual. The preconditioner only steers the iterations (any symmetric positive definite
 // one leads to the same solution): refreshed every kPreconditionerRefreshSteps steps, it
-// costs a tenth, for a tenth more iterations (model F). The
-// first guess is last step's delta, so the first residual
-// dt F_d(v*) - (M + dt C) x = dt F_d(v* + x) - M x is one pass over the pairs. Returns r.z
-// and sets *scale2 to the dashpots' impulse at the first guess, squared in D^-1's norm.
+// costs a tenth, for a tenth more iterations (model F). The first guess is last step's
+// delta, so the first residual dt F_d(v*) - (M + dt C) x = dt F_d(v* + x) - M x is one pass
+// over the pairs. Returns r.z and sets *scale2 to the dashpots' impulse at the first
+// guess, squared in D^-1's norm.
 double first_residual(const Model& m, State& s, double dt, bool refresh, double* scale2) {
   ImplicitDamping& w = s.implicit;
   std::vector<Vec6>& x = w.delta;

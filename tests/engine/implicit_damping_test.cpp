@@ -5,7 +5,9 @@
 
 #include <algorithm>
 #include <cmath>
+#include <random>
 
+#include "engine/pair_damping.h"
 #include "engine/world.h"
 #include "geometry/demo_scenes.h"
 #include "scenes.h"
@@ -24,6 +26,37 @@ Model stone_on_base(double h, Damping damping, int stones = 1) {
   }
   b.set_gravity(Vec3(0, 0, -kG));
   return b.build({.damping = damping});
+}
+
+// A pair's 6x6 dashpot matrix against the dashpots summed one by one: for random
+// sub-contacts (normal, lever from x_a, cn, cs) and a random relative motion (v0, w), the
+// force on b, -sum C_i (v0 + w x r_i) with C_i = cs I + (cn - cs) n n^T, and its moment
+// about x_a are -K (v0, w).
+TEST(ImplicitDamping, PairMatrixIsTheSumOfItsDashpots) {
+  std::mt19937 random(7);
+  std::uniform_real_distribution<double> u(-1.0, 1.0), positive(0.1, 2.0);
+  for (int trial = 0; trial < 20; ++trial) {
+    PairDampingSum sum;
+    const Vec3 v0(u(random), u(random), u(random)), w(u(random), u(random), u(random));
+    Vec3 force = Vec3::Zero(), moment = Vec3::Zero();
+    for (int i = 0; i < 1 + trial % 6; ++i) {
+      const Vec3 n = Vec3(u(random), u(random), u(random)).normalized(), r(u(random), u(random), u(random));
+      const double cn = 1e5 * positive(random), cs = trial % 3 == 0 ? 0.0 : 1e5 * positive(random);
+      sum.add(cn, cs, n, r);
+      const Vec3 velocity = v0 + w.cross(r);
+      const Vec3 f = -(cs * velocity + (cn - cs) * velocity.dot(n) * n);
+      force += f;
+      moment += r.cross(f);
+    }
+    const Sym6 k = sum.matrix();
+    Eigen::Matrix<double, 6, 6> full;
+    for (int row = 0; row < 6; ++row)
+      for (int col = 0; col < 6; ++col) full(row, col) = k.v[kSymIndex[row][col]];
+    Vec6 motion, expected;
+    motion << v0, w;
+    expected << force, moment;
+    EXPECT_LT((-(full * motion) - expected).norm(), 1e-12 * expected.norm()) << "trial " << trial;
+  }
 }
 
 // Largest gap between the stone's sinking under its weight and the closed form, as a share
