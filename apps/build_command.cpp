@@ -71,6 +71,10 @@ int run_build(const BuildOptions& o) {
   std::printf("time step: stability limit %.3g s with the %s joint rule, set by %s (mass %.0f kg); runs use 0.8 of it "
               "unless the scenario sets dt_s\n", limit_s, joint_rule_name(options.joint_rule),
               model.block_label(limiting).c_str(), model.mass_kg[limiting]);
+  ModelOptions implicit = options;
+  implicit.damping = Damping::implicit;
+  const double springs_s = World(compile_bridge(file.bridge, blocks, implicit), 1e-9).critical_time_step_s();
+  std::printf("  with implicit dashpots (damping = \"implicit\") the springs' limit %.3g s; runs use 0.4 of it\n", springs_s);
 
   if (!o.export_file.empty()) {
     std::vector<Polyhedron> shapes_out;
