@@ -60,7 +60,6 @@ double apply_contact_law(const Model& m, State& s, double dt) {
       // 1 unless capped; 0 when implicit_damping.cpp applies the dashpots after the law.
       const double damping_scale = implicit_dashpots ? 0.0 : std::min(s.damping_scale[a], s.damping_scale[b]);
       Vec3 pair_force = Vec3::Zero(), pair_torque = Vec3::Zero();
-
       for (int i = pair.sub_begin; i < pair.sub_begin + pair.sub_count; ++i) {
         const Vec3 r = c.point[i] - xa;
         const Vec3& n = c.normal[i];

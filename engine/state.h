@@ -156,7 +156,7 @@ struct Sym6 {
 // Work vectors, world frame.
 struct ImplicitDamping {
   std::vector<int> pairs;              // the pairs with sub-contacts (indices into State::pairs)
-  std::vector<Sym6> pair_matrix;       // (np) each pair's dashpots, summed by the contact law (pair_damping.h)
+  std::vector<Sym6> pair_matrix;       // (np) each pair's dashpots this step (pair_damping.h)
   std::vector<Vec6> velocity;          // (nb) v* (without dashpots); prescribed: theirs
   std::vector<Vec6> delta;             // (nb) v_new - v*; last step's is the solve's first guess
   std::vector<Vec6> residual, preconditioned, direction, product;  // (nb) conjugate gradients
