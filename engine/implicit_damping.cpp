@@ -55,18 +55,17 @@ Mat6 full(const Sym6& k) {
   return f;
 }
 
-// Resultants of pair pi's dashpot forces at block velocities x (nb, world frame): the
+// Resultants of the dashpot forces of the pair in slot k at block velocities x (nb, world frame): the
 // force on b (N) and the moments on a about x_a and on b about x_b (N m).
 struct PairResultant {
   Vec3 force, moment_a, moment_b;
 };
-PairResultant pair_dashpots(const State& s, const std::vector<Vec6>& x, std::ptrdiff_t pi, const Sym6& k) {
-  const Pair& pair = s.pairs[pi];
-  const int a = pair.a, b = pair.b;
-  const Vec3 d = s.position[b] - s.position[a];
+PairResultant pair_dashpots(const ImplicitDamping& w, const std::vector<Vec6>& x, std::ptrdiff_t k) {
+  const int a = w.blocks[k][0], b = w.blocks[k][1];
+  const Vec3& d = w.lever[k];
   Vec6 relative;  // v0 = v_b + w_b x (x_a - x_b) - v_a, w = w_b - w_a
   relative << linear(x[b]) - linear(x[a]) - angular(x[b]).cross(d), angular(x[b]) - angular(x[a]);
-  const Vec6 f = -times(k, relative);
+  const Vec6 f = -times(w.pair_matrix[k], relative);
   return {linear(f), -angular(f), angular(f) - d.cross(linear(f))};
 }
 
@@ -88,11 +87,13 @@ void dashpot_resultants(State& s, const std::vector<Vec6>& x, bool assemble = fa
           const std::uint8_t flags = c.flags[i];
           if (flags & SubContactFlag::open) continue;
           const double cs = (flags & SubContactFlag::sliding) ? 0.0 : c.shear_damping_n_s_m[i];
-          sum.add(c.normal_damping_n_s_m[i], cs, c.normal[i], c.point[i] - s.position[pair.a]);
+          sum.add(c.normal_damping_n_s_m[i], cs, c.point[i] - s.position[pair.a]);
         }
-        w.pair_matrix[pi] = sum.matrix();
+        w.pair_matrix[k] = sum.matrix(c.normal[pair.sub_begin]);
+        w.blocks[k] = {pair.a, pair.b};
+        w.lever[k] = s.position[pair.b] - s.position[pair.a];
       }
-      const PairResultant r = pair_dashpots(s, x, pi, w.pair_matrix[pi]);
+      const PairResultant r = pair_dashpots(w, x, k);
       s.pair_force_n[pi] = r.force;
       s.pair_moment_nm[2 * pi] = r.moment_a;
       s.pair_moment_nm[2 * pi + 1] = r.moment_b;
@@ -121,14 +122,14 @@ Mat6 diagonal_inverse(const Model& m, const State& s, std::ptrdiff_t b, double d
   Mat6 d = Mat6::Zero();
   for (int q = s.block_pair_begin[b]; q < s.block_pair_begin[b + 1]; ++q) {
     const int entry = s.block_pair[q];
-    if (s.pairs[entry >> 1].sub_count == 0) continue;
-    const Mat6 k = full(s.implicit.pair_matrix[entry >> 1]);
+    const int slot = s.implicit.slot[entry >> 1];
+    if (slot < 0) continue;
+    const Mat6 k = full(s.implicit.pair_matrix[slot]);
     if (!(entry & 1)) {
       d += k;
       continue;
     }
-    const Pair& pair = s.pairs[entry >> 1];
-    const Vec3 dv = s.position[pair.b] - s.position[pair.a];
+    const Vec3& dv = s.implicit.lever[slot];
     Mat3 dx;  // [d]x
     dx << 0, -dv.z(), dv.y(), dv.z(), 0, -dv.x(), -dv.y(), dv.x(), 0;
     const Mat3 k11 = k.topLeftCorner<3, 3>(), k12 = k.topRightCorner<3, 3>(), k22 = k.bottomRightCorner<3, 3>();
@@ -255,8 +256,9 @@ void book(const Model& m, State& s, double dt, DampingSolve& result) {
     Vec6 f = Vec6::Zero();
     for (int q = s.block_pair_begin[b]; q < s.block_pair_begin[b + 1]; ++q) {
       const int entry = s.block_pair[q];
-      if (s.pairs[entry >> 1].sub_count == 0) continue;
-      const PairResultant r = pair_dashpots(s, w.velocity, entry >> 1, w.pair_matrix[entry >> 1]);
+      const int slot = w.slot[entry >> 1];
+      if (slot < 0) continue;
+      const PairResultant r = pair_dashpots(w, w.velocity, slot);
       f.head<3>() += (entry & 1) ? r.force : Vec3(-r.force);
       f.tail<3>() += (entry & 1) ? r.moment_b : r.moment_a;
     }
@@ -271,10 +273,15 @@ void book(const Model& m, State& s, double dt, DampingSolve& result) {
 DampingSolve solve_implicit_damping(const Model& m, State& s, double dt) {
   const int nb = m.block_count;
   ImplicitDamping& w = s.implicit;
-  w.pairs.clear();  // the pairs with sub-contacts, in pair order
-  for (std::size_t pi = 0; pi < s.pairs.size(); ++pi)
+  w.pairs.clear();
+  w.slot.resize(s.pairs.size());
+  for (std::size_t pi = 0; pi < s.pairs.size(); ++pi) {
+    w.slot[pi] = s.pairs[pi].sub_count > 0 ? static_cast<int>(w.pairs.size()) : -1;
     if (s.pairs[pi].sub_count > 0) w.pairs.push_back(static_cast<int>(pi));
-  w.pair_matrix.resize(s.pairs.size());
+  }
+  w.blocks.resize(w.pairs.size());
+  w.lever.resize(w.pairs.size());
+  w.pair_matrix.resize(w.pairs.size());
   w.velocity.resize(nb);
   w.delta.resize(nb, Vec6::Zero());  // a block's entry is kept from step to step
   w.residual.resize(nb);

@@ -4,8 +4,14 @@
 // the point at x_a and the angular velocity w. A sub-contact at lever r from x_a moves at
 // u = v0 + w x r = J (v0, w), J = [I, -[r]x], and pushes with -C u, C = cs I + (cn - cs) n n^T,
 // so K = sum J^T C J = sum cs [[I, -[r]x], [[r]x, |r|^2 I - r r^T]] + (cn - cs) g g^T,
-// g = (n, r x n). The contact law sums it as it goes (its sub-contacts are in registers
-// there), on scalars: it is on the hot path.
+// g = (n, r x n).
+//
+// Every sub-contact of a pair has the pair's one normal n (its manifold's, narrowphase.h),
+// so K follows from the weighted moments of the levers alone: with c1 = cn - cs,
+//   sum c1 g g^T = [[S1 n n^T, n (P1 x n)^T], [(P1 x n) n^T, [n]x Q1 [n]x^T]],
+// S1 = sum c1, P1 = sum c1 r, Q1 = sum c1 r r^T, and the shear part from the same three
+// moments of cs: ten sums per constant and six multiply-adds per sub-contact each, where
+// the pair matrices are summed once a step over every sub-contact.
 #pragma once
 #include "engine/math.h"
 #include "engine/state.h"
@@ -18,50 +24,62 @@ constexpr int kSymIndex[6][6] = {{0, 1, 3, 6, 10, 15},   {1, 2, 4, 7, 11, 16},  
 
 class PairDampingSum {
  public:
-  // A dashpot with constants cn, cs (N s/m) at lever r from x_a, normal n.
-  void add(double cn, double cs, const Vec3& n, const Vec3& r) {
-    const Vec3 rn = r.cross(n);
-    const double g[6] = {n.x(), n.y(), n.z(), rn.x(), rn.y(), rn.z()};
-    const double c1 = cn - cs;
-#pragma GCC unroll 6
-    for (int row = 0; row < 6; ++row) {
-      const double cg = c1 * g[row];
-#pragma GCC unroll 6
-      for (int col = 0; col <= row; ++col) rank_one_[kSymIndex[row][col]] += cg * g[col];
-    }
-    cs_sum_ += cs;
-#pragma GCC unroll 3
-    for (int row = 0; row < 3; ++row) {
-      lever_[row] += cs * r[row];
-#pragma GCC unroll 3
-      for (int col = 0; col <= row; ++col) rr_[kSymIndex[row][col]] += cs * r[row] * r[col];
-    }
+  // A dashpot with constants cn, cs (N s/m) at lever r from x_a (normal: the pair's).
+  void add(double cn, double cs, const Vec3& r) {
+    normal_.add(cn - cs, r);
+    shear_.add(cs, r);
   }
 
-  Sym6 matrix() const {
+  // K for the pair's normal n (unit), written straight into its lower triangle.
+  Sym6 matrix(const Vec3& n) const {
+    Mat3 cross_n;  // [n]x
+    cross_n << 0, -n.z(), n.y(), n.z(), 0, -n.x(), -n.y(), n.x(), 0;
+    const Mat3 bend = cross_n * normal_.second_moment() * cross_n.transpose();
+    const Mat3 shear_second = shear_.second_moment();
+    const double trace = shear_second.trace();
+    const Vec3 p1n = normal_.first.cross(n);
+    Mat3 lever_cross;  // [sum cs r]x
+    const Vec3& l = shear_.first;
+    lever_cross << 0, -l.z(), l.y(), l.z(), 0, -l.x(), -l.y(), l.x(), 0;
     Sym6 k;
-    for (int at = 0; at < 21; ++at) k.v[at] = rank_one_[at];
-    const double trace = rr_[0] + rr_[2] + rr_[5];
-    for (int row = 0; row < 3; ++row) {
-      k.v[kSymIndex[row][row]] += cs_sum_;
-      for (int col = 0; col <= row; ++col)
-        k.v[kSymIndex[3 + row][3 + col]] += (row == col ? trace : 0.0) - rr_[kSymIndex[row][col]];
+#pragma GCC unroll 3
+    for (int i = 0; i < 3; ++i) {
+#pragma GCC unroll 3
+      for (int j = 0; j <= i; ++j) {
+        const double diagonal = i == j ? 1.0 : 0.0;
+        k.v[kSymIndex[i][j]] = normal_.sum * n[i] * n[j] + diagonal * shear_.sum;
+        k.v[kSymIndex[3 + i][3 + j]] = bend(i, j) + diagonal * trace - shear_second(i, j);
+      }
+#pragma GCC unroll 3
+      for (int j = 0; j < 3; ++j) k.v[kSymIndex[3 + i][j]] = p1n[i] * n[j] + lever_cross(i, j);
     }
-    // Below the diagonal, [sum cs r]x: its rows are (0, -z, y), (z, 0, -x), (-y, x, 0).
-    k.v[kSymIndex[3][1]] -= lever_[2];
-    k.v[kSymIndex[3][2]] += lever_[1];
-    k.v[kSymIndex[4][0]] += lever_[2];
-    k.v[kSymIndex[4][2]] -= lever_[0];
-    k.v[kSymIndex[5][0]] -= lever_[1];
-    k.v[kSymIndex[5][1]] += lever_[0];
     return k;
   }
 
  private:
-  double rank_one_[21] = {};  // sum (cn - cs) g g^T, Sym6 order
-  double rr_[6] = {};         // sum cs r r^T, lower triangle in Sym6 order
-  double lever_[3] = {};      // sum cs r
-  double cs_sum_ = 0;
+  // sum c, sum c r (m), sum c r r^T (m^2, lower triangle: xx, yx, yy, zx, zy, zz).
+  struct Moments {
+    double sum = 0;
+    Vec3 first = Vec3::Zero();
+    double second[6] = {};
+    void add(double c, const Vec3& r) {
+      sum += c;
+      const Vec3 cr = c * r;
+      first += cr;
+      second[0] += cr.x() * r.x();
+      second[1] += cr.y() * r.x();
+      second[2] += cr.y() * r.y();
+      second[3] += cr.z() * r.x();
+      second[4] += cr.z() * r.y();
+      second[5] += cr.z() * r.z();
+    }
+    Mat3 second_moment() const {
+      Mat3 q;
+      q << second[0], second[1], second[3], second[1], second[2], second[4], second[3], second[4], second[5];
+      return q;
+    }
+  };
+  Moments normal_, shear_;
 };
 
 }  // namespace ishibashi

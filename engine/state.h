@@ -2,6 +2,7 @@
 // incremental springs need, and the reusable work buffers of the step pipeline.
 // Structure of arrays; buffers are sized once and keep their capacity from step to step.
 #pragma once
+#include <array>
 #include <cstdint>
 #include <vector>
 
@@ -155,8 +156,13 @@ struct Sym6 {
 };
 // Work vectors, world frame.
 struct ImplicitDamping {
-  std::vector<int> pairs;              // the pairs with sub-contacts (indices into State::pairs)
-  std::vector<Sym6> pair_matrix;       // (np) each pair's dashpots this step (pair_damping.h)
+  // The pairs with sub-contacts this step, in pair order, by slot k (compact: each pass of
+  // the solve streams these arrays rather than State::pairs).
+  std::vector<int> pairs;              // (slots) index into State::pairs
+  std::vector<int> slot;               // (np) a pair's slot, -1 without sub-contacts
+  std::vector<std::array<int, 2>> blocks;  // (slots) the pair's blocks a, b
+  std::vector<Vec3> lever;             // (slots) x_b - x_a, m
+  std::vector<Sym6> pair_matrix;       // (slots) each pair's dashpots this step (pair_damping.h)
   std::vector<Vec6> velocity;          // (nb) v* (without dashpots); prescribed: theirs
   std::vector<Vec6> delta;             // (nb) v_new - v*; last step's is the solve's first guess
   std::vector<Vec6> residual, preconditioned, direction, product;  // (nb) conjugate gradients

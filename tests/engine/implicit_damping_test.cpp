@@ -21,7 +21,7 @@ using test::kStone;
 using test::stone_stack;
 
 // A pair's 6x6 dashpot matrix against the dashpots summed one by one: for random
-// sub-contacts (normal, lever from x_a, cn, cs) and a random relative motion (v0, w), the
+// sub-contacts (lever from x_a, cn, cs; the pair's one normal) and a random relative motion (v0, w), the
 // force on b, -sum C_i (v0 + w x r_i) with C_i = cs I + (cn - cs) n n^T, and its moment
 // about x_a are -K (v0, w).
 TEST(ImplicitDamping, PairMatrixIsTheSumOfItsDashpots) {
@@ -31,16 +31,17 @@ TEST(ImplicitDamping, PairMatrixIsTheSumOfItsDashpots) {
     PairDampingSum sum;
     const Vec3 v0(u(random), u(random), u(random)), w(u(random), u(random), u(random));
     Vec3 force = Vec3::Zero(), moment = Vec3::Zero();
+    const Vec3 n = Vec3(u(random), u(random), u(random)).normalized();  // a pair's one normal
     for (int i = 0; i < 1 + trial % 6; ++i) {
-      const Vec3 n = Vec3(u(random), u(random), u(random)).normalized(), r(u(random), u(random), u(random));
+      const Vec3 r(u(random), u(random), u(random));
       const double cn = 1e5 * positive(random), cs = trial % 3 == 0 ? 0.0 : 1e5 * positive(random);
-      sum.add(cn, cs, n, r);
+      sum.add(cn, cs, r);
       const Vec3 velocity = v0 + w.cross(r);
       const Vec3 f = -(cs * velocity + (cn - cs) * velocity.dot(n) * n);
       force += f;
       moment += r.cross(f);
     }
-    const Sym6 k = sum.matrix();
+    const Sym6 k = sum.matrix(n);
     Eigen::Matrix<double, 6, 6> full;
     for (int row = 0; row < 6; ++row)
       for (int col = 0; col < 6; ++col) full(row, col) = k.v[kSymIndex[row][col]];
