@@ -10,7 +10,7 @@
 // so K follows from the weighted moments of the levers alone: with c1 = cn - cs,
 //   sum c1 g g^T = [[S1 n n^T, n (P1 x n)^T], [(P1 x n) n^T, [n]x Q1 [n]x^T]],
 // S1 = sum c1, P1 = sum c1 r, Q1 = sum c1 r r^T, and the shear part from the same three
-// moments of cs: ten sums per constant and six multiply-adds per sub-contact each, where
+// moments of cs: ten sums per constant (1 + 3 + 6) for each sub-contact, where
 // the pair matrices are summed once a step over every sub-contact.
 #pragma once
 #include "engine/math.h"

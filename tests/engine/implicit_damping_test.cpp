@@ -103,5 +103,29 @@ TEST(ImplicitDamping, StackSettlesAtAStepTheExplicitDashpotsCannotTake) {
   EXPECT_GT(s.profile.damping_iterations, 0);
 }
 
+// The pair matrices are summed about the pair's one normal (pair_damping.h): every
+// sub-contact of a pair keeps the same normal, bit for bit, as a shaken wall's joints
+// are re-clipped, updated in place and regrouped.
+TEST(ImplicitDamping, EverySubContactOfAPairHasThePairsNormal) {
+  WallSpec spec;
+  spec.courses = 4;
+  spec.stones_per_course = 6;
+  spec.leaves = 2;
+  spec.options.damping = Damping::implicit;
+  World w(make_wall_model(spec), 3e-5);
+  State& s = w.state();
+  int checked = 0;
+  for (int i = 0; i < 3000; ++i) {
+    s.velocity[0].x() += 0.8 * kG * std::sin(2 * M_PI * 5.0 * s.time_s) * w.dt_s();
+    w.step();
+    if (i % 100 != 0) continue;
+    for (const Pair& pair : s.pairs)
+      for (int k = pair.sub_begin + 1; k < pair.sub_begin + pair.sub_count; ++k, ++checked)
+        ASSERT_EQ(s.contacts.normal[k], s.contacts.normal[pair.sub_begin]) << "pair " << pair.a << "-" << pair.b;
+  }
+  EXPECT_GT(checked, 1000);
+  EXPECT_GT(s.profile.contact_regroups, 0);  // the layout changed: pairs were re-clipped
+}
+
 }  // namespace
 }  // namespace ishibashi
