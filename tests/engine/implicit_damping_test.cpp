@@ -1,7 +1,7 @@
 // Implicit dashpots (Damping::implicit) against closed forms: a critically damped stone
 // settling on its base, converging as dt halves; a stack that settles at a step the
-// study's explicit dashpots cannot take, with the energy balance closed; a rocking block
-// converging to the explicit decay as dt halves.
+// study's explicit dashpots cannot take, with the energy balance closed; a launched block
+// sliding the Coulomb distance; a rocking block converging to the explicit decay as dt halves.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -102,6 +102,24 @@ TEST(ImplicitDamping, StackSettlesAtAStepTheExplicitDashpotsCannotTake) {
   const State& s = w.state();
   EXPECT_EQ(s.profile.damping_unconverged, 0);
   EXPECT_GT(s.profile.damping_iterations, 0);
+}
+
+// A block launched at v0 along a flat base stops after v0^2 / (2 mu g) (Coulomb friction
+// alone decelerates it), with the implicit dashpots at any step up to 0.8 of the springs'
+// limit as with the explicit ones.
+TEST(ImplicitDamping, LaunchedBlockSlidesTheCoulombDistance) {
+  const double v0 = 0.5, phi = 33.23 * M_PI / 180, expected = v0 * v0 / (2 * std::tan(phi) * kG);
+  for (Damping damping : {Damping::study, Damping::implicit})
+    for (double share : {0.8, 0.4, 0.05}) {
+      auto build = [&] { return test::block_on_base(Vec3(0.64, 0.64, 0.32), test::stone()).build({.damping = damping}); };
+      World w(build(), share * World(build(), 1e-9).critical_time_step_s());
+      State& s = w.state();
+      s.velocity[1] = Vec3(v0, 0, 0);
+      const double x0 = s.position[1].x();
+      while (s.time_s < 0.5) w.step();
+      EXPECT_NEAR(s.position[1].x() - x0, expected, 0.015 * expected) << damping_name(damping) << " at " << share;
+      EXPECT_LT(s.velocity[1].norm(), 1e-3);
+    }
 }
 
 // Peak rotation (rad) of the second half-cycle of a free-rocking slender block, 0.32 m
