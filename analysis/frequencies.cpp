@@ -40,9 +40,20 @@ FrequencyAnalysis analyse_frequencies(const LoadedModel& loaded, const Frequency
     const int d = r.dominant_direction(static_cast<int>(k));
     csv << k + 1 << "," << r.frequency_hz[k] << "," << e.x() << "," << e.y() << "," << e.z() << "," << axis_letter(d) << "\n";
     for (int axis = 0; axis < 3; ++axis)
-      if (a.first_mode_hz[axis] == 0 && e[axis] > 0.05) a.first_mode_hz[axis] = r.frequency_hz[k];
+      if (a.first_mode_hz[axis] == 0 && e[axis] > 0.05) {
+        a.first_mode_hz[axis] = r.frequency_hz[k];
+        a.first_mode[axis] = static_cast<int>(k);
+      }
   }
   write_text_atomically(out / "modes.csv", csv.str());
+  std::ostringstream energy_csv;
+  energy_csv << "mode,frequency_hz,joint,normal_share,shear_share\n";
+  for (std::size_t k = 0; k < r.frequency_hz.size(); ++k) {
+    a.energy.push_back(modal_energy_shares(model, world.state(), r, static_cast<int>(k)));
+    for (const JointEnergyShare& j : a.energy.back())
+      energy_csv << k + 1 << "," << r.frequency_hz[k] << ",\"" << j.joint << "\"," << j.normal << "," << j.shear << "\n";
+  }
+  write_text_atomically(out / "modes_energy.csv", energy_csv.str());
   write_modes_vtu(model, world.state(), r.shapes, r.free_blocks, out / "modes.vtu");
   if (o.impulse_s <= 0) return a;
 

@@ -9,6 +9,7 @@
 
 #include "analysis/load.h"
 #include "analysis/modal.h"
+#include "analysis/modal_energy.h"
 #include "analysis/spectrum.h"
 
 namespace ishibashi {
@@ -37,11 +38,13 @@ struct FrequencyAnalysis {
   std::size_t sub_contacts = 0;
   // Per axis, the lowest mode whose effective mass in that axis exceeds 5 % (0: none).
   std::array<double, 3> first_mode_hz{0, 0, 0};
+  std::array<int, 3> first_mode{-1, -1, -1};  // their indices in modal
+  std::vector<std::vector<JointEnergyShare>> energy;  // per mode: its strain energy by joint class
   std::vector<ImpulseResult> impulses;
 };
 
 // Runs the analyses and writes to `out`: modes.csv (frequencies, effective masses),
-// modes.vtu (mode shapes for ParaView), and per impulse response
+// modes_energy.csv (each mode's strain energy by joint class and spring), modes.vtu (mode shapes for ParaView), and per impulse response
 // spectrum_<excitation><response>_block<N>.csv and a row of peaks.csv.
 // The modal analysis studies the model built with the loaded options, the impulse
 // responses the same blocks with linear joints (ModelOptions::linear_joints).

@@ -40,6 +40,17 @@ int run_modal(const ModalOptions& o) {
   }
   std::printf("first natural frequency (effective mass above 5 %%): x %.3f Hz, y %.3f Hz, z %.3f Hz (%.1f s)\n",
               a.first_mode_hz[0], a.first_mode_hz[1], a.first_mode_hz[2], seconds);
+  // Which joints hold each first mode's strain energy: the stiffness its frequency rests on.
+  for (int axis = 0; axis < 3; ++axis) {
+    if (a.first_mode[axis] < 0) continue;
+    std::printf("  strain energy of the first %c mode by joint (normal + shear springs):", axis_letter(axis));
+    const std::vector<JointEnergyShare>& shares = a.energy[a.first_mode[axis]];
+    for (std::size_t j = 0; j < shares.size() && j < 5; ++j)
+      if (shares[j].normal + shares[j].shear >= 0.01)
+        std::printf("%s %s %.0f %% (%.0f + %.0f)", j ? "," : "", shares[j].joint.c_str(), 100 * (shares[j].normal + shares[j].shear),
+                    100 * shares[j].normal, 100 * shares[j].shear);
+    std::printf("\n");
+  }
   if (!a.impulses.empty())
     std::printf("impulse responses, %.2f s each, joints linear, no damping; spectral peaks above 5 %% of the largest:\n",
                 o.impulse_s);
@@ -54,7 +65,7 @@ int run_modal(const ModalOptions& o) {
                   100 * (first_clear_peak / a.first_mode_hz[e] - 1), axis_letter(e));
     std::printf("\n");
   }
-  std::printf("wrote %s/modes.csv and modes.vtu (point arrays mode_1 ...: warp by vector in ParaView)%s\n", out.c_str(),
+  std::printf("wrote %s/modes.csv, modes_energy.csv and modes.vtu (point arrays mode_1 ...: warp by vector in ParaView)%s\n", out.c_str(),
               a.impulses.empty() ? "" : ", spectrum_*.csv and peaks.csv");
   return 0;
 }

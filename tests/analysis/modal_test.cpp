@@ -6,7 +6,9 @@
 #include <vector>
 
 #include "analysis/modal.h"
+#include "analysis/modal_energy.h"
 #include "engine/world.h"
+#include "geometry/bridge.h"
 #include "geometry/shapes.h"
 #include "scenes.h"
 
@@ -107,6 +109,74 @@ TEST(Modal, TwoStackedBlocksMatchTheTwoDofClosedForm) {
   ASSERT_EQ(vertical.size(), 2u);
   EXPECT_NEAR(vertical[0], std::sqrt(k / mass * (3 - std::sqrt(5.0)) / 2) / (2 * kPi), 1e-3 * vertical[0]);
   EXPECT_NEAR(vertical[1], std::sqrt(k / mass * (3 + std::sqrt(5.0)) / 2) / (2 * kPi), 1e-3 * vertical[1]);
+}
+
+
+// The strain energy of a mode by joint, against the two-block chain's eigenvectors: in the
+// first vertical mode (x2 = x1 (1 + sqrt 5) / 2) the base joint holds k x1^2 and the joint
+// between the blocks k (x2 - x1)^2, so 1 / (1 + ((sqrt 5 - 1) / 2)^2) = 72.4 % sits in the
+// base joint; in the second (x2 = -x1 (sqrt 5 - 1) / 2), 27.6 %. All of it in normal springs.
+TEST(Modal, EnergySharesOfTheTwoBlockChainFollowItsEigenvectors) {
+  const double h = 0.64;
+  ModelBuilder b;
+  const int mat = b.add_material(test::stone(0.0));
+  const Polyhedron base = make_box(Vec3(0, 0, -0.5 * h), Vec3(4, 4, h)), low = make_box(Vec3(0, 0, 0.5 * h), Vec3(h, h, h)),
+                   high = make_box(Vec3(0, 0, 1.5 * h), Vec3(h, h, h));
+  b.add_block(base.vertices, base.faces, mat, Motion::fixed, "base", BlockTag{static_cast<int>(Part::ground), 0});
+  b.add_block(low.vertices, low.faces, mat, Motion::free, "low", BlockTag{static_cast<int>(Part::wall), 0});
+  b.add_block(high.vertices, high.faces, mat, Motion::free, "high", BlockTag{static_cast<int>(Part::fill), 1});
+  b.set_gravity(Vec3::Zero());
+  World w(b.build(), 1e-6);
+  const ModalResult r = modal_analysis(w.model(), w.state(), 12);
+  const double golden = (std::sqrt(5.0) - 1) / 2, first = 1 / (1 + golden * golden);
+  std::vector<double> expected_base_share{first, 1 - first};
+  for (std::size_t i = 0; i < r.frequency_hz.size(); ++i) {
+    if (r.effective_mass_ratio[i].z() < 0.01) continue;
+    ASSERT_FALSE(expected_base_share.empty());
+    const std::vector<JointEnergyShare> shares = modal_energy_shares(w.model(), w.state(), r, static_cast<int>(i));
+    ASSERT_EQ(shares.size(), 2u);
+    double base = 0, total = 0;
+    for (const JointEnergyShare& s : shares) {
+      EXPECT_NEAR(s.shear, 0, 1e-9);
+      total += s.normal;
+      if (s.joint == "ground / wall") base = s.normal;
+      else EXPECT_EQ(s.joint, "fill / wall");
+    }
+    EXPECT_NEAR(total, 1, 1e-12);
+    EXPECT_NEAR(base, expected_base_share.front(), 1e-6);
+    expected_base_share.erase(expected_base_share.begin());
+  }
+  EXPECT_TRUE(expected_base_share.empty());
+}
+
+// Sway and rocking of a block on its base: the eigenvector (u, t) of the 2x2 closed form
+// puts K_n a^2 t^2 in the normal springs and K_s (u - t h / 2)^2 in the shear springs.
+TEST(Modal, EnergySharesOfSwayAndRockingSplitAsTheClosedForm) {
+  const double h = 0.64, a = h / 2, mass = kRho * h * h * h, inertia = mass * h * h / 6;
+  const double kn = test::joint_normal_stiffness(h * h, a, a, kE), ks = kn / (2 * (1 + kNu));
+  ModelBuilder b = test::block_on_base(Vec3(h, h, h), test::stone(0.0));
+  b.set_gravity(Vec3::Zero());
+  World w(b.build(), 1e-6);
+  const ModalResult r = modal_analysis(w.model(), w.state(), 6);
+  Eigen::Matrix2d k, mm;
+  k << ks, -ks * h / 2, -ks * h / 2, ks * h * h / 4 + kn * a * a;
+  mm << mass, 0, 0, inertia;
+  Eigen::GeneralizedSelfAdjointEigenSolver<Eigen::Matrix2d> sway(k, mm);
+  int checked = 0;
+  for (int m = 0; m < 2; ++m) {
+    const double u = sway.eigenvectors()(0, m), t = sway.eigenvectors()(1, m);
+    const double normal = kn * a * a * t * t, shear = ks * (u - t * h / 2) * (u - t * h / 2);
+    const double f = std::sqrt(sway.eigenvalues()[m]) / (2 * kPi);
+    for (std::size_t i = 0; i < r.frequency_hz.size(); ++i)
+      if (std::abs(r.frequency_hz[i] - f) < 1e-3 * f) {
+        const std::vector<JointEnergyShare> shares = modal_energy_shares(w.model(), w.state(), r, static_cast<int>(i));
+        ASSERT_EQ(shares.size(), 1u);
+        EXPECT_NEAR(shares[0].normal, normal / (normal + shear), 1e-6) << f << " Hz";
+        EXPECT_NEAR(shares[0].shear, shear / (normal + shear), 1e-6) << f << " Hz";
+        ++checked;
+      }
+  }
+  EXPECT_EQ(checked, 4);  // each sway-rocking pair in x and in y
 }
 
 }  // namespace
