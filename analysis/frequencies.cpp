@@ -18,7 +18,8 @@ namespace ishibashi {
 char axis_letter(int axis) { return "xyz"[axis]; }
 
 std::vector<ImpulseSpec> study_impulses() {
-  return {{0, 0, -1}, {1, 1, -1}, {2, 2, -1}, {0, 2, -1}, {1, 2, -1}};
+  constexpr int crown = ImpulseSpec::kCrownUnit, face = ImpulseSpec::kFaceUnitBesideCrown;
+  return {{0, 0, crown}, {1, 1, crown}, {2, 2, crown}, {0, 2, face}, {1, 2, face}, {0, 0, face}, {1, 1, face}};
 }
 
 int axis_index(const std::string& letter) {
@@ -72,8 +73,12 @@ FrequencyAnalysis analyse_frequencies(const LoadedModel& loaded, const Frequency
   std::map<std::pair<int, int>, ImpulseResponse> responses;
   std::ostringstream peaks;
   peaks << "excitation,response,block,peak,frequency_hz,relative_amplitude\n";
-  for (ImpulseSpec spec : specs) {
-    if (spec.monitor_block < 0) spec.monitor_block = crown_unit(model) >= 0 ? crown_unit(model) : r.free_blocks.front();
+  const int crown = crown_unit(model) >= 0 ? crown_unit(model) : r.free_blocks.front();
+  const int face = face_unit_beside_crown(model) >= 0 ? face_unit_beside_crown(model) : crown;
+  for (const ImpulseSpec& requested : specs) {
+    ImpulseSpec spec = requested;
+    if (spec.monitor_block == ImpulseSpec::kCrownUnit) spec.monitor_block = crown;
+    if (spec.monitor_block == ImpulseSpec::kFaceUnitBesideCrown) spec.monitor_block = face;
     if (spec.monitor_block >= model.block_count || model.motion[spec.monitor_block] != Motion::free)
       throw InputError("impulse response: block " + std::to_string(spec.monitor_block) + " is not a free block of " +
                        std::to_string(model.block_count));
@@ -82,7 +87,7 @@ FrequencyAnalysis analyse_frequencies(const LoadedModel& loaded, const Frequency
     if (!responses.count(key))
       responses[key] = impulse_response(linear, spec.excitation_axis, spec.monitor_block, o.impulse_s, dt);
     const ImpulseResponse& response = responses.at(key);
-    ImpulseResult result{spec, model.block_label(spec.monitor_block),
+    ImpulseResult result{requested, spec, model.block_label(spec.monitor_block),
                          amplitude_spectrum(response.displacement_m[spec.response_axis], response.dt_s), {}};
     result.peaks = spectral_peaks(result.spectrum);
     const std::string tag = std::string(1, axis_letter(spec.excitation_axis)) + axis_letter(spec.response_axis);

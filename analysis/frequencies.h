@@ -17,11 +17,14 @@ namespace ishibashi {
 struct ImpulseSpec {
   int excitation_axis = 0;  // the ground step's direction: 0 x, 1 y, 2 z
   int response_axis = 0;    // the monitored block's displacement component read
-  int monitor_block = -1;   // -1: the unit on top of the crown (the first free block if none)
+  int monitor_block = kCrownUnit;  // a block, or kCrownUnit or kFaceUnitBesideCrown
+  static constexpr int kCrownUnit = -1;            // the unit on top of the crown (the first free block if none)
+  static constexpr int kFaceUnitBesideCrown = -2;  // off both symmetry planes (face_unit_beside_crown)
 };
 
 struct ImpulseResult {
-  ImpulseSpec spec;  // with the monitored block resolved
+  ImpulseSpec requested;  // as asked (kCrownUnit, ...)
+  ImpulseSpec spec;       // with the monitored block resolved
   std::string monitor_label;  // "block 12 'ring-3'"
   Spectrum spectrum;
   std::vector<SpectralPeak> peaks;  // every peak above 5 % of the largest, ascending
@@ -50,9 +53,10 @@ struct FrequencyAnalysis {
 // responses the same blocks with linear joints (ModelOptions::linear_joints).
 FrequencyAnalysis analyse_frequencies(const LoadedModel& loaded, const FrequencyOptions& options, const std::filesystem::path& out);
 
-// The study's convention (MODEL.md section 6.1) at the crown unit: x, y and z steps each
-// read along itself, and the vertical response to the x and the y step (a study that
-// reads "the vertical response" may have read either).
+// The study's convention (MODEL.md section 6.1): x, y and z steps each read along itself at
+// the crown unit; then the x and the y step read in z (a study that reads "the vertical
+// response" may have read either) and along themselves at the face unit beside the crown,
+// off the symmetry planes where the crown's vertical response to them vanishes.
 std::vector<ImpulseSpec> study_impulses();
 
 char axis_letter(int axis);

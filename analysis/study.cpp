@@ -139,11 +139,14 @@ std::string frequency_job(const Job& job, const StudyFile& study) {
   row << kFrequencyHeader << "\"" << loaded.name << "\"," << job.input.stem().string() << ","
       << job.folder.filename().string() << "," << loaded.options.subdivision << "," << joint_rule_name(loaded.options.joint_rule) << "," << a.sub_contacts;
   for (double f : a.first_mode_hz) row << "," << f;
-  // The first clear peak of each step read along itself, then of the x and y steps read in z.
+  // The first clear peak of each step read along itself at the crown unit, then of the x
+  // and y steps read in z at the face unit beside it.
   for (auto [step, read] : {std::pair{0, 0}, {1, 1}, {2, 2}, {0, 2}, {1, 2}}) {
     row << ",";
+    const int monitor = step == read ? ImpulseSpec::kCrownUnit : ImpulseSpec::kFaceUnitBesideCrown;
     for (const ImpulseResult& i : a.impulses)
-      if (i.spec.excitation_axis == step && i.spec.response_axis == read) row << first_peak_hz(i.spectrum);
+      if (i.spec.excitation_axis == step && i.spec.response_axis == read && i.requested.monitor_block == monitor)
+        row << first_peak_hz(i.spectrum);
   }
   row << "\n";
   return row.str();

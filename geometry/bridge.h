@@ -69,4 +69,10 @@ inline Model compile_bridge(const BridgeSpec& spec, const std::vector<BridgeBloc
 // highest up, nearest the middle of the width; -1 when the model has no free ring block.
 int crown_unit(const Model& model);
 
+// A unit off both symmetry planes of the bridge: the free ring block at the +y face next to
+// the crown unit along the ring (the nearest one not at its x). A symmetric bridge's crown
+// barely moves vertically in its horizontal modes; this unit does, so its vertical response
+// to a horizontal step shows them (issue 26). -1 when there is none.
+int face_unit_beside_crown(const Model& model);
+
 }  // namespace ishibashi

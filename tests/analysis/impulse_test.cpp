@@ -4,10 +4,12 @@
 
 #include <cmath>
 
+#include "analysis/frequencies.h"
 #include "analysis/impulse.h"
 #include "analysis/modal.h"
 #include "analysis/spectrum.h"
 #include "engine/world.h"
+#include "geometry/bridge.h"
 #include "scenes.h"
 
 namespace ishibashi {
@@ -89,6 +91,35 @@ TEST(Impulse, BothSwayRockingModesAndNoResponseAcrossTheSymmetryPlane) {
   for (double d : x.displacement_m[0]) largest_x = std::max(largest_x, std::abs(d));
   for (double d : x.displacement_m[1]) largest_y = std::max(largest_y, std::abs(d));
   EXPECT_LT(largest_y, 1e-9 * largest_x + 1e-15);
+}
+
+
+// Model A's ring: its crown unit lies on both symmetry planes, so an x step (the
+// antisymmetric in-plane mode) barely moves it vertically; the face unit beside it is off
+// both planes and shows that mode vertically, the first clear peak of its z response at the
+// first x mode of the modal analysis.
+TEST(Impulse, FaceUnitBesideTheCrownShowsTheInPlaneModeVertically) {
+  const LoadedModel a = load_model_or_scenario(std::filesystem::path(ISHIBASHI_SOURCE_DIR) / "models" / "nishida_a.toml");
+  const Model m = a.build();
+  const int crown = crown_unit(m), face = face_unit_beside_crown(m);
+  ASSERT_GE(face, 0);
+  const Vec3 c = m.initial_position[crown], f = m.initial_position[face];
+  EXPECT_NEAR(c.x(), 0, 1e-6);
+  EXPECT_NEAR(c.y(), 0, 1e-6);
+  EXPECT_GT(f.x(), 0.3);                    // the next voussoir along the ring
+  EXPECT_NEAR(f.y(), 1.6 - 0.32, 1e-6);     // the face course of the 3.2 m wide ring
+
+  const FrequencyAnalysis r = analyse_frequencies(
+      a, {.modes = 4, .impulse_s = 0.3, .impulses = {{0, 0, ImpulseSpec::kFaceUnitBesideCrown}, {0, 2, ImpulseSpec::kFaceUnitBesideCrown},
+                                                     {0, 2, ImpulseSpec::kCrownUnit}}},
+      std::filesystem::temp_directory_path() / "ishibashi_face_unit_test");
+  std::filesystem::remove_all(std::filesystem::temp_directory_path() / "ishibashi_face_unit_test");
+  ASSERT_EQ(r.impulses.size(), 3u);
+  auto largest = [](const Spectrum& s) { return *std::max_element(s.amplitude.begin(), s.amplitude.end()); };
+  const double own = largest(r.impulses[0].spectrum);
+  EXPECT_GT(largest(r.impulses[1].spectrum), 0.1 * own);   // the face unit moves vertically
+  EXPECT_LT(largest(r.impulses[2].spectrum), 0.01 * own);  // the crown unit does not
+  EXPECT_NEAR(first_peak_hz(r.impulses[1].spectrum), r.first_mode_hz[0], 0.01 * r.first_mode_hz[0]);
 }
 
 }  // namespace
