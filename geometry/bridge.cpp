@@ -121,37 +121,6 @@ const char* part_name(Part p) {
   return "?";
 }
 
-int crown_unit(const Model& m) {
-  int best = -1;
-  auto height = [&](int b) { return m.initial_position[b].z() - 1e-3 * std::abs(m.initial_position[b].y()); };
-  for (int b = 0; b < m.block_count; ++b)
-    if (m.motion[b] == Motion::free && m.block_tag[b].part == static_cast<int>(Part::ring) &&
-        (best < 0 || height(b) > height(best)))
-      best = b;
-  return best;
-}
-
-int face_unit_beside_crown(const Model& m) {
-  const int crown = crown_unit(m);
-  if (crown < 0) return -1;
-  const Vec3 c = m.initial_position[crown];
-  double face_y = -1e300;
-  for (int b = 0; b < m.block_count; ++b)
-    if (m.motion[b] == Motion::free && m.block_tag[b].part == static_cast<int>(Part::ring))
-      face_y = std::max(face_y, m.initial_position[b].y());
-  int best = -1;
-  auto distance = [&](int b) { return (m.initial_position[b] - c).norm(); };
-  for (int b = 0; b < m.block_count; ++b) {
-    const Vec3& p = m.initial_position[b];
-    if (m.motion[b] != Motion::free || m.block_tag[b].part != static_cast<int>(Part::ring) || p.y() < face_y - 1e-3 ||
-        std::abs(p.x() - c.x()) < 1e-3)
-      continue;
-    if (best < 0 || distance(b) < distance(best) - 1e-9 || (distance(b) < distance(best) + 1e-9 && p.x() > m.initial_position[best].x()))
-      best = b;
-  }
-  return best;
-}
-
 // x of each span's centre: springers a pier width apart, the whole centred on x = 0.
 static std::vector<double> span_centres(const BridgeSpec& s, const RingGeometry& g) {
   const double pitch = 2.0 * g.springer_half_width + s.pier_width_m;
