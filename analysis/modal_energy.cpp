@@ -48,6 +48,7 @@ std::vector<JointEnergyShare> modal_energy_shares(const Model& m, const State& s
     total += normal + shear;
   }
   std::vector<JointEnergyShare> out;
+  if (!(total > 0)) return out;  // a rigid-body mode (a block touching nothing) strains no joint
   for (auto& [name, share] : by_joint) {
     share.normal /= total;
     share.shear /= total;

@@ -17,7 +17,8 @@ struct JointEnergyShare {
 };
 
 // Shares of mode `mode`'s strain energy (they sum to 1; the energy is lambda / 2 for the
-// mass-normalised shape), largest first. `state` must be the one the modal analysis used.
+// mass-normalised shape), largest first; none for a mode that strains no joint (a block
+// touching nothing moves freely). `state` must be the one the modal analysis used.
 std::vector<JointEnergyShare> modal_energy_shares(const Model& model, const State& state, const ModalResult& modal,
                                                   int mode);
 
