@@ -29,6 +29,8 @@ std::vector<JointEnergyShare> modal_energy_shares(const Model& m, const State& s
     return u + theta.cross(p - s.position[b]);
   };
 
+  std::vector<std::string> label(m.block_count);
+  for (int b = 0; b < m.block_count; ++b) label[b] = part_label(m, b);
   std::map<std::string, JointEnergyShare> by_joint;
   double total = 0;
   const SubContacts& c = s.contacts;
@@ -39,10 +41,9 @@ std::vector<JointEnergyShare> modal_energy_shares(const Model& m, const State& s
     const double dn = n.dot(du);
     const SpringConstants k = c.constants(i);
     const double normal = 0.5 * k.kn * dn * dn, shear = 0.5 * k.ks * (du - dn * n).squaredNorm();
-    std::string pa = part_label(m, a), pb = part_label(m, b);
-    if (pb < pa) std::swap(pa, pb);
-    JointEnergyShare& share = by_joint[pa + " / " + pb];
-    share.joint = pa + " / " + pb;
+    const std::string joint = label[a] < label[b] ? label[a] + " / " + label[b] : label[b] + " / " + label[a];
+    JointEnergyShare& share = by_joint[joint];
+    share.joint = joint;
     share.normal += normal;
     share.shear += shear;
     total += normal + shear;

@@ -12,6 +12,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 
 #include "engine/world.h"
 #include "geometry/shapes.h"
@@ -22,6 +23,39 @@ namespace {
 
 constexpr double kG = 9.81, kRho = 1.88e3;
 constexpr double kStone = 0.64, kBond = 2e5;
+
+// Every free stone loaded by alpha times its weight along `direction` (a pseudo-static
+// seismic coefficient, or the base's acceleration in the structure's frame).
+void load_laterally(World& w, const Vec3& direction, double alpha) {
+  const double stone_weight = kRho * std::pow(kStone, 3) * kG;
+  for (int block = 0; block < w.model().block_count; ++block)
+    if (w.model().motion[block] == Motion::free) w.state().applied_force[block] = alpha * stone_weight * direction;
+}
+
+// alpha ramped from 0 to `alpha_max` over 1 s: alpha when the first bond breaks, that
+// point in `broken` (-1 and no break: -1).
+double ramp_to_first_break(World& w, const Vec3& direction, double alpha_max, int* broken) {
+  const State& s = w.state();
+  const int steps = static_cast<int>(1.0 / w.dt_s());
+  for (int i = 0; i < steps; ++i) {
+    const double alpha = alpha_max * i / steps;
+    load_laterally(w, direction, alpha);
+    w.step();
+    for (std::size_t j = 0; j < s.contacts.size(); ++j)
+      if (s.contacts.flags[j] & SubContactFlag::broken) {
+        *broken = static_cast<int>(j);
+        return alpha;
+      }
+  }
+  *broken = -1;
+  return -1;
+}
+
+int bonded_points(const State& s) {
+  int count = 0;
+  for (std::uint8_t flags : s.contacts.flags) count += (flags & SubContactFlag::bonded) ? 1 : 0;
+  return count;
+}
 
 // A fixed base and `count` bonded cubes stacked on it.
 Model bonded_pillar(int count, JointRule rule, bool bonds_when_settled = false) {
@@ -42,23 +76,14 @@ double first_crack_coefficient(int count, JointRule rule, double alpha_max, doub
   State& s = w.state();
   if (bonds_when_settled) {
     const std::size_t points = s.contacts.size();
-    for (std::size_t j = 0; j < points; ++j) EXPECT_FALSE(s.contacts.flags[j] & SubContactFlag::bonded);
+    EXPECT_EQ(bonded_points(s), 0);
     EXPECT_EQ(w.form_bonds(), static_cast<int>(points)) << "every point of the stack's joints was there at the start";
     EXPECT_EQ(w.form_bonds(), 0);
   }
-  const int steps = static_cast<int>(1.0 / w.dt_s());
-  const double stone_weight = kRho * std::pow(kStone, 3) * kG;
-  for (int i = 0; i < steps; ++i) {
-    const double alpha = alpha_max * i / steps;
-    for (int block = 1; block <= count; ++block) s.applied_force[block] = Vec3(alpha * stone_weight, 0, 0);
-    w.step();
-    for (std::size_t j = 0; j < s.contacts.size(); ++j)
-      if (s.contacts.flags[j] & SubContactFlag::broken) {
-        *crack_z = s.contacts.point[j].z();
-        return alpha;
-      }
-  }
-  return -1;
+  int broken = -1;
+  const double alpha = ramp_to_first_break(w, Vec3::UnitX(), alpha_max, &broken);
+  if (broken >= 0) *crack_z = s.contacts.point[broken].z();
+  return alpha;
 }
 
 // Beam theory at the base joint: -W/S + alpha W (H/2) (a/2) / I = f_t.
@@ -120,34 +145,30 @@ void settle_and_bond(World& w) {
 double wall_first_crack_coefficient(int columns, int courses, double alpha_max, ShearSpring spring, bool* heel) {
   World w(bonded_wall(columns, courses, JointRule::moments, spring), 5e-6);
   settle_and_bond(w);
-  const double t = columns * kStone;
-  State& s = w.state();
-  const int steps = static_cast<int>(1.0 / w.dt_s());
-  const double stone_weight = kRho * std::pow(kStone, 3) * kG;
-  for (int i = 0; i < steps; ++i) {
-    const double alpha = alpha_max * i / steps;
-    for (int block = 1; block < w.model().block_count; ++block) s.applied_force[block] = Vec3(0, alpha * stone_weight, 0);
-    w.step();
-    for (std::size_t j = 0; j < s.contacts.size(); ++j)
-      if (s.contacts.flags[j] & SubContactFlag::broken) {
-        *heel = s.contacts.normal[j].z() > 0.99 && s.contacts.point[j].z() < 1e-3 && s.contacts.point[j].y() < 1e-3 - 0.5 * t;
-        return alpha;
-      }
-  }
-  return -1;
+  int broken = -1;
+  const double alpha = ramp_to_first_break(w, Vec3::UnitY(), alpha_max, &broken);
+  const SubContacts& c = w.state().contacts;
+  *heel = broken >= 0 && c.normal[broken].z() > 0.99 && c.point[broken].z() < 1e-3 &&
+          c.point[broken].y() < 1e-3 - 0.5 * columns * kStone;
+  return alpha;
 }
 
-// The section as one cantilever, the beam formula at the heel: -W/(L t) + alpha W (H/2)
-// (t/2) / (L t^3 / 12) = f_t. That is an upper bound: the head joints' shear springs let
+// The section as one cantilever, the beam formula at the heel of its base:
+// -W/(L t) + alpha W (H/2) (t/2) / (L t^3 / 12) = f_t.
+double wall_section_coefficient(int columns, int courses) {
+  const double t = columns * kStone, length = kStone, height = courses * kStone;
+  const double weight = columns * courses * kRho * std::pow(kStone, 3) * kG;
+  return (kBond + weight / (length * t)) * (length * t * t / 6) / (weight * 0.5 * height);
+}
+
+// The section as one cantilever (wall_section_coefficient) is an upper bound: the head joints' shear springs let
 // the columns slide a little against each other, so each also bends on its own and its
 // heel cracks somewhat sooner, the less so the stiffer those springs (K_s = K_n against
 // K_s from G: 0.95 against 0.90 of the bound, measured, 8 courses). Apart, the columns
 // would crack at the pillar's load, a third of it.
 TEST(BondBending, BondedWallSectionActsNearlyAsOneUpToTheBeamFormulaLoad) {
   const int columns = 3, courses = 8;
-  const double t = columns * kStone, length = kStone, height = courses * kStone;
-  const double weight = columns * courses * kRho * std::pow(kStone, 3) * kG;
-  const double section = (kBond + weight / (length * t)) * (length * t * t / 6) / (weight * 0.5 * height);  // 0.39
+  const double section = wall_section_coefficient(columns, courses);                    // 0.39
   const double apart = closed_form_coefficient(courses, std::pow(kStone, 4) / 12);                          // 0.13
   bool heel = false, heel_stiff = false;
   const double alpha = wall_first_crack_coefficient(columns, courses, 1.5 * section, ShearSpring::shear_modulus, &heel);
@@ -166,30 +187,22 @@ TEST(BondBending, BondedWallSectionActsNearlyAsOneUpToTheBeamFormulaLoad) {
 // joints, 0.90 of it measured above), the bonded wall keeps every bond: no bond fails
 // under dynamic loads its joints can carry, dashpots and all.
 TEST(BondBending, BondedWallShakenBelowItsCrackingLoadKeepsEveryBond) {
-  const int columns = 3, courses = 8;
-  const double t = columns * kStone, length = kStone, height = courses * kStone;
-  const double weight = columns * courses * kRho * std::pow(kStone, 3) * kG;
-  const double section = (kBond + weight / (length * t)) * (length * t * t / 6) / (weight * 0.5 * height);
-  const double amplitude = 0.75 * section, frequency = 3.0, cycles = 2.0;
-  const Model wall = bonded_wall(columns, courses, JointRule::moments, ShearSpring::shear_modulus);
+  const double amplitude = 0.75 * wall_section_coefficient(3, 8), frequency = 3.0, cycles = 2.0;
+  const Model wall = bonded_wall(3, 8, JointRule::moments, ShearSpring::shear_modulus);
   World w(wall, 0.8 * World(wall, 1e-9).critical_time_step_s());
   settle_and_bond(w);
-  State& s = w.state();
-  int bonded = 0;
-  for (std::size_t j = 0; j < s.contacts.size(); ++j) bonded += (s.contacts.flags[j] & SubContactFlag::bonded) ? 1 : 0;
-  const double stone_weight = kRho * std::pow(kStone, 3) * kG;
+  const State& s = w.state();
+  const int bonded = bonded_points(s);
   const int steps = static_cast<int>((cycles / frequency + 0.5) / w.dt_s());
   double largest_drift = 0;
   for (int i = 0; i < steps; ++i) {
     const double time = i * w.dt_s();
     const double alpha = time < cycles / frequency ? amplitude * std::sin(2 * M_PI * frequency * time) : 0.0;
-    for (int block = 1; block < w.model().block_count; ++block) s.applied_force[block] = Vec3(0, alpha * stone_weight, 0);
+    load_laterally(w, Vec3::UnitY(), alpha);
     w.step();
     largest_drift = std::max(largest_drift, std::abs(s.position.back().y() - w.model().initial_position.back().y()));
   }
-  int still_bonded = 0;
-  for (std::size_t j = 0; j < s.contacts.size(); ++j) still_bonded += (s.contacts.flags[j] & SubContactFlag::bonded) ? 1 : 0;
-  EXPECT_EQ(still_bonded, bonded);
+  EXPECT_EQ(bonded_points(s), bonded);
   EXPECT_GT(largest_drift, 1e-4) << "the wall did sway";
 }
 
