@@ -110,6 +110,7 @@ void append_rebuilt(const Model& m, const State& s, const Pair& pair, const Mani
       const Vec3 vb = s.velocity[pair.b] + s.angular_velocity[pair.b].cross(p.x - s.position[pair.b]);
       out.gap_change_m[j] = dt_s * (vb - va).dot(manifold.normal);
       out.slip_m[j] = old.slip_m[found];
+      out.bond_damage[j] = old.bond_damage[found];
     } else {
       out.normal_stretch_m[j] = bondable ? p.gap_m : std::min(p.gap_m, 0.0);  // from its overlap
       out.shear_stretch_m[j] = Vec3::Zero();
@@ -117,6 +118,7 @@ void append_rebuilt(const Model& m, const State& s, const Pair& pair, const Mani
       out.damping_force_n[j] = Vec3::Zero();
       out.gap_change_m[j] = 0.0;
       out.slip_m[j] = 0.0;
+      out.bond_damage[j] = 0.0;
     }
   }
   // A re-clipped pair keeps the spring energy it stored: its springs, passed on or new,

@@ -30,6 +30,53 @@ struct EnergyParts {
   double elastic = 0, damping = 0, friction = 0, bond = 0;
 };
 
+// Work dissipated when a spring of stiffness k, whose force was `before` last step and
+// would be `trial` after this step's increment, is held at `limit` (magnitudes): the
+// energy it stored above the limit, plus the limit times this step's plastic stretch.
+inline double capped_work(double before, double trial, double limit, double k) {
+  const double stored = std::max(std::min(before, trial), limit);
+  return 0.5 * (stored * stored - limit * limit) / k + limit * (trial - stored) / k;
+}
+
+// A softening bond is gone once this share of its strength is lost (the last 1 % of its
+// fracture energy is released as a brittle bond's is).
+constexpr double kBondGone = 0.99;
+
+enum SofteningCap : int { kTensionCapped = 1, kShearCapped = 2 };
+
+// A softening bond (PairLaw::bond_softens) at a sub-contact of area S: strengths
+// f_t (1 - d) and c (1 - d). A trial force beyond them is held at them, and the work of
+// the plastic opening or sliding raises d by work / (G_f S), mode by mode, so that the
+// strength falls exponentially with the plastic displacement and the bond dissipates
+// G_f S in all (Lourenco 1996's interface). Springs before: en_before (N), es_before
+// (N, magnitude); after: un, en, us, es, capped in place. Returns the SofteningCap bits.
+int soften_bond(const PairLaw& law, const SpringConstants& k, double area, double en_before, double es_before,
+                double& un, double& en, Vec3& us, Vec3& es, double& damage, double& dissipated_j) {
+  const double keep = 1.0 - damage;
+  int capped = 0;
+  double tension_work = 0.0, shear_work = 0.0;
+  const double tension_limit = law.tensile_pa * keep * area;
+  if (en > tension_limit) {
+    tension_work = capped_work(en_before, en, tension_limit, k.kn);
+    en = tension_limit;
+    un = en / k.kn;
+    capped |= kTensionCapped;
+  }
+  const double shear_limit = std::max(0.0, law.cohesion_pa * keep * area - en * law.tan_friction);
+  const double es_norm = es.norm();
+  if (es_norm > shear_limit) {
+    shear_work = capped_work(es_before, es_norm, shear_limit, k.ks);
+    const double scale = shear_limit / es_norm;
+    es *= scale;
+    us *= scale;
+    capped |= kShearCapped;
+  }
+  dissipated_j += tension_work + shear_work;
+  damage = std::min(1.0, damage + tension_work / (law.tension_fracture_j_m2 * area) +
+                             shear_work / (law.shear_fracture_j_m2 * area));
+  return capped;
+}
+
 }  // namespace
 
 // The hot loop of the step (about half its time): one pass over the sub-contacts, pair by
@@ -109,7 +156,12 @@ double apply_contact_law(const Model& m, State& s, double dt) {
         us -= dt * vs;
         Vec3 es = k.ks * us;
 
-        if (flags & SubContactFlag::bonded) {
+        int softening = 0;
+        if ((flags & SubContactFlag::bonded) && law.bond_softens()) {
+          softening = soften_bond(law, k, area, k.kn * c.normal_stretch_m[i], k.ks * std::sqrt(us_old2), un, en, us, es,
+                                  c.bond_damage[i], e.bond);
+          if (c.bond_damage[i] >= kBondGone) flags = (flags & SubContactFlag::original) | SubContactFlag::broken;
+        } else if (flags & SubContactFlag::bonded) {
           const double sigma = en / area, tau = es.norm() / area;
           const bool tension_failure = sigma - law.tensile_pa >= 0;
           const bool shear_failure = tau + sigma * law.tan_friction - law.cohesion_pa >= 0;
@@ -136,8 +188,7 @@ double apply_contact_law(const Model& m, State& s, double dt) {
               const double es_norm = std::sqrt(es_norm2), es_old = k.ks * std::sqrt(us_old2);
               // Dissipated by slip: the stored spring energy above the new limit (when the
               // normal force dropped), plus force x plastic slip of this step's increment.
-              const double stored = std::max(std::min(es_old, es_norm), limit);
-              e.friction += 0.5 * (stored * stored - limit * limit) / k.ks + limit * (es_norm - stored) / k.ks;
+              e.friction += capped_work(es_old, es_norm, limit, k.ks);
               c.slip_m[i] += (es_norm - limit) / k.ks;
               const double keep = limit / es_norm;
               us *= keep;
@@ -151,7 +202,13 @@ double apply_contact_law(const Model& m, State& s, double dt) {
           // tensile strength (MODEL.md section 3), the linear spring-dashpot whose
           // restitution is exp(-pi zeta / sqrt(1 - zeta^2)). Cutting the pull off instead
           // gives a stone dropped with h = 1 a rebound of 0.18 of its impact speed.
-          const double fn = en + damping_scale * k.cn * vn;
+          // A softening bond held at its strength has no dashpot in that direction
+          // (MODEL.md: none once f_1 or f_2 reaches 0), so the strength bounds the force.
+          if (softening & kShearCapped) {
+            shear_damping = Vec3::Zero();
+            flags |= SubContactFlag::sliding;
+          }
+          const double fn = en + ((softening & kTensionCapped) ? 0.0 : damping_scale * k.cn * vn);
           damping_force = -(fn - en) * n + shear_damping;
           force = -fn * n + es + shear_damping;
           e.elastic += 0.5 * (en * un + es.dot(us));

@@ -33,6 +33,8 @@ PairLaw default_pair_law(const Material& a, const Material& b) {
   law.tan_friction = std::tan(std::min(a.friction_deg, b.friction_deg) * M_PI / 180.0);
   law.tensile_pa = std::min(a.tensile_pa, b.tensile_pa);
   law.cohesion_pa = std::min(a.cohesion_pa, b.cohesion_pa);
+  law.tension_fracture_j_m2 = std::min(a.tension_fracture_j_m2, b.tension_fracture_j_m2);
+  law.shear_fracture_j_m2 = std::min(a.shear_fracture_j_m2, b.shear_fracture_j_m2);
   law.damping_normal = 0.5 * (a.damping_normal + b.damping_normal);
   law.damping_shear = 0.5 * (a.damping_shear + b.damping_shear);
   return law;
@@ -48,6 +50,9 @@ int ModelBuilder::add_material(const Material& m) {
   require(m.poisson > -1.0 && m.poisson < 0.5, "poisson must lie in (-1, 0.5)");
   require(m.friction_deg >= 0 && m.friction_deg < 90, "friction_deg must lie in [0, 90)");
   require(m.tensile_pa >= 0 && m.cohesion_pa >= 0, "tensile_pa and cohesion_pa must be >= 0");
+  require((m.tension_fracture_j_m2 == 0 && m.shear_fracture_j_m2 == 0) ||
+              (m.tension_fracture_j_m2 > 0 && m.shear_fracture_j_m2 > 0),
+          "tension_fracture_j_m2 and shear_fracture_j_m2 must be both 0 (a brittle bond) or both > 0 (a softening one)");
   require(m.damping_normal >= 0 && m.damping_shear >= 0, "damping ratios must be >= 0");
   model_.materials.push_back(m);
   return static_cast<int>(model_.materials.size()) - 1;

@@ -41,6 +41,11 @@ struct Material {
   double friction_deg = 30.0;
   double tensile_pa = 0.0;   // bond tensile strength f_t of joints originally in contact
   double cohesion_pa = 0.0;  // bond cohesion c of joints originally in contact
+  // Fracture energies of the bond, J/m^2: 0 (MODEL.md as written) makes it brittle, its
+  // strength gone in the step a point reaches it; > 0 makes it soften as Lourenco's
+  // interface model does (exponentially, dissipating G_f per unit area before it is gone).
+  double tension_fracture_j_m2 = 0.0;  // G_f^I, mode I (opening)
+  double shear_fracture_j_m2 = 0.0;    // G_f^II, mode II (sliding)
   double damping_normal = 0.0;  // h_n, fraction of critical
   double damping_shear = 0.0;   // h_s, fraction of critical
 };
@@ -50,10 +55,14 @@ struct PairLaw {
   double tan_friction = 0.0;
   double tensile_pa = 0.0;
   double cohesion_pa = 0.0;
+  double tension_fracture_j_m2 = 0.0;
+  double shear_fracture_j_m2 = 0.0;
   double damping_normal = 0.0;
   double damping_shear = 0.0;
   // Its joints originally in contact carry a bond (mortar).
   bool carries_bond() const { return tensile_pa > 0 || cohesion_pa > 0; }
+  // Its bond softens (fracture energies given) rather than breaking at once.
+  bool bond_softens() const { return tension_fracture_j_m2 > 0; }
 };
 
 // Finest contact subdivision (ModelOptions::subdivision): 16^2 points per fan triangle.

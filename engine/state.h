@@ -51,6 +51,7 @@ enum SubContactFlag : std::uint8_t {
   X(Vec3, shear_stretch_m, "u_s")                                                                        \
   X(Vec3, damping_force_n, "dashpot part of the force on b (for the energy balance)")                    \
   X(double, slip_m, "accumulated sliding (plastic shear displacement)")                                  \
+  X(double, bond_damage, "softening bond: share of its strength lost, 0-1 (fracture work / G_f S_i)")   \
   X(Vec3, incident_local, "face contacts: the point on the incident face, in the incident block's frame") \
   X(std::uint8_t, flags, "SubContactFlag bits")
 

@@ -322,6 +322,8 @@ ModelBuilder bridge_builder(const BridgeSpec& s, const std::vector<BridgeBlock>&
   ModelBuilder builder;
   Material stone = s.stone.name.empty() ? nishida_stone() : s.stone;
   stone.tensile_pa = stone.cohesion_pa = s.mortar_pa;
+  stone.tension_fracture_j_m2 = s.mortar_tension_fracture_j_m2;
+  stone.shear_fracture_j_m2 = s.mortar_shear_fracture_j_m2;
   const int stone_id = builder.add_material(stone);
   Material soil = s.soil.name.empty() ? nishida_soil() : s.soil;
   soil.tensile_pa = soil.cohesion_pa = 0.0;  // soil joints are never reinforced

@@ -42,6 +42,10 @@ struct BridgeSpec {
   Material stone;                  // empty name: the Nishida stone
   Material soil;                   // empty name: the Nishida soil (MODEL.md section 4)
   double mortar_pa = 0.0;          // f_t = c of stone joints originally in contact; 0: dry
+  // The mortar's fracture energies G_f^I, G_f^II, J/m^2 (Material::tension_fracture_j_m2):
+  // both 0, brittle (MODEL.md as written); both > 0, a softening bond.
+  double mortar_tension_fracture_j_m2 = 0.0;
+  double mortar_shear_fracture_j_m2 = 0.0;
 };
 
 struct BridgeBlock {

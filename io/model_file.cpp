@@ -11,6 +11,12 @@
 
 namespace ishibashi {
 
+void require_both_fracture_energies(const std::filesystem::path& file, const std::string& table, const BridgeSpec& b) {
+  if ((b.mortar_tension_fracture_j_m2 > 0) != (b.mortar_shear_fracture_j_m2 > 0))
+    throw InputError(file.string() + ": " + table + " mortar_tension_fracture_j_m2 and mortar_shear_fracture_j_m2 " +
+                     "must both be > 0 (a softening bond, e.g. 12 and 50 J/m^2) or both 0 (brittle)");
+}
+
 ModelFile read_model_file(const std::filesystem::path& file) {
   const toml::table root = parse_toml_file(file, {"model", "ring", "bridge", "stone", "soil", "import"});
 
@@ -53,7 +59,10 @@ ModelFile read_model_file(const std::filesystem::path& file) {
   b.ground = ground == "soil" ? GroundMaterial::soil : GroundMaterial::stone;
   bridge.boolean("fixed_bottom_course", b.fixed_bottom_course);
   bridge.non_negative("mortar_pa", b.mortar_pa);
+  bridge.non_negative("mortar_tension_fracture_j_m2", b.mortar_tension_fracture_j_m2);
+  bridge.non_negative("mortar_shear_fracture_j_m2", b.mortar_shear_fracture_j_m2);
   bridge.finish();
+  require_both_fracture_energies(file, "[bridge]", b);
 
   TableReader import(file, root, "import");
   const std::filesystem::path base = std::filesystem::absolute(file).parent_path();

@@ -24,4 +24,8 @@ struct ModelFile {
 
 ModelFile read_model_file(const std::filesystem::path& file);
 
+// The mortar's two fracture energies go together (both 0: brittle; both > 0: softening):
+// an InputError naming `file` and `table` otherwise.
+void require_both_fracture_energies(const std::filesystem::path& file, const std::string& table, const BridgeSpec& b);
+
 }  // namespace ishibashi

@@ -45,6 +45,9 @@ Scenario read_scenario(const std::filesystem::path& file) {
   std::string model_file;
   model.text("file", model_file);
   model.number("mortar_pa", sc.mortar_pa);  // < 0: as the model file says
+  double tension_fracture = -1, shear_fracture = -1;  // < 0: as the model file says
+  model.number("mortar_tension_fracture_j_m2", tension_fracture);
+  model.number("mortar_shear_fracture_j_m2", shear_fracture);
   std::string bonds = "settled";
   model.text("mortar_bonds", bonds, {"settled", "initial"});
   sc.bonds_when_settled = bonds == "settled";
@@ -53,6 +56,11 @@ Scenario read_scenario(const std::filesystem::path& file) {
   sc.model_file = base / model_file;
   sc.model = read_model_file(sc.model_file);
   if (sc.mortar_pa >= 0) sc.model.bridge.mortar_pa = sc.mortar_pa;
+  if (tension_fracture >= 0 || shear_fracture >= 0) {
+    sc.model.bridge.mortar_tension_fracture_j_m2 = std::max(0.0, tension_fracture);
+    sc.model.bridge.mortar_shear_fracture_j_m2 = std::max(0.0, shear_fracture);
+    require_both_fracture_energies(file, "[model]", sc.model.bridge);
+  }
 
   TableReader run(file, root, "run");
   run.non_negative("dt_s", sc.dt_s);
