@@ -116,6 +116,8 @@ void RunRecorder::write_summary(const RunDescription& run, const SeismicRunResul
     << ",\n  \"energy_balance_error_relative\": " << r.balance_error_relative << ",\n  \"dt_s\": " << run.dt_s
     << ",\n  \"damping\": \"" << run.damping << "\""
     << ",\n  \"joint_rule\": \"" << run.joint_rule << "\""
+    << ",\n  \"mortar_pa\": " << run.mortar_pa << ",\n  \"mortar_fracture_j_m2\": [" << run.mortar_fracture_j_m2[0] << ", "
+    << run.mortar_fracture_j_m2[1] << "]"
     << ",\n  \"steps\": " << s.step << ",\n  \"threads\": " << run.threads
     << ",\n  \"mean_team_size\": " << (s.step > 0 ? double(s.profile.thread_steps) / s.step : 0.0) << ",\n  \"state_hash\": \""
     << std::hex << r.state_hash << std::dec << "\"" << ",\n  \"wall_time_s\": " << r.wall_s << "\n}\n";

@@ -33,6 +33,8 @@ struct RunDescription {
   const char* damping = "study";
   const char* joint_rule = "corners";
   int threads = 0;
+  double mortar_pa = 0;                              // f_t = c of the stone joints; 0: dry
+  double mortar_fracture_j_m2[2] = {0, 0};          // G_f^I, G_f^II; 0, 0: a brittle bond
 };
 
 class RunRecorder {

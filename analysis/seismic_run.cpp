@@ -187,8 +187,15 @@ void SeismicRun::write_summary(Progress& p, bool finished) {
   r.steps = s.step;
   r.state_hash = world_->state_hash();
   r.wall_s = std::chrono::duration<double>(Clock::now() - p.wall0).count();
-  const RunDescription run{scenario_.model.name, monitored_block(), dt_, damping_name(scenario_.damping),
-                           joint_rule_name(scenario_.joint_rule), world_->thread_tuner().max_threads()};
+  const BridgeSpec& bridge = scenario_.model.bridge;
+  const RunDescription run{scenario_.model.name,
+                           monitored_block(),
+                           dt_,
+                           damping_name(scenario_.damping),
+                           joint_rule_name(scenario_.joint_rule),
+                           world_->thread_tuner().max_threads(),
+                           bridge.mortar_pa,
+                           {bridge.mortar_tension_fracture_j_m2, bridge.mortar_shear_fracture_j_m2}};
   p.recorder.write_summary(run, r, s, p.joints, finished);
 }
 

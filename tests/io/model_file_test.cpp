@@ -52,6 +52,8 @@ TEST(ModelFile, NumbersOutOfRangeNameTheirLine) {
   EXPECT_THAT(error_of("[stone]\n\npoisson = 0.7\n"), HasSubstr(":3: 'poisson' is 0.7; it must be >= 0 and <= 0.4999"));
   EXPECT_THAT(error_of("[bridge]\nmortar_pa = -1\n"), HasSubstr(":2: 'mortar_pa' is -1; it must be >= 0"));
   EXPECT_THAT(error_of("[bridge]\n\nground_margin_m = -2\n"), HasSubstr(":3: 'ground_margin_m' is -2; it must be >= 0"));
+  EXPECT_THAT(error_of("[bridge]\nmortar_pa = 2e5\nmortar_tension_fracture_j_m2 = 12\n"),
+              HasSubstr("[bridge] mortar_tension_fracture_j_m2 and mortar_shear_fracture_j_m2 must both be > 0"));
 }
 
 }  // namespace
