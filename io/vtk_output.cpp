@@ -165,8 +165,9 @@ void write_contacts_vtu(const State& s, const std::filesystem::path& file, const
   points->SetDataTypeToDouble();
   points->SetNumberOfPoints(n);
   auto normal = vector_array("normal", n);
-  vtkNew<vtkDoubleArray> sigma, tau, opening, slip;
+  vtkNew<vtkDoubleArray> sigma, tau, opening, slip, damage;
   slip->SetName("slip_m");
+  damage->SetName("bond_damage");  // a softening bond's lost share of strength (0 for a brittle one)
   sigma->SetName("normal_stress_pa");
   tau->SetName("shear_stress_pa");
   opening->SetName("opening_m");
@@ -188,6 +189,7 @@ void write_contacts_vtu(const State& s, const std::filesystem::path& file, const
     tau->InsertNextValue(c.shear_spring(i).norm() / c.area_m2[i]);
     opening->InsertNextValue(std::max(0.0, c.gap_m[i]));
     slip->InsertNextValue(c.slip_m[i]);
+    damage->InsertNextValue(c.bond_damage[i]);
     const std::uint8_t f = c.flags[i];
     const int code = (f & SubContactFlag::open)      ? 3
                      : (f & SubContactFlag::sliding) ? 2
@@ -213,7 +215,7 @@ void write_contacts_vtu(const State& s, const std::filesystem::path& file, const
     grid->InsertNextCell(VTK_VERTEX, 1, &i);
   }
   grid->SetPoints(points);
-  for (vtkDataArray* a : std::initializer_list<vtkDataArray*>{normal, sigma, tau, opening, slip, state, original, block_a, block_b})
+  for (vtkDataArray* a : std::initializer_list<vtkDataArray*>{normal, sigma, tau, opening, slip, damage, state, original, block_a, block_b})
     grid->GetPointData()->AddArray(a);
   if (joints)
     for (vtkDataArray* a : std::initializer_list<vtkDataArray*>{joint_opening, joint_slip, joint_cracked})
