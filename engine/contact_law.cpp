@@ -157,15 +157,17 @@ double apply_contact_law(const Model& m, State& s, double dt) {
         Vec3 es = k.ks * us;
 
         int softening = 0;
-        if ((flags & SubContactFlag::bonded) && law.bond_softens()) {
-          softening = soften_bond(law, k, area, k.kn * c.normal_stretch_m[i], k.ks * std::sqrt(us_old2), un, en, us, es,
-                                  c.bond_damage[i], e.bond);
-          if (c.bond_damage[i] >= kBondGone) flags = (flags & SubContactFlag::original) | SubContactFlag::broken;
-        } else if (flags & SubContactFlag::bonded) {
-          const double sigma = en / area, tau = es.norm() / area;
-          const bool tension_failure = sigma - law.tensile_pa >= 0;
-          const bool shear_failure = tau + sigma * law.tan_friction - law.cohesion_pa >= 0;
-          if (tension_failure || shear_failure) flags = (flags & SubContactFlag::original) | SubContactFlag::broken;
+        if (flags & SubContactFlag::bonded) {
+          bool failed;
+          if (law.bond_softens()) {
+            softening = soften_bond(law, k, area, k.kn * c.normal_stretch_m[i], k.ks * std::sqrt(us_old2), un, en, us,
+                                    es, c.bond_damage[i], e.bond);
+            failed = c.bond_damage[i] >= kBondGone;
+          } else {  // brittle (MODEL.md section 3): gone when f_1 or f_2 reaches 0
+            const double sigma = en / area, tau = es.norm() / area;
+            failed = sigma - law.tensile_pa >= 0 || tau + sigma * law.tan_friction - law.cohesion_pa >= 0;
+          }
+          if (failed) flags = (flags & SubContactFlag::original) | SubContactFlag::broken;
         }
         const bool bonded = flags & SubContactFlag::bonded;
         Vec3 force = Vec3::Zero(), damping_force = Vec3::Zero();
