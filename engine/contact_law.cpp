@@ -210,6 +210,7 @@ double apply_contact_law(const Model& m, State& s, double dt) {
             shear_damping = Vec3::Zero();
             flags |= SubContactFlag::sliding;
           }
+          if (softening & kTensionCapped) flags |= SubContactFlag::pulling;
           const double fn = en + ((softening & kTensionCapped) ? 0.0 : damping_scale * k.cn * vn);
           damping_force = -(fn - en) * n + shear_damping;
           force = -fn * n + es + shear_damping;

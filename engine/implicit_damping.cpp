@@ -74,8 +74,8 @@ inline __attribute__((always_inline)) PairResultant pair_dashpots(const Implicit
 // Every pair's dashpot resultants at x, in State's pair arrays (pairs without
 // sub-contacts keep the zeros the contact law wrote). With `assemble`, the pair matrices
 // are first summed from the sub-contacts' dashpots as the contact law left them this
-// step: none where a sub-contact is open, no shear one where it slides (MODEL.md
-// section 3).
+// step: none where a sub-contact is open, no shear one where it slides and no normal one
+// where a softening bond is held at its tensile strength (MODEL.md section 3).
 void dashpot_resultants(State& s, const std::vector<Vec6>& x, bool assemble = false) {
   ImplicitDamping& w = s.implicit;
   parallel_chunks(static_cast<std::ptrdiff_t>(w.pairs.size()), kReductionChunks, [&](std::ptrdiff_t begin, std::ptrdiff_t end, int) {
@@ -88,8 +88,9 @@ void dashpot_resultants(State& s, const std::vector<Vec6>& x, bool assemble = fa
         for (int i = pair.sub_begin; i < pair.sub_begin + pair.sub_count; ++i) {
           const std::uint8_t flags = c.flags[i];
           if (flags & SubContactFlag::open) continue;
+          const double cn = (flags & SubContactFlag::pulling) ? 0.0 : c.normal_damping_n_s_m[i];
           const double cs = (flags & SubContactFlag::sliding) ? 0.0 : c.shear_damping_n_s_m[i];
-          sum.add(c.normal_damping_n_s_m[i], cs, c.point[i] - s.position[pair.a]);
+          sum.add(cn, cs, c.point[i] - s.position[pair.a]);
         }
         w.pair_matrix[k] = sum.matrix(c.normal[pair.sub_begin]);
         w.blocks[k] = {pair.a, pair.b};

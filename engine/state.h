@@ -22,6 +22,7 @@ enum SubContactFlag : std::uint8_t {
   broken = 2,    // had a bond and lost it (tension or shear failure)
   sliding = 4,   // shear force at the friction limit this step
   open = 8,      // gap >= 0 and no bond: carries no force
+  pulling = 16,  // a softening bond held at its tensile strength this step: no normal dashpot
   original = 32, // part of a joint in contact at the start (may carry a bond)
 };
 

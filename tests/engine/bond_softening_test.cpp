@@ -21,8 +21,8 @@ namespace {
 constexpr double kStone = 0.64, kBond = 2e5;
 constexpr double kTensionFracture = 12.0, kShearFracture = 50.0;  // J/m^2
 
-Material mortar_stone(bool softening) {
-  Material m = test::stone(0.0, 33.23, kBond);  // no dashpots: the joint's force is its springs'
+Material mortar_stone(bool softening, double h = 0.0) {
+  Material m = test::stone(h, 33.23, kBond);  // h = 0, no dashpots: the joint's force is its springs'
   m.tension_fracture_j_m2 = softening ? kTensionFracture : 0.0;
   m.shear_fracture_j_m2 = softening ? kShearFracture : 0.0;
   return m;
@@ -37,18 +37,20 @@ struct PullRecord {
 // A fixed base and a cube bonded on it from the first step, the cube launched along
 // `direction` (up: the joint opens, mode I; sideways: it slides, mode II) at 1 cm/s with no gravity and so heavy (density x 1e6) that the joint's
 // pull barely slows it (under 0.1 %): the joint is opened or sheared at a steady rate.
-// The joint's force along the pull is minus the force the base exerts on the cube.
-PullRecord pull(bool softening, const Vec3& direction, JointRule rule, int subdivision = 1) {
+// The joint's force along the pull is minus the force the base exerts on the cube (with
+// dashpots h > 0, theirs included, integrated by `damping`).
+PullRecord pull(bool softening, const Vec3& direction, JointRule rule, int subdivision = 1, double h = 0.0,
+                Damping damping = Damping::study) {
   ModelBuilder b;
-  Material heavy = mortar_stone(softening);
-  heavy.density_kg_m3 *= 1e6;  // no dashpots: the density enters nothing else of the joint
+  Material heavy = mortar_stone(softening, h);
+  heavy.density_kg_m3 *= 1e6;  // with no dashpots the density enters nothing else of the joint
   const int mat = b.add_material(heavy);
   const Polyhedron base = make_box(Vec3(0, 0, -0.5 * kStone), Vec3(4.0, 4.0, kStone));
   b.add_block(base.vertices, base.faces, mat, Motion::fixed, "base");
   const Polyhedron cube = make_box(Vec3(0, 0, 0.5 * kStone), Vec3(kStone, kStone, kStone));
   b.add_block(cube.vertices, cube.faces, mat, Motion::free, "cube");
   b.set_gravity(Vec3::Zero());
-  World w(b.build({.subdivision = subdivision, .joint_rule = rule}), 2e-6);
+  World w(b.build({.subdivision = subdivision, .joint_rule = rule, .damping = damping}), 2e-6);
   State& s = w.state();
   const double area = kStone * kStone;
   // Springs in series over the two half-cubes: E / a per unit area (normal), G / a (shear).
@@ -61,7 +63,7 @@ PullRecord pull(bool softening, const Vec3& direction, JointRule rule, int subdi
   PullRecord r;
   for (int i = 0; i < 200'000; ++i) {
     w.step();
-    const double force = -s.pair_force_n[0].dot(direction);
+    const double force = -s.force[1].dot(direction);
     r.peak_n = std::max(r.peak_n, force);
     const double plastic = (s.position[1] - start).dot(direction) - force / (stiffness_per_area * area);
     if (r.force_at_delta_n < 0 && plastic >= fracture / kBond) r.force_at_delta_n = force;
@@ -105,6 +107,19 @@ TEST(BondSoftening, DissipationIsTheMortarsNotTheJointResolutions) {
   const double elastic = kBond * kBond * area / (2 * test::stone().young_pa / kStone);
   EXPECT_NEAR(brittle, elastic, 0.05 * elastic);
   EXPECT_LT(brittle, 0.1 * kTensionFracture * area);
+}
+
+// MODEL.md section 3: once f_1 reaches 0 the damping force is 0, so a softening joint
+// pulled open carries its strength f_t S exp(-f_t delta / G_f), not that plus its dashpots'
+// C v, with either damping scheme. Here C v (four corners at h = 1e-3, 1 cm/s) is 40 kN,
+// 1.4 times the closed form's f_t S / e at delta = G_f / f_t.
+TEST(BondSoftening, DashpotsAddNothingToAJointHeldAtItsStrength) {
+  const double area = kStone * kStone;
+  for (Damping damping : {Damping::study, Damping::implicit}) {
+    const PullRecord r = pull(true, Vec3::UnitZ(), JointRule::corners, 1, 1e-3, damping);
+    EXPECT_NEAR(r.force_at_delta_n, kBond * area / M_E, 0.02 * kBond * area / M_E) << damping_name(damping);
+    EXPECT_NEAR(r.bond_j, kTensionFracture * area, 0.02 * kTensionFracture * area) << damping_name(damping);
+  }
 }
 
 }  // namespace
