@@ -211,7 +211,7 @@ double apply_contact_law(const Model& m, State& s, double dt) {
             flags |= SubContactFlag::sliding;
           }
           if (softening & kTensionCapped) flags |= SubContactFlag::pulling;
-          const double fn = en + ((softening & kTensionCapped) ? 0.0 : damping_scale * k.cn * vn);
+          const double fn = en + ((flags & SubContactFlag::pulling) ? 0.0 : damping_scale * k.cn * vn);
           damping_force = -(fn - en) * n + shear_damping;
           force = -fn * n + es + shear_damping;
           e.elastic += 0.5 * (en * un + es.dot(us));
