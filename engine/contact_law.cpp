@@ -2,6 +2,7 @@
 // dashpots, tension cut-off, Coulomb friction with cohesion, permanent loss of bond.
 #include <array>
 #include <cmath>
+#include <cstdint>
 
 #include "engine/parallel.h"
 #include "engine/pipeline.h"
@@ -42,25 +43,25 @@ inline double capped_work(double before, double trial, double limit, double k) {
 // fracture energy is released as a brittle bond's is).
 constexpr double kBondGone = 0.99;
 
-enum SofteningCap : int { kTensionCapped = 1, kShearCapped = 2 };
-
 // A softening bond (PairLaw::bond_softens) at a sub-contact of area S: strengths
 // f_t (1 - d) and c (1 - d). A trial force beyond them is held at them, and the work of
 // the plastic opening or sliding raises d by work / (G_f S), mode by mode, so that the
 // strength falls exponentially with the plastic displacement and the bond dissipates
 // G_f S in all (Lourenco 1996's interface). Springs before: en_before (N), es_before
-// (N, magnitude); after: un, en, us, es, capped in place. Returns the SofteningCap bits.
-int soften_bond(const PairLaw& law, const SpringConstants& k, double area, double en_before, double es_before,
-                double& un, double& en, Vec3& us, Vec3& es, double& damage, double& dissipated_j) {
+// (N, magnitude); after: un, en, us, es, capped in place. Returns the SubContactFlag bits
+// of the modes held at their strength: pulling (tension), sliding (shear).
+std::uint8_t soften_bond(const PairLaw& law, const SpringConstants& k, double area, double en_before,
+                         double es_before, double& un, double& en, Vec3& us, Vec3& es, double& damage,
+                         double& dissipated_j) {
   const double keep = 1.0 - damage;
-  int capped = 0;
+  std::uint8_t capped = 0;
   double tension_work = 0.0, shear_work = 0.0;
   const double tension_limit = law.tensile_pa * keep * area;
   if (en > tension_limit) {
     tension_work = capped_work(en_before, en, tension_limit, k.kn);
     en = tension_limit;
     un = en / k.kn;
-    capped |= kTensionCapped;
+    capped |= SubContactFlag::pulling;
   }
   const double shear_limit = std::max(0.0, law.cohesion_pa * keep * area - en * law.tan_friction);
   const double es_norm = es.norm();
@@ -69,7 +70,7 @@ int soften_bond(const PairLaw& law, const SpringConstants& k, double area, doubl
     const double scale = shear_limit / es_norm;
     es *= scale;
     us *= scale;
-    capped |= kShearCapped;
+    capped |= SubContactFlag::sliding;
   }
   dissipated_j += tension_work + shear_work;
   damage = std::min(1.0, damage + tension_work / (law.tension_fracture_j_m2 * area) +
@@ -156,12 +157,12 @@ double apply_contact_law(const Model& m, State& s, double dt) {
         us -= dt * vs;
         Vec3 es = k.ks * us;
 
-        int softening = 0;
+        std::uint8_t held = 0;  // a softening bond's modes held at their strength
         if (flags & SubContactFlag::bonded) {
           bool failed;
           if (law.bond_softens()) {
-            softening = soften_bond(law, k, area, k.kn * c.normal_stretch_m[i], k.ks * std::sqrt(us_old2), un, en, us,
-                                    es, c.bond_damage[i], e.bond);
+            held = soften_bond(law, k, area, k.kn * c.normal_stretch_m[i], k.ks * std::sqrt(us_old2), un, en, us, es,
+                               c.bond_damage[i], e.bond);
             failed = c.bond_damage[i] >= kBondGone;
           } else {  // brittle (MODEL.md section 3): gone when f_1 or f_2 reaches 0
             const double sigma = en / area, tau = es.norm() / area;
@@ -206,12 +207,9 @@ double apply_contact_law(const Model& m, State& s, double dt) {
           // gives a stone dropped with h = 1 a rebound of 0.18 of its impact speed.
           // A softening bond held at its strength has no dashpot in that direction
           // (MODEL.md: none once f_1 or f_2 reaches 0), so the strength bounds the force.
-          if (softening & kShearCapped) {
-            shear_damping = Vec3::Zero();
-            flags |= SubContactFlag::sliding;
-          }
-          if (softening & kTensionCapped) flags |= SubContactFlag::pulling;
-          const double fn = en + ((flags & SubContactFlag::pulling) ? 0.0 : damping_scale * k.cn * vn);
+          if (held & SubContactFlag::sliding) shear_damping = Vec3::Zero();
+          flags |= held;
+          const double fn = en + ((held & SubContactFlag::pulling) ? 0.0 : damping_scale * k.cn * vn);
           damping_force = -(fn - en) * n + shear_damping;
           force = -fn * n + es + shear_damping;
           e.elastic += 0.5 * (en * un + es.dot(us));

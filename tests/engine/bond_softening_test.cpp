@@ -35,8 +35,9 @@ struct PullRecord {
 };
 
 // A fixed base and a cube bonded on it from the first step, the cube launched along
-// `direction` (up: the joint opens, mode I; sideways: it slides, mode II) at 1 cm/s with no gravity and so heavy (density x 1e6) that the joint's
-// pull barely slows it (under 0.1 %): the joint is opened or sheared at a steady rate.
+// `direction` (up: the joint opens, mode I; sideways: it slides, mode II) at 1 cm/s with
+// no gravity and so heavy (density x 1e6) that the joint's pull barely slows it (under
+// 0.1 %): the joint is opened or sheared at a steady rate.
 // The joint's force along the pull is minus the force the base exerts on the cube (with
 // dashpots h > 0, theirs included, integrated by `damping`).
 PullRecord pull(bool softening, const Vec3& direction, JointRule rule, int subdivision = 1, double h = 0.0,
