@@ -89,4 +89,18 @@ double failure_probability(const FragilityFit& fit, double intensity) {
   return normal_cdf(std::log(intensity / fit.median) / fit.beta);
 }
 
+FragilityComparison compare_fragilities(const std::vector<double>& intensity_a, const std::vector<int>& failed_a,
+                                        const std::vector<double>& intensity_b, const std::vector<int>& failed_b) {
+  std::vector<double> intensity = intensity_a;
+  std::vector<int> failed = failed_a;
+  intensity.insert(intensity.end(), intensity_b.begin(), intensity_b.end());
+  failed.insert(failed.end(), failed_b.begin(), failed_b.end());
+  FragilityComparison c;
+  c.statistic = std::max(0.0, 2.0 * (fit_lognormal_fragility(intensity_a, failed_a).log_likelihood +
+                                     fit_lognormal_fragility(intensity_b, failed_b).log_likelihood -
+                                     fit_lognormal_fragility(intensity, failed).log_likelihood));
+  c.p_value = std::exp(-0.5 * c.statistic);
+  return c;
+}
+
 }  // namespace ishibashi

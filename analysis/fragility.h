@@ -22,4 +22,17 @@ FragilityFit fit_lognormal_fragility(const std::vector<double>& intensity, const
 
 double failure_probability(const FragilityFit& fit, double intensity);
 
+// Whether two sets of outcomes (a bridge dry and with mortar, on the same records and
+// levels) follow one fragility curve: the likelihood-ratio statistic 2 (l_a + l_b - l_ab)
+// of a curve fitted to each against one fitted to both, and its p-value, the chance of a
+// statistic this large if they share one curve (chi-square, 2 degrees of freedom:
+// exp(-statistic / 2); Wilks' theorem, an approximation that needs tens of outcomes per
+// set). A degenerate fit's likelihood is its supremum, 1.
+struct FragilityComparison {
+  double statistic = 0;
+  double p_value = 1;
+};
+FragilityComparison compare_fragilities(const std::vector<double>& intensity_a, const std::vector<int>& failed_a,
+                                        const std::vector<double>& intensity_b, const std::vector<int>& failed_b);
+
 }  // namespace ishibashi

@@ -19,6 +19,7 @@
 #include "analysis/seismic_run.h"
 #include "engine/cores.h"
 #include "io/atomic_file.h"
+#include "io/input_error.h"
 #include "io/scenario_file.h"
 
 namespace ishibashi {
@@ -28,7 +29,7 @@ namespace fs = std::filesystem;
 constexpr double kG = 9.80665;
 // Which run, whether it failed, the run's result (run_result.h) and where it ran: wall_s and
 // host, which differ from machine to machine, last.
-const std::string kHeader = "record,level,scale_factor,pga_g,failed," + result_csv_header() + ",host\n";
+const std::string kHeader = "scenario,record,level,scale_factor,pga_g,failed," + result_csv_header() + ",host\n";
 
 // Index of a column of kHeader.
 std::size_t column(const std::string& name) {
@@ -41,9 +42,11 @@ std::size_t column(const std::string& name) {
 constexpr int kRowTag = 1, kCaseTag = 2;  // worker -> rank 0: a finished row; rank 0 -> worker: the next case
 
 struct Case {
-  int record, level;
-  std::string key;  // "record,level": the first two fields of its row
+  int scenario, record, level;
+  std::string key;  // "scenario,record,level": the first three fields of its row
 };
+
+std::string scenario_name(const SweepFile& sweep, int scenario) { return sweep.scenarios[scenario].stem().string(); }
 
 std::string level_label(double level) {
   char text[32];
@@ -61,7 +64,7 @@ std::string host_name() {
 std::string run_case(const SweepFile& sweep, const Case& c, int threads, const fs::path& out) {
   const SweepRecord& record = sweep.records[c.record];
   const double level = sweep.levels[c.level];
-  Scenario sc = read_scenario(sweep.scenario);
+  Scenario sc = read_scenario(sweep.scenarios[c.scenario]);
   if (sweep.duration_s >= 0) sc.duration_s = sweep.duration_s;
   GroundMotionSpec motion = record.motion;
   motion.duration_s = sc.duration_s;
@@ -76,7 +79,7 @@ std::string run_case(const SweepFile& sweep, const Case& c, int threads, const f
   sc.threads = threads;
 
   SeismicRunOptions options;
-  options.out = out / "runs" / (record.name + "_" + level_label(level));
+  options.out = out / "runs" / scenario_name(sweep, c.scenario) / (record.name + "_" + level_label(level));
   fs::remove_all(options.out);  // a run that died half-way starts again
   SeismicRun run(sc, options);
   const SeismicRunResult r = run.run();
@@ -113,40 +116,85 @@ std::vector<std::string> fields(const std::string& row) {
   return out;
 }
 
-// The IDA curves and the fragility fit over every row.
-FragilityFit write_curves(const fs::path& out, const std::vector<std::string>& rows) {
-  std::map<std::string, std::vector<std::pair<double, double>>> ida;  // record -> (PGA, crown drop)
+// One scenario's outcomes: (PGA, failed) of each run, in the order of the rows.
+struct Outcomes {
   std::vector<double> pga;
   std::vector<int> failed;
+  std::map<std::string, int> by_case;  // "record,level" -> failed
+};
+
+// The IDA curves, a fragility fit per scenario, and each scenario against the first.
+std::vector<ScenarioFragility> write_curves(const SweepFile& sweep, const fs::path& out, const std::vector<std::string>& rows) {
+  std::map<std::string, std::vector<std::pair<double, double>>> ida;  // "scenario,record" -> (PGA, crown drop)
+  std::map<std::string, Outcomes> outcomes;
   for (const std::string& row : rows) {
     const std::vector<std::string> f = fields(row);
     if (f.size() <= column("host")) continue;
+    const std::string& scenario = f[column("scenario")];
     const double pga_g = std::stod(f[column("pga_g")]);
-    ida[f[column("record")]].push_back({pga_g, std::stod(f[column("largest_crown_drop_m")])});
-    pga.push_back(pga_g);
-    failed.push_back(std::stoi(f[column("failed")]));
+    const int failed = std::stoi(f[column("failed")]);
+    ida[scenario + "," + f[column("record")]].push_back({pga_g, std::stod(f[column("largest_crown_drop_m")])});
+    Outcomes& o = outcomes[scenario];
+    o.pga.push_back(pga_g);
+    o.failed.push_back(failed);
+    o.by_case[f[column("record")] + "," + f[column("level")]] = failed;
   }
   std::ostringstream curves;
   curves.precision(9);
-  curves << "record,pga_g,crown_drop_m\n";
-  for (auto& [record, points] : ida) {
+  curves << "scenario,record,pga_g,crown_drop_m\n";
+  for (auto& [key, points] : ida) {
     std::sort(points.begin(), points.end());
-    for (const auto& [x, drop] : points) curves << record << "," << x << "," << drop << "\n";
+    for (const auto& [x, drop] : points) curves << key << "," << x << "," << drop << "\n";
   }
   write_text_atomically(out / "ida.csv", curves.str());
-  const FragilityFit fit = fit_lognormal_fragility(pga, failed);
-  std::ostringstream fragility;
-  fragility.precision(9);
-  fragility << "median_g,beta,degenerate,outcomes,failures,log_likelihood\n"
-            << fit.median << "," << fit.beta << "," << (fit.degenerate ? 1 : 0) << "," << fit.outcomes << "," << fit.failures
-            << "," << fit.log_likelihood << "\n";
-  write_text_atomically(out / "fragility_fit.csv", fragility.str());
-  std::ostringstream curve;
-  curve << "pga_g,failure_probability\n";
-  const double top = pga.empty() ? 1.0 : 1.5 * *std::max_element(pga.begin(), pga.end());
-  for (int k = 1; k <= 150; ++k) curve << top * k / 150 << "," << failure_probability(fit, top * k / 150) << "\n";
+
+  double highest_pga = 0;  // the curves reach 1.5 times the highest PGA run
+  for (const auto& [name, o] : outcomes)
+    for (double x : o.pga) highest_pga = std::max(highest_pga, x);
+  const double top = highest_pga > 0 ? 1.5 * highest_pga : 1.0;
+  std::ostringstream fits, curve, comparison;
+  fits.precision(9);
+  comparison.precision(9);
+  fits << "scenario,median_g,beta,degenerate,outcomes,failures,log_likelihood\n";
+  curve << "scenario,pga_g,failure_probability\n";
+  comparison << "scenario,reference,cases,both_stand,both_fail,only_reference_fails,only_scenario_fails,"
+                "likelihood_ratio,p_same_fragility\n";
+  std::vector<ScenarioFragility> result;
+  const Outcomes none;
+  for (int k = 0; k < static_cast<int>(sweep.scenarios.size()); ++k) {
+    ScenarioFragility r;
+    r.scenario = scenario_name(sweep, k);
+    const auto found = outcomes.find(r.scenario);
+    const Outcomes& o = found == outcomes.end() ? none : found->second;
+    r.fit = fit_lognormal_fragility(o.pga, o.failed);
+    const FragilityFit& fit = r.fit;
+    fits << r.scenario << "," << fit.median << "," << fit.beta << "," << (fit.degenerate ? 1 : 0) << "," << fit.outcomes
+         << "," << fit.failures << "," << fit.log_likelihood << "\n";
+    for (int i = 1; i <= 150; ++i) curve << r.scenario << "," << top * i / 150 << "," << failure_probability(fit, top * i / 150) << "\n";
+    if (k > 0) {  // against the reference, case by case (same record and level) and as curves
+      r.reference = result.front().scenario;
+      const auto ref_found = outcomes.find(r.reference);
+      const Outcomes& ref = ref_found == outcomes.end() ? none : ref_found->second;
+      for (const auto& [key, failed] : o.by_case) {
+        const auto other = ref.by_case.find(key);
+        if (other == ref.by_case.end()) continue;
+        ++r.cases;
+        r.both_fail += failed && other->second;
+        r.both_stand += !failed && !other->second;
+        r.only_reference_fails += !failed && other->second;
+        r.only_scenario_fails += failed && !other->second;
+      }
+      r.against_reference = compare_fragilities(ref.pga, ref.failed, o.pga, o.failed);
+      comparison << r.scenario << "," << r.reference << "," << r.cases << "," << r.both_stand << "," << r.both_fail << ","
+                 << r.only_reference_fails << "," << r.only_scenario_fails << "," << r.against_reference.statistic << ","
+                 << r.against_reference.p_value << "\n";
+    }
+    result.push_back(r);
+  }
+  write_text_atomically(out / "fragility_fit.csv", fits.str());
   write_text_atomically(out / "fragility.csv", curve.str());
-  return fit;
+  if (sweep.scenarios.size() > 1) write_text_atomically(out / "comparison.csv", comparison.str());
+  return result;
 }
 
 }  // namespace
@@ -191,13 +239,19 @@ SweepOutcome serve_rank_zero(const SweepFile& sweep, const std::vector<Case>& ca
 }
 
 // The cases not yet in sweep.csv (a sweep resumes where it stopped); rewrites the table
-// without a row a crash cut short.
+// without a row a crash cut short. A table of other columns (another version's) is refused
+// rather than mixed with this one's rows.
 std::vector<int> cases_to_run(const fs::path& table, const std::vector<Case>& cases) {
+  std::string header;
+  std::getline(std::ifstream(table), header);
+  if (!header.empty() && header + "\n" != kHeader)
+    throw InputError(table.string() + ": its columns are not this version's (\"" + header.substr(0, 40) +
+                     "...\"); move it away, or give the sweep another --out");
   std::vector<std::string> rows = finished_rows(table);
   std::set<std::string> done;
   for (const std::string& row : rows) {
     const std::vector<std::string> f = fields(row);
-    if (f.size() >= 2) done.insert(f[0] + "," + f[1]);
+    if (f.size() >= 3) done.insert(f[0] + "," + f[1] + "," + f[2]);
   }
   std::string kept = kHeader;
   for (const std::string& row : rows) kept += row;
@@ -217,10 +271,13 @@ SweepOutcome run_sweep(const SweepFile& sweep, const SweepOptions& o, const MpiS
   auto event = [&](const std::string& text) {
     if (o.on_event) o.on_event(text);
   };
+  // The variants of one (record, level) next to each other: a sweep stopped part way has
+  // compared what it has run.
   std::vector<Case> cases;
   for (int r = 0; r < static_cast<int>(sweep.records.size()); ++r)
     for (int l = 0; l < static_cast<int>(sweep.levels.size()); ++l)
-      cases.push_back({r, l, sweep.records[r].name + "," + level_label(sweep.levels[l])});
+      for (int k = 0; k < static_cast<int>(sweep.scenarios.size()); ++k)
+        cases.push_back({k, r, l, scenario_name(sweep, k) + "," + sweep.records[r].name + "," + level_label(sweep.levels[l])});
   const int runs_here = mpi.size() > 1 ? 1 : std::max(1, o.jobs);
   const int node_share = mpi.size() > 1 ? mpi.ranks_on_this_node() : runs_here;
   const int threads = decide_thread_count(o.threads_per_job, node_share);
@@ -233,7 +290,8 @@ SweepOutcome run_sweep(const SweepFile& sweep, const SweepOptions& o, const MpiS
   const fs::path table = o.out / "sweep.csv";
   const std::vector<int> pending = cases_to_run(table, cases);
   outcome.kept = static_cast<int>(cases.size() - pending.size());
-  event("sweep: " + std::to_string(cases.size()) + " runs (" + std::to_string(sweep.records.size()) + " records x " +
+  event("sweep: " + std::to_string(cases.size()) + " runs (" + std::to_string(sweep.scenarios.size()) + " scenarios x " +
+        std::to_string(sweep.records.size()) + " records x " +
         std::to_string(sweep.levels.size()) + " levels), " + std::to_string(outcome.kept) + " done before; " +
         std::to_string(mpi.size() > 1 ? mpi.size() : runs_here) + (mpi.size() > 1 ? " MPI ranks" : " at a time") + ", " +
         std::to_string(threads) + " threads each");
@@ -255,7 +313,8 @@ SweepOutcome run_sweep(const SweepFile& sweep, const SweepOptions& o, const MpiS
     }
     append << message << std::flush;  // one complete row at a time
     ++outcome.ran;
-    event(message.substr(0, message.find(',', message.find(',') + 1)) + ": done (rank " + std::to_string(rank) + ")");
+    event(message.substr(0, message.find(',', message.find(',', message.find(',') + 1) + 1)) + ": done (rank " +
+          std::to_string(rank) + ")");
   };
   auto local_worker = [&] {
     for (int i = take(); i >= 0; i = take()) {
@@ -292,7 +351,7 @@ SweepOutcome run_sweep(const SweepFile& sweep, const SweepOptions& o, const MpiS
   for (std::thread& t : pool) t.join();
   append.close();
 
-  outcome.fragility = write_curves(o.out, finished_rows(table));
+  outcome.fragility = write_curves(sweep, o.out, finished_rows(table));
   if (!stop_requested()) {
     const std::string python = fs::exists("/usr/bin/python3") ? "/usr/bin/python3" : "python3";
     const std::string command = python + " " + ISHIBASHI_SOURCE_DIR "/analysis/sweep_plots.py \"" + o.out.string() + "\"";

@@ -5,16 +5,21 @@
 // dies resumes where it stopped: runs with a row are never redone.
 //
 // Outputs in the sweep's folder:
-//   runs/<record>_<level>/   each run's series, history and summary
-//   sweep.csv                record,level,scale_factor,pga_g,first_opening_s,crown_drop_m,
-//                            fallen_stones,collapse,failed,energy_balance_pct,wall_s,host
-//   ida.csv                  the IDA curves: per record, PGA against crown drop
-//   fragility.csv            the fitted lognormal curve (median, beta) and its points
+//   runs/<scenario>/<record>_<level>/  each run's series, history and summary
+//   sweep.csv                scenario,record,level,scale_factor,pga_g,failed, then the run's
+//                            result (run_result.h), and the host
+//   ida.csv                  the IDA curves: per scenario and record, PGA against crown drop
+//   fragility_fit.csv        per scenario, the fitted lognormal curve (median, beta)
+//   fragility.csv            per scenario, the curve's points
+//   comparison.csv           with several scenarios, each against the first: the cases
+//                            (record, level) where one fails and the other stands, and the
+//                            likelihood ratio of two fragility curves against one
 //   ida.png, fragility.png   (analysis/sweep_plots.py, matplotlib)
 #pragma once
 #include <filesystem>
 #include <functional>
 #include <string>
+#include <vector>
 
 #include "analysis/fragility.h"
 #include "io/sweep_file.h"
@@ -45,9 +50,19 @@ struct SweepOptions {
   std::function<void(const std::string&)> on_event;
 };
 
+// A scenario's fragility over its rows of sweep.csv, and against the first scenario's.
+struct ScenarioFragility {
+  std::string scenario;
+  FragilityFit fit;
+  std::string reference;  // the first scenario (empty for the first itself)
+  int cases = 0;          // (record, level) run with both
+  int both_stand = 0, both_fail = 0, only_reference_fails = 0, only_scenario_fails = 0;
+  FragilityComparison against_reference;
+};
+
 struct SweepOutcome {
   int ran = 0, kept = 0, failed = 0;  // runs done now, rows kept from before, runs that threw
-  FragilityFit fragility;             // over every row of sweep.csv (rank 0 only)
+  std::vector<ScenarioFragility> fragility;  // per scenario, in the file's order (rank 0 only)
   bool plots_written = false;
 };
 

@@ -1,7 +1,8 @@
 #!/usr/bin/python3
-"""Figures of a sweep made by `ishibashi sweep`: ida.png (per record, the crown drop
-against the PGA the record was scaled to; failures marked) and fragility.png (the
-fraction of runs that failed at each level and the fitted lognormal curve).
+"""Figures of a sweep made by `ishibashi sweep`: ida.png (per scenario and record, the
+crown drop against the PGA the record was scaled to; failures marked) and fragility.png
+(per scenario, the fraction of runs that failed at each level and the fitted lognormal
+curve; several scenarios, e.g. dry and with mortar, on one figure).
 
     /usr/bin/python3 analysis/sweep_plots.py OUT     (OUT: the sweep's output folder)
 """
@@ -13,6 +14,8 @@ import matplotlib
 
 matplotlib.use("Agg")  # headless
 import matplotlib.pyplot as plt  # noqa: E402
+
+STYLES = ["-", "--", ":", "-."]
 
 
 def rows(path):
@@ -27,14 +30,20 @@ def main():
     runs = rows(out / "sweep.csv")
     if not runs:
         sys.exit(f"sweep_plots.py: {out}/sweep.csv has no rows")
+    fits = rows(out / "fragility_fit.csv")
+    scenarios = [f["scenario"] for f in fits]  # the sweep file's order
 
     fig, ax = plt.subplots(figsize=(7, 4.5))
-    for record in sorted({r["record"] for r in runs}):
-        points = sorted((float(r["pga_g"]), 1000 * float(r["largest_crown_drop_m"]), r["failed"] == "1")
-                        for r in runs if r["record"] == record)
-        line, = ax.plot([p[0] for p in points], [p[1] for p in points], marker="o", label=record)
-        failed = [p for p in points if p[2]]
-        ax.plot([p[0] for p in failed], [p[1] for p in failed], "x", color="red", ms=10, mew=2)
+    for k, scenario in enumerate(scenarios):
+        for j, record in enumerate(sorted({r["record"] for r in runs})):
+            points = sorted((float(r["pga_g"]), 1000 * float(r["largest_crown_drop_m"]), r["failed"] == "1")
+                            for r in runs if r["record"] == record and r["scenario"] == scenario)
+            if not points:
+                continue
+            ax.plot([p[0] for p in points], [p[1] for p in points], STYLES[k % len(STYLES)], marker="o", color=f"C{j}",
+                    label=f"{scenario}, {record}" if len(scenarios) > 1 else record)
+            failed = [p for p in points if p[2]]
+            ax.plot([p[0] for p in failed], [p[1] for p in failed], "x", color="red", ms=10, mew=2)
     ax.set_xlabel("PGA, larger horizontal component [g]")
     ax.set_ylabel("largest crown drop [mm]")
     ax.set_title("Incremental dynamic analysis (red x: failure)")
@@ -43,22 +52,27 @@ def main():
     fig.savefig(out / "ida.png", dpi=110, bbox_inches="tight")
     plt.close(fig)
 
-    fit = rows(out / "fragility_fit.csv")[0]
     curve = rows(out / "fragility.csv")
-    by_level = {}
-    for r in runs:
-        by_level.setdefault(r["level"], []).append((float(r["pga_g"]), r["failed"] == "1"))
     fig, ax = plt.subplots(figsize=(7, 4.5))
-    ax.plot([float(c["pga_g"]) for c in curve], [float(c["failure_probability"]) for c in curve], color="k",
-            label=f"lognormal fit: median {float(fit['median_g']):.3f} g, beta {float(fit['beta']):.3f}"
-            + (" (degenerate)" if fit["degenerate"] == "1" else ""))
-    for level, outcomes in by_level.items():
-        x = sum(o[0] for o in outcomes) / len(outcomes)
-        ax.plot(x, sum(o[1] for o in outcomes) / len(outcomes), "o", color="C3")
+    for k, fit in enumerate(fits):
+        scenario = fit["scenario"]
+        points = [c for c in curve if c["scenario"] == scenario]
+        ax.plot([float(c["pga_g"]) for c in points], [float(c["failure_probability"]) for c in points], color=f"C{k}",
+                linestyle=STYLES[k % len(STYLES)],
+                label=f"{scenario}: median {float(fit['median_g']):.3f} g, beta {float(fit['beta']):.3f}"
+                + (" (degenerate)" if fit["degenerate"] == "1" else "")
+                + f", {fit['failures']} of {fit['outcomes']} failed")
+        by_level = {}
+        for r in runs:
+            if r["scenario"] == scenario:
+                by_level.setdefault(r["level"], []).append((float(r["pga_g"]), r["failed"] == "1"))
+        for outcomes in by_level.values():
+            x = sum(o[0] for o in outcomes) / len(outcomes)
+            ax.plot(x, sum(o[1] for o in outcomes) / len(outcomes), "o", color=f"C{k}")
     ax.set_xlabel("PGA [g]")
     ax.set_ylabel("probability of failure")
     ax.set_ylim(-0.03, 1.03)
-    ax.set_title(f"Fragility ({fit['failures']} failures in {fit['outcomes']} runs; dots: fraction failed per level)")
+    ax.set_title("Fragility (lognormal fits; dots: fraction failed per level)")
     ax.grid(alpha=0.3)
     ax.legend(fontsize=8)
     fig.savefig(out / "fragility.png", dpi=110, bbox_inches="tight")

@@ -21,13 +21,21 @@ int run_sweep_command(const SweepCommandOptions& o) {
   stop_runs_on_interrupt();
   const SweepOutcome r = run_sweep(sweep, options, mpi);
   if (mpi.rank() != 0) return r.failed == 0 ? 0 : 1;
-  const FragilityFit& f = r.fragility;
   std::printf("sweep: %d runs done now, %d done before, %d failed%s\n", r.ran, r.kept, r.failed,
               stop_requested() ? " (interrupted: run the same command again to go on)" : "");
-  std::printf("fragility (lognormal, maximum likelihood, %d runs, %d failures): median PGA %.3f g, beta %.3f%s\n",
-              f.outcomes, f.failures, f.median, f.beta,
-              f.degenerate ? " (degenerate: all runs failed, none did, or failures and survivals do not overlap)" : "");
-  std::printf("outputs in %s: sweep.csv, ida.csv, fragility.csv, fragility_fit.csv%s\n", options.out.c_str(),
+  for (const ScenarioFragility& s : r.fragility) {
+    const FragilityFit& f = s.fit;
+    std::printf("fragility of %s (lognormal, maximum likelihood, %d runs, %d failures): median PGA %.3f g, beta %.3f%s\n",
+                s.scenario.c_str(), f.outcomes, f.failures, f.median, f.beta,
+                f.degenerate ? " (degenerate: all runs failed, none did, or failures and survivals do not overlap)" : "");
+    if (s.reference.empty()) continue;
+    std::printf("  against %s on the same %d (record, level): both stand %d, both fail %d, only %s fails %d, only %s fails %d; "
+                "one curve for both: p = %.3g (likelihood ratio %.2f)\n",
+                s.reference.c_str(), s.cases, s.both_stand, s.both_fail, s.reference.c_str(), s.only_reference_fails,
+                s.scenario.c_str(), s.only_scenario_fails, s.against_reference.p_value, s.against_reference.statistic);
+  }
+  std::printf("outputs in %s: sweep.csv, ida.csv, fragility.csv, fragility_fit.csv%s%s\n", options.out.c_str(),
+              sweep.scenarios.size() > 1 ? ", comparison.csv" : "",
               r.plots_written ? ", ida.png, fragility.png" : "");
   return r.failed == 0 && !stop_requested() ? 0 : 1;
 }

@@ -16,14 +16,26 @@ SweepFile read_sweep(const std::filesystem::path& file) {
   TableReader sweep(file, root, "sweep");
   std::string scenario;
   sweep.text("scenario", scenario);
+  sweep.paths("scenarios", base, s.scenarios);
   sweep.number("duration_s", s.duration_s);
   std::vector<double> pga, scale;
   sweep.non_negative_numbers("pga_g", pga);
   sweep.non_negative_numbers("scale", scale);
   sweep.finish();
-  if (scenario.empty()) throw InputError(file.string() + ": [sweep] scenario = \"...\" is required (the model and how to run it)");
-  s.scenario = base / scenario;
-  if (!std::filesystem::exists(s.scenario)) throw InputError(file.string() + ": scenario " + s.scenario.string() + " does not exist");
+  if (scenario.empty() == s.scenarios.empty())
+    throw InputError(file.string() + ": [sweep] needs either scenario = \"...\" (the model and how to run it) or scenarios = "
+                     "[\"...\", ...] (variants to compare on the same records)");
+  if (!scenario.empty()) s.scenarios.push_back(base / scenario);
+  std::set<std::string> stems;
+  for (const std::filesystem::path& sc : s.scenarios) {
+    if (!std::filesystem::exists(sc)) throw InputError(file.string() + ": scenario " + sc.string() + " does not exist");
+    if (sc.stem().string().find_first_of(",\"\n") != std::string::npos)
+      throw InputError(file.string() + ": scenario file name " + sc.filename().string() +
+                       " has a comma or quote (its name is a column of sweep.csv)");
+    if (!stems.insert(sc.stem().string()).second)
+      throw InputError(file.string() + ": two scenarios are named '" + sc.stem().string() +
+                       "' (a variant is named by its file name, which names its runs' folders)");
+  }
   if (pga.empty() == scale.empty())
     throw InputError(file.string() + ": [sweep] needs either pga_g = [...] (target PGAs, g) or scale = [...] (factors)");
   s.scale_to_pga = !pga.empty();

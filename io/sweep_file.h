@@ -1,11 +1,13 @@
-// Sweep files (TOML): one scenario (the model, its damping, settling), any number of
-// three-component ground-motion records, intensity levels (target PGAs or scale factors)
-// and what counts as failure. `ishibashi sweep` runs every (record, level) pair: an
-// incremental dynamic analysis per record and a fragility curve over all of them.
+// Sweep files (TOML): one scenario (the model, its damping, settling) or several variants
+// of it to compare (dry and with mortar, a retrofit), any number of three-component
+// ground-motion records, intensity levels (target PGAs or scale factors) and what counts
+// as failure. `ishibashi sweep` runs every (scenario, record, level): an incremental
+// dynamic analysis per record and a fragility curve per scenario over all of them.
 // Paths are relative to the sweep file. Errors name the file, line and key.
 //
 //   [sweep]
-//   scenario = "nishida_a_kobe_dry.toml"
+//   scenario = "nishida_a_kobe_dry.toml"       # or, to compare variants on the same records:
+//   # scenarios = ["nishida_a_kobe_dry.toml", "nishida_a_kobe_mortar.toml"]
 //   duration_s = 10            # seconds of shaking (default: the scenario's)
 //   pga_g = [0.2, 0.4, 0.6]    # scale each record to these PGAs (larger horizontal), or
 //   # scale = [0.5, 1.0]       # multiply each record by these factors
@@ -41,7 +43,9 @@ struct FailureCriteria {
 
 struct SweepFile {
   std::filesystem::path file;
-  std::filesystem::path scenario;
+  // Each named by its file's stem (unique): the first is the reference the others are
+  // compared with.
+  std::vector<std::filesystem::path> scenarios;
   double duration_s = -1;        // < 0: the scenario's
   bool scale_to_pga = true;      // levels are target PGAs in g; false: scale factors
   std::vector<double> levels;

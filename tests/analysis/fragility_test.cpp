@@ -41,5 +41,40 @@ TEST(Fragility, SeparatedOrOneSidedOutcomesAreDegenerate) {
   EXPECT_GT(mixed.beta, 0);
 }
 
+// Outcomes at n random levels around the median of the curve (median, beta).
+void draw_outcomes(std::mt19937& random, double median, double beta, int n, std::vector<double>& x, std::vector<int>& failed) {
+  std::uniform_real_distribution<double> level(std::log(0.45) - 1.0, std::log(0.45) + 1.0);
+  std::uniform_real_distribution<double> u(0, 1);
+  x.clear();
+  failed.clear();
+  for (int i = 0; i < n; ++i) {
+    x.push_back(std::exp(level(random)));
+    failed.push_back(u(random) < 0.5 * std::erfc(-std::log(x.back() / median) / beta / std::sqrt(2.0)));
+  }
+}
+
+// The p-value means what it says: drawn from one curve, about 5 % of comparisons fall
+// below 0.05 (binomial spread of 400 trials: 0.05 +- 0.022 at two sigma); curves whose
+// medians differ by half are told apart.
+TEST(Fragility, ComparisonPValueIsCalibratedAndSeparatesDifferentCurves) {
+  std::mt19937 random(11);
+  std::vector<double> xa, xb;
+  std::vector<int> fa, fb;
+  int rejected = 0;
+  const int trials = 400;
+  for (int t = 0; t < trials; ++t) {
+    draw_outcomes(random, 0.45, 0.35, 150, xa, fa);
+    draw_outcomes(random, 0.45, 0.35, 150, xb, fb);
+    rejected += compare_fragilities(xa, fa, xb, fb).p_value < 0.05;
+  }
+  EXPECT_GT(rejected, 0.028 * trials);
+  EXPECT_LT(rejected, 0.072 * trials);
+  draw_outcomes(random, 0.45, 0.35, 150, xa, fa);
+  draw_outcomes(random, 0.70, 0.35, 150, xb, fb);
+  const FragilityComparison apart = compare_fragilities(xa, fa, xb, fb);
+  EXPECT_LT(apart.p_value, 1e-3);
+  EXPECT_NEAR(apart.p_value, std::exp(-0.5 * apart.statistic), 1e-15);
+}
+
 }  // namespace
 }  // namespace ishibashi

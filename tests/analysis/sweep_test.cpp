@@ -1,17 +1,21 @@
 // `ishibashi sweep` end to end on model A with short records: the rows, the IDA and
 // fragility outputs; the same rows under `mpirun -np 2` as on one machine; a sweep killed
-// half-way resumes without redoing its finished runs.
+// half-way resumes without redoing its finished runs; two variants (dry and with mortar)
+// compared on the same records.
 #include <gtest/gtest.h>
 
 #include <algorithm>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <map>
 #include <memory>
 #include <sstream>
 #include <vector>
 
 #include "command_line.h"
+#include "io/input_error.h"
+#include "io/sweep_file.h"
 
 namespace ishibashi {
 namespace {
@@ -30,18 +34,25 @@ std::vector<std::string> rows(const std::filesystem::path& out) {
   return result;
 }
 
-// Model A, 0.1 s of shaking, two records (the Kobe record's horizontal components
-// swapped), scale factors 0.5 and 1: four runs.
-std::filesystem::path sweep_file() {
+// Model A (with mortar of `mortar_pa`), 0.1 s of shaking; the scenario file's name.
+std::filesystem::path scenario_file(const std::string& name, double mortar_pa) {
   const auto kobe = kRoot / "data/ground_motions/kobe_1995_jma";
-  const auto scenario = tmp_dir() / "ishibashi_sweep_scenario.toml";
-  std::ofstream(scenario) << "[model]\nfile = \"" << (kRoot / "models/nishida_a.toml").string() << "\"\n"
-                          << "[run]\nsettle_max_s = 0.1\nduration_s = 0.1\noutput_interval_s = 0.05\n"
+  const auto scenario = tmp_dir() / (name + ".toml");
+  std::ofstream(scenario) << "[model]\nfile = \"" << (kRoot / "models/nishida_a.toml").string() << "\"\nmortar_pa = " << mortar_pa
+                          << "\n[run]\nsettle_max_s = 0.1\nduration_s = 0.1\noutput_interval_s = 0.05\n"
                           << "[ground_motion]\nx = { file = \"" << (kobe / "RSN1106_KOBE_KJM090.AT2").string() << "\" }\n";
+  return scenario;
+}
+
+// Two records (the Kobe record's horizontal components swapped), scale factors 0.5 and 1:
+// four runs of each scenario.
+std::filesystem::path sweep_file(const std::string& scenarios = "scenario = \"" +
+                                                                scenario_file("ishibashi_sweep_dry", 0).string() + "\"") {
+  const auto kobe = kRoot / "data/ground_motions/kobe_1995_jma";
   const auto file = tmp_dir() / "ishibashi_sweep.toml";
   const std::string ew = (kobe / "RSN1106_KOBE_KJM090.AT2").string(), ns = (kobe / "RSN1106_KOBE_KJM000.AT2").string(),
                     up = (kobe / "RSN1106_KOBE_KJM-UP.AT2").string();
-  std::ofstream(file) << "[sweep]\nscenario = \"" << scenario.string() << "\"\nscale = [0.5, 1.0]\n"
+  std::ofstream(file) << "[sweep]\n" << scenarios << "\nscale = [0.5, 1.0]\n"
                       << "[failure]\ncollapse = true\ncrown_drop_m = 1e-5\n"
                       << "[[record]]\nname = \"kobe_ew_ns\"\nstart_s = 7.6\nx = { file = \"" << ew << "\" }\ny = { file = \""
                       << ns << "\" }\nz = { file = \"" << up << "\" }\n"
@@ -64,7 +75,8 @@ TEST(Sweep, OneMachineAndMpirunGiveTheSameRows) {
   ASSERT_EQ(rows(local).size(), 4u);
   for (const char* output : {"ida.csv", "fragility.csv", "fragility_fit.csv", "ida.png", "fragility.png"})
     EXPECT_TRUE(std::filesystem::exists(local / output)) << output;
-  EXPECT_TRUE(std::filesystem::exists(local / "runs/kobe_ns_ew_0.5/blocks.pvd"));
+  EXPECT_TRUE(std::filesystem::exists(local / "runs/ishibashi_sweep_dry/kobe_ns_ew_0.5/blocks.pvd"));
+  EXPECT_FALSE(std::filesystem::exists(local / "comparison.csv"));
 
   const std::string launcher = "OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 mpirun --oversubscribe -np 2 ";
   const std::string two = run_command(launcher + kSweep + file.string() + " --threads-per-job 1 --out " + mpi.string(), &status);
@@ -94,6 +106,71 @@ TEST(Sweep, KilledSweepResumesWithoutRedoingFinishedRuns) {
   EXPECT_NE(resumed.find(std::to_string(before) + " done before"), std::string::npos) << resumed;
   EXPECT_EQ(count_of(resumed, ": done (rank 0)"), static_cast<int>(4 - before)) << resumed;
   EXPECT_EQ(rows(out).size(), 4u);
+}
+
+// Dry and with mortar on the same records and levels: eight runs, a fragility fit per
+// variant, and comparison.csv whose case counts add up to the four (record, level) pairs
+// and agree with the variants' rows of sweep.csv. A table of other columns is refused.
+TEST(Sweep, VariantsAreRunOnTheSameCasesAndCompared) {
+  const auto dry = scenario_file("ishibashi_sweep_dry", 0), mortar = scenario_file("ishibashi_sweep_mortar", 2e5);
+  const auto file = sweep_file("scenarios = [\"" + dry.string() + "\", \"" + mortar.string() + "\"]");
+  const auto out = tmp_dir() / "ishibashi_sweep_variants";
+  std::filesystem::remove_all(out);
+  int status = 0;
+  const std::string text = run_command(kSweep + file.string() + " --jobs 2 --threads-per-job 1 --out " + out.string(), &status);
+  ASSERT_EQ(status, 0) << text;
+  EXPECT_NE(text.find("8 runs (2 scenarios x 2 records x 2 levels)"), std::string::npos) << text;
+  EXPECT_NE(text.find("fragility of ishibashi_sweep_mortar"), std::string::npos) << text;
+  EXPECT_NE(text.find("against ishibashi_sweep_dry on the same 4 (record, level)"), std::string::npos) << text;
+  ASSERT_EQ(rows(out).size(), 8u);
+  EXPECT_TRUE(std::filesystem::exists(out / "runs/ishibashi_sweep_mortar/kobe_ew_ns_1/blocks.pvd"));
+  for (const char* output : {"comparison.csv", "fragility.png", "ida.png"})
+    EXPECT_TRUE(std::filesystem::exists(out / output)) << output;
+
+  // The failed column (6th) of each variant, case by case, against the comparison's counts.
+  std::map<std::string, std::map<std::string, int>> failed;  // variant -> "record,level" -> failed
+  for (const std::string& row : rows(out)) {
+    std::vector<std::string> f;
+    std::stringstream cells(row);
+    for (std::string cell; std::getline(cells, cell, ',');) f.push_back(cell);
+    failed[f[0]][f[1] + "," + f[2]] = std::stoi(f[5]);
+  }
+  int both_stand = 0, both_fail = 0, only_dry = 0, only_mortar = 0;
+  for (const auto& [key, d] : failed["ishibashi_sweep_dry"]) {
+    const int m = failed["ishibashi_sweep_mortar"].at(key);
+    both_stand += !d && !m, both_fail += d && m, only_dry += d && !m, only_mortar += !d && m;
+  }
+  const std::string comparison = text_of(out / "comparison.csv");
+  const std::string expected = "ishibashi_sweep_mortar,ishibashi_sweep_dry,4," + std::to_string(both_stand) + "," +
+                               std::to_string(both_fail) + "," + std::to_string(only_dry) + "," + std::to_string(only_mortar) + ",";
+  EXPECT_NE(comparison.find(expected), std::string::npos) << comparison << "expected " << expected;
+
+  // The single-scenario sweep's table in this folder is refused, with what to do.
+  std::ofstream(out / "sweep.csv") << "record,level,scale_factor\nkobe_ew_ns,1,1\n";
+  const std::string refused = run_command(kSweep + file.string() + " --out " + out.string(), &status);
+  EXPECT_NE(status, 0);
+  EXPECT_NE(refused.find("its columns are not this version's"), std::string::npos) << refused;
+}
+
+// A sweep file with both `scenario` and `scenarios`, or two variants of one name (they
+// name the run folders and the rows), is refused with what is wrong.
+TEST(Sweep, AmbiguousScenariosAreRefused) {
+  const auto dry = scenario_file("ishibashi_sweep_dry", 0);
+  auto message = [](const std::filesystem::path& file) {
+    try {
+      read_sweep(file);
+    } catch (const InputError& e) {
+      return std::string(e.what());
+    }
+    return std::string("accepted");
+  };
+  const std::string both = message(sweep_file("scenario = \"" + dry.string() + "\"\nscenarios = [\"" + dry.string() + "\"]"));
+  EXPECT_NE(both.find("needs either scenario"), std::string::npos) << both;
+  const auto twin = tmp_dir() / "twin";
+  std::filesystem::create_directories(twin);
+  std::filesystem::copy_file(dry, twin / dry.filename(), std::filesystem::copy_options::overwrite_existing);
+  const std::string same = message(sweep_file("scenarios = [\"" + dry.string() + "\", \"" + (twin / dry.filename()).string() + "\"]"));
+  EXPECT_NE(same.find("two scenarios are named 'ishibashi_sweep_dry'"), std::string::npos) << same;
 }
 
 }  // namespace
