@@ -8,7 +8,6 @@
 #include <cmath>
 #include <cstdlib>
 #include <fstream>
-#include <map>
 #include <mutex>
 #include <set>
 #include <sstream>
@@ -17,6 +16,7 @@
 
 #include "analysis/fingerprint.h"
 #include "analysis/seismic_run.h"
+#include "analysis/sweep_table.h"
 #include "engine/cores.h"
 #include "io/atomic_file.h"
 #include "io/input_error.h"
@@ -27,26 +27,12 @@ namespace {
 
 namespace fs = std::filesystem;
 constexpr double kG = 9.80665;
-// Which run, whether it failed, the run's result (run_result.h) and where it ran: wall_s and
-// host, which differ from machine to machine, last.
-const std::string kHeader = "scenario,record,level,scale_factor,pga_g,failed," + result_csv_header() + ",host\n";
-
-// Index of a column of kHeader.
-std::size_t column(const std::string& name) {
-  std::stringstream header(kHeader.substr(0, kHeader.size() - 1));
-  std::size_t index = 0;
-  for (std::string f; std::getline(header, f, ','); ++index)
-    if (f == name) return index;
-  throw std::logic_error("sweep.csv has no column " + name);
-}
 constexpr int kRowTag = 1, kCaseTag = 2;  // worker -> rank 0: a finished row; rank 0 -> worker: the next case
 
 struct Case {
   int scenario, record, level;
   std::string key;  // "scenario,record,level": the first three fields of its row
 };
-
-std::string scenario_name(const SweepFile& sweep, int scenario) { return sweep.scenarios[scenario].stem().string(); }
 
 std::string level_label(double level) {
   char text[32];
@@ -92,109 +78,6 @@ std::string run_case(const SweepFile& sweep, const Case& c, int threads, const f
   row << c.key << "," << factor << "," << record_pga_g * factor << "," << (failed ? 1 : 0) << "," << result_csv_values(r) << ","
       << host_name() << "\n";
   return row.str();
-}
-
-// The complete rows of sweep.csv (a row cut short by a crash is dropped).
-std::vector<std::string> finished_rows(const fs::path& file) {
-  std::vector<std::string> rows;
-  std::ifstream in(file);
-  std::string text((std::istreambuf_iterator<char>(in)), {});
-  std::size_t at = text.find('\n');  // past the header
-  while (at != std::string::npos && at + 1 < text.size()) {
-    const std::size_t end = text.find('\n', at + 1);
-    if (end == std::string::npos) break;
-    rows.push_back(text.substr(at + 1, end - at));
-    at = end;
-  }
-  return rows;
-}
-
-std::vector<std::string> fields(const std::string& row) {
-  std::vector<std::string> out;
-  std::stringstream s(row.substr(0, row.find('\n')));
-  for (std::string f; std::getline(s, f, ',');) out.push_back(f);
-  return out;
-}
-
-// One scenario's outcomes: (PGA, failed) of each run, in the order of the rows.
-struct Outcomes {
-  std::vector<double> pga;
-  std::vector<int> failed;
-  std::map<std::string, int> by_case;  // "record,level" -> failed
-};
-
-// The IDA curves, a fragility fit per scenario, and each scenario against the first.
-std::vector<ScenarioFragility> write_curves(const SweepFile& sweep, const fs::path& out, const std::vector<std::string>& rows) {
-  std::map<std::string, std::vector<std::pair<double, double>>> ida;  // "scenario,record" -> (PGA, crown drop)
-  std::map<std::string, Outcomes> outcomes;
-  for (const std::string& row : rows) {
-    const std::vector<std::string> f = fields(row);
-    if (f.size() <= column("host")) continue;
-    const std::string& scenario = f[column("scenario")];
-    const double pga_g = std::stod(f[column("pga_g")]);
-    const int failed = std::stoi(f[column("failed")]);
-    ida[scenario + "," + f[column("record")]].push_back({pga_g, std::stod(f[column("largest_crown_drop_m")])});
-    Outcomes& o = outcomes[scenario];
-    o.pga.push_back(pga_g);
-    o.failed.push_back(failed);
-    o.by_case[f[column("record")] + "," + f[column("level")]] = failed;
-  }
-  std::ostringstream curves;
-  curves.precision(9);
-  curves << "scenario,record,pga_g,crown_drop_m\n";
-  for (auto& [key, points] : ida) {
-    std::sort(points.begin(), points.end());
-    for (const auto& [x, drop] : points) curves << key << "," << x << "," << drop << "\n";
-  }
-  write_text_atomically(out / "ida.csv", curves.str());
-
-  double highest_pga = 0;  // the curves reach 1.5 times the highest PGA run
-  for (const auto& [name, o] : outcomes)
-    for (double x : o.pga) highest_pga = std::max(highest_pga, x);
-  const double top = highest_pga > 0 ? 1.5 * highest_pga : 1.0;
-  std::ostringstream fits, curve, comparison;
-  fits.precision(9);
-  comparison.precision(9);
-  fits << "scenario,median_g,beta,degenerate,outcomes,failures,log_likelihood\n";
-  curve << "scenario,pga_g,failure_probability\n";
-  comparison << "scenario,reference,cases,both_stand,both_fail,only_reference_fails,only_scenario_fails,"
-                "likelihood_ratio,p_same_fragility\n";
-  std::vector<ScenarioFragility> result;
-  const Outcomes none;
-  for (int k = 0; k < static_cast<int>(sweep.scenarios.size()); ++k) {
-    ScenarioFragility r;
-    r.scenario = scenario_name(sweep, k);
-    const auto found = outcomes.find(r.scenario);
-    const Outcomes& o = found == outcomes.end() ? none : found->second;
-    r.fit = fit_lognormal_fragility(o.pga, o.failed);
-    const FragilityFit& fit = r.fit;
-    fits << r.scenario << "," << fit.median << "," << fit.beta << "," << (fit.degenerate ? 1 : 0) << "," << fit.outcomes
-         << "," << fit.failures << "," << fit.log_likelihood << "\n";
-    for (int i = 1; i <= 150; ++i) curve << r.scenario << "," << top * i / 150 << "," << failure_probability(fit, top * i / 150) << "\n";
-    if (k > 0) {  // against the reference, case by case (same record and level) and as curves
-      r.reference = result.front().scenario;
-      const auto ref_found = outcomes.find(r.reference);
-      const Outcomes& ref = ref_found == outcomes.end() ? none : ref_found->second;
-      for (const auto& [key, failed] : o.by_case) {
-        const auto other = ref.by_case.find(key);
-        if (other == ref.by_case.end()) continue;
-        ++r.cases;
-        r.both_fail += failed && other->second;
-        r.both_stand += !failed && !other->second;
-        r.only_reference_fails += !failed && other->second;
-        r.only_scenario_fails += failed && !other->second;
-      }
-      r.against_reference = compare_fragilities(ref.pga, ref.failed, o.pga, o.failed);
-      comparison << r.scenario << "," << r.reference << "," << r.cases << "," << r.both_stand << "," << r.both_fail << ","
-                 << r.only_reference_fails << "," << r.only_scenario_fails << "," << r.against_reference.statistic << ","
-                 << r.against_reference.p_value << "\n";
-    }
-    result.push_back(r);
-  }
-  write_text_atomically(out / "fragility_fit.csv", fits.str());
-  write_text_atomically(out / "fragility.csv", curve.str());
-  if (sweep.scenarios.size() > 1) write_text_atomically(out / "comparison.csv", comparison.str());
-  return result;
 }
 
 }  // namespace
@@ -244,16 +127,16 @@ SweepOutcome serve_rank_zero(const SweepFile& sweep, const std::vector<Case>& ca
 std::vector<int> cases_to_run(const fs::path& table, const std::vector<Case>& cases) {
   std::string header;
   std::getline(std::ifstream(table), header);
-  if (!header.empty() && header + "\n" != kHeader)
+  if (!header.empty() && header + "\n" != sweep_csv_header())
     throw InputError(table.string() + ": its columns are not this version's (\"" + header.substr(0, 40) +
                      "...\"); move it away, or give the sweep another --out");
-  std::vector<std::string> rows = finished_rows(table);
+  std::vector<std::string> rows = finished_sweep_rows(table);
   std::set<std::string> done;
   for (const std::string& row : rows) {
-    const std::vector<std::string> f = fields(row);
+    const std::vector<std::string> f = row_fields(row);
     if (f.size() >= 3) done.insert(f[0] + "," + f[1] + "," + f[2]);
   }
-  std::string kept = kHeader;
+  std::string kept = sweep_csv_header();
   for (const std::string& row : rows) kept += row;
   write_text_atomically(table, kept);
   std::vector<int> pending;
@@ -351,7 +234,7 @@ SweepOutcome run_sweep(const SweepFile& sweep, const SweepOptions& o, const MpiS
   for (std::thread& t : pool) t.join();
   append.close();
 
-  outcome.fragility = write_curves(sweep, o.out, finished_rows(table));
+  outcome.fragility = write_sweep_curves(sweep, o.out, finished_sweep_rows(table));
   if (!stop_requested()) {
     const std::string python = fs::exists("/usr/bin/python3") ? "/usr/bin/python3" : "python3";
     const std::string command = python + " " + ISHIBASHI_SOURCE_DIR "/analysis/sweep_plots.py \"" + o.out.string() + "\"";

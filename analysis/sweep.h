@@ -22,6 +22,7 @@
 #include <vector>
 
 #include "analysis/fragility.h"
+#include "analysis/sweep_table.h"
 #include "io/sweep_file.h"
 
 namespace ishibashi {
@@ -50,15 +51,6 @@ struct SweepOptions {
   std::function<void(const std::string&)> on_event;
 };
 
-// A scenario's fragility over its rows of sweep.csv, and against the first scenario's.
-struct ScenarioFragility {
-  std::string scenario;
-  FragilityFit fit;
-  std::string reference;  // the first scenario (empty for the first itself)
-  int cases = 0;          // (record, level) run with both
-  int both_stand = 0, both_fail = 0, only_reference_fails = 0, only_scenario_fails = 0;
-  FragilityComparison against_reference;
-};
 
 struct SweepOutcome {
   int ran = 0, kept = 0, failed = 0;  // runs done now, rows kept from before, runs that threw
