@@ -39,6 +39,10 @@ double log_likelihood(const std::vector<double>& lnx, const std::vector<int>& y,
 FragilityFit fit_lognormal_fragility(const std::vector<double>& intensity, const std::vector<int>& failed) {
   FragilityFit fit;
   fit.outcomes = static_cast<int>(intensity.size());
+  if (intensity.empty()) {  // a variant of a sweep stopped before its first run
+    fit.degenerate = true;
+    return fit;
+  }
   std::vector<double> lnx;
   double mean = 0;
   for (std::size_t i = 0; i < intensity.size(); ++i) {

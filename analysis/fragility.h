@@ -13,7 +13,8 @@ struct FragilityFit {
   double log_likelihood = 0;
   int outcomes = 0, failures = 0;
   // Every run failed, none did, or the outcomes are separated (all failures above all
-  // survivals: the maximum likelihood beta is 0). median and beta are then only bounds.
+  // survivals: the maximum likelihood beta is 0). median and beta are then only bounds
+  // (both 0 without any outcome).
   bool degenerate = false;
 };
 

@@ -53,6 +53,7 @@ def main():
     plt.close(fig)
 
     curve = rows(out / "fragility.csv")
+    compared = {c["scenario"]: c for c in rows(out / "comparison.csv")} if (out / "comparison.csv").exists() else {}
     fig, ax = plt.subplots(figsize=(7, 4.5))
     for k, fit in enumerate(fits):
         scenario = fit["scenario"]
@@ -61,7 +62,9 @@ def main():
                 linestyle=STYLES[k % len(STYLES)],
                 label=f"{scenario}: median {float(fit['median_g']):.3f} g, beta {float(fit['beta']):.3f}"
                 + (" (degenerate)" if fit["degenerate"] == "1" else "")
-                + f", {fit['failures']} of {fit['outcomes']} failed")
+                + f", {fit['failures']} of {fit['outcomes']} failed"
+                + (f"; one curve with {compared[scenario]['reference']}: p = {float(compared[scenario]['p_same_fragility']):.2g}"
+                   if scenario in compared else ""))
         by_level = {}
         for r in runs:
             if r["scenario"] == scenario:

@@ -62,8 +62,6 @@ std::vector<std::string> row_fields(const std::string& row) {
   return out;
 }
 
-
-
 std::vector<ScenarioFragility> write_sweep_curves(const SweepFile& sweep, const fs::path& out, const std::vector<std::string>& rows) {
   std::map<std::string, std::vector<std::pair<double, double>>> ida;  // "scenario,record" -> (PGA, crown drop)
   std::map<std::string, Outcomes> outcomes;

@@ -36,6 +36,9 @@ TEST(Fragility, SeparatedOrOneSidedOutcomesAreDegenerate) {
   EXPECT_GT(separated.median, 0.2);
   EXPECT_LT(separated.median, 0.4);
   EXPECT_TRUE(fit_lognormal_fragility({0.1, 0.2}, {0, 0}).degenerate);
+  const FragilityFit none = fit_lognormal_fragility({}, {});
+  EXPECT_TRUE(none.degenerate);
+  EXPECT_EQ(none.median, 0.0);  // not NaN: a sweep stopped before a variant's first run
   const FragilityFit mixed = fit_lognormal_fragility({0.1, 0.2, 0.3, 0.4, 0.5}, {0, 1, 0, 1, 1});
   EXPECT_FALSE(mixed.degenerate);
   EXPECT_GT(mixed.beta, 0);
