@@ -46,6 +46,7 @@ def main():
             ax.plot([p[0] for p in failed], [p[1] for p in failed], "x", color="red", ms=10, mew=2)
     ax.set_xlabel("PGA, larger horizontal component [g]")
     ax.set_ylabel("largest crown drop [mm]")
+    ax.set_yscale("symlog", linthresh=10)  # millimetres of sagging and metres of collapse on one axis
     ax.set_title("Incremental dynamic analysis (red x: failure)")
     ax.grid(alpha=0.3)
     ax.legend(fontsize=8)
@@ -77,7 +78,7 @@ def main():
     ax.set_ylim(-0.03, 1.03)
     ax.set_title("Fragility (lognormal fits; dots: fraction failed per level)")
     ax.grid(alpha=0.3)
-    ax.legend(fontsize=8)
+    ax.legend(fontsize=8, loc="upper left")  # where the curves are still near 0
     fig.savefig(out / "fragility.png", dpi=110, bbox_inches="tight")
     plt.close(fig)
     print(f"sweep plots: {out / 'ida.png'}, {out / 'fragility.png'}")
