@@ -78,7 +78,7 @@ def main():
     ax.set_ylim(-0.03, 1.03)
     ax.set_title("Fragility (lognormal fits; dots: fraction failed per level)")
     ax.grid(alpha=0.3)
-    ax.legend(fontsize=8, loc="upper left")  # where the curves are still near 0
+    ax.legend(fontsize=8, loc="upper center", bbox_to_anchor=(0.5, -0.13))  # below the axes: long names, no curve hidden
     fig.savefig(out / "fragility.png", dpi=110, bbox_inches="tight")
     plt.close(fig)
     print(f"sweep plots: {out / 'ida.png'}, {out / 'fragility.png'}")
