@@ -21,7 +21,6 @@
 #include <string>
 #include <vector>
 
-#include "analysis/fragility.h"
 #include "analysis/sweep_table.h"
 #include "io/sweep_file.h"
 
@@ -50,7 +49,6 @@ struct SweepOptions {
   int threads_per_job = 0;  // 0: this node's cores shared among its runs
   std::function<void(const std::string&)> on_event;
 };
-
 
 struct SweepOutcome {
   int ran = 0, kept = 0, failed = 0;  // runs done now, rows kept from before, runs that threw

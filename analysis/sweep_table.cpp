@@ -98,12 +98,15 @@ std::vector<ScenarioFragility> write_sweep_curves(const SweepFile& sweep, const 
   comparison << "scenario,reference,cases,both_stand,both_fail,only_reference_fails,only_scenario_fails,"
                 "likelihood_ratio,p_same_fragility\n";
   std::vector<ScenarioFragility> result;
-  const Outcomes none;
+  const Outcomes none;  // a scenario without rows yet
+  auto outcomes_of = [&](const std::string& scenario) -> const Outcomes& {
+    const auto found = outcomes.find(scenario);
+    return found == outcomes.end() ? none : found->second;
+  };
   for (int k = 0; k < static_cast<int>(sweep.scenarios.size()); ++k) {
     ScenarioFragility r;
     r.scenario = scenario_name(sweep, k);
-    const auto found = outcomes.find(r.scenario);
-    const Outcomes& o = found == outcomes.end() ? none : found->second;
+    const Outcomes& o = outcomes_of(r.scenario);
     r.fit = fit_lognormal_fragility(o.pga, o.failed);
     const FragilityFit& fit = r.fit;
     fits << r.scenario << "," << fit.median << "," << fit.beta << "," << (fit.degenerate ? 1 : 0) << "," << fit.outcomes
@@ -111,8 +114,7 @@ std::vector<ScenarioFragility> write_sweep_curves(const SweepFile& sweep, const 
     for (int i = 1; i <= 150; ++i) curve << r.scenario << "," << top * i / 150 << "," << failure_probability(fit, top * i / 150) << "\n";
     if (k > 0) {  // against the reference, case by case (same record and level) and as curves
       r.reference = result.front().scenario;
-      const auto ref_found = outcomes.find(r.reference);
-      const Outcomes& ref = ref_found == outcomes.end() ? none : ref_found->second;
+      const Outcomes& ref = outcomes_of(r.reference);
       for (const auto& [key, failed] : o.by_case) {
         const auto other = ref.by_case.find(key);
         if (other == ref.by_case.end()) continue;

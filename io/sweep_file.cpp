@@ -6,6 +6,15 @@
 #include "io/toml_reader.h"
 
 namespace ishibashi {
+namespace {
+
+// Record and scenario names name run folders and are fields of sweep.csv.
+bool is_folder_name(const std::string& name) {
+  return !name.empty() && name.find_first_not_of("abcdefghijklmnopqrstuvwxyzABCDEFGHIJKLMNOPQRSTUVWXYZ0123456789_-.") ==
+                              std::string::npos;
+}
+
+}  // namespace
 
 SweepFile read_sweep(const std::filesystem::path& file) {
   const toml::table root = parse_toml_file(file, {"sweep", "failure", "record"});
@@ -29,9 +38,9 @@ SweepFile read_sweep(const std::filesystem::path& file) {
   std::set<std::string> stems;
   for (const std::filesystem::path& sc : s.scenarios) {
     if (!std::filesystem::exists(sc)) throw InputError(file.string() + ": scenario " + sc.string() + " does not exist");
-    if (sc.stem().string().find_first_of(",\"\n") != std::string::npos)
+    if (!is_folder_name(sc.stem().string()))
       throw InputError(file.string() + ": scenario file name " + sc.filename().string() +
-                       " has a comma or quote (its name is a column of sweep.csv)");
+                       " must be letters, digits, '_', '-' or '.' before .toml (it names folders and rows of sweep.csv)");
     if (!stems.insert(sc.stem().string()).second)
       throw InputError(file.string() + ": two scenarios are named '" + sc.stem().string() +
                        "' (a variant is named by its file name, which names its runs' folders)");
@@ -64,8 +73,7 @@ SweepFile read_sweep(const std::filesystem::path& file) {
     read_ground_motion_components(record, file, base, "record", r.motion);
     record.finish();
     const auto line = std::to_string(node.source().begin.line);
-    if (r.name.empty() || r.name.find_first_not_of("abcdefghijklmnopqrstuvwxyzABCDEFGHIJKLMNOPQRSTUVWXYZ0123456789_-.") !=
-                              std::string::npos)
+    if (!is_folder_name(r.name))
       throw InputError(file.string() + ":" + line + ": [[record]] name must be letters, digits, '_', '-' or '.' (it names folders)");
     if (!names.insert(r.name).second) throw InputError(file.string() + ":" + line + ": record name '" + r.name + "' is used twice");
     if (!r.motion.component[0] && !r.motion.component[1] && !r.motion.component[2])

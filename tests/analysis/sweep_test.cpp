@@ -152,8 +152,8 @@ TEST(Sweep, VariantsAreRunOnTheSameCasesAndCompared) {
   EXPECT_NE(refused.find("its columns are not this version's"), std::string::npos) << refused;
 }
 
-// A sweep file with both `scenario` and `scenarios`, or two variants of one name (they
-// name the run folders and the rows), is refused with what is wrong.
+// A sweep file with both `scenario` and `scenarios`, two variants of one name, or a name
+// with a comma (names are run folders and fields of the rows) is refused with what is wrong.
 TEST(Sweep, AmbiguousScenariosAreRefused) {
   const auto dry = scenario_file("ishibashi_sweep_dry", 0);
   auto message = [](const std::filesystem::path& file) {
@@ -171,6 +171,10 @@ TEST(Sweep, AmbiguousScenariosAreRefused) {
   std::filesystem::copy_file(dry, twin / dry.filename(), std::filesystem::copy_options::overwrite_existing);
   const std::string same = message(sweep_file("scenarios = [\"" + dry.string() + "\", \"" + (twin / dry.filename()).string() + "\"]"));
   EXPECT_NE(same.find("two scenarios are named 'ishibashi_sweep_dry'"), std::string::npos) << same;
+  const auto comma = twin / "dry,mortar.toml";  // would split its rows of sweep.csv
+  std::filesystem::copy_file(dry, comma, std::filesystem::copy_options::overwrite_existing);
+  const std::string named = message(sweep_file("scenarios = [\"" + comma.string() + "\"]"));
+  EXPECT_NE(named.find("must be letters, digits"), std::string::npos) << named;
 }
 
 }  // namespace
