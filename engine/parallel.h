@@ -1,12 +1,15 @@
 // The one threading seam of the engine. Kernels are plain loops over an index range;
-// this decides how ranges are spread over OpenMP threads. Static contiguous chunks in
-// thread order make every reduction that follows chunk order deterministic, and no
-// chunking depends on the team size: a run may change it at any step (thread_tuner.h).
+// this decides how ranges are spread over the threads of the caller's team (team.h).
+// Chunks are contiguous and fixed by the loop alone, and every reduction that follows
+// adds per-chunk results in chunk order: no result depends on which thread ran a chunk,
+// nor on the team size, which a run may change at any step (thread_tuner.h).
 #pragma once
 #include <omp.h>
 
 #include <algorithm>
 #include <cstddef>
+
+#include "engine/team.h"
 
 namespace ishibashi {
 
@@ -41,24 +44,24 @@ constexpr int kBufferChunks = 64;
 // machine would stall it.
 constexpr std::ptrdiff_t kMinParallelItems = 128;
 
-// Calls fn(i) for i in [0, n), spread over the threads.
-template <class Fn>
-void parallel_for(std::ptrdiff_t n, Fn&& fn) {
-#pragma omp parallel for schedule(static) num_threads(thread_count()) if (n >= kMinParallelItems)
-  for (std::ptrdiff_t i = 0; i < n; ++i) fn(i);
-}
-
 // Calls fn(begin, end, chunk) for `chunk_count` contiguous chunks covering [0, n), chunk k
 // before chunk k+1 in index order. The chunking depends on chunk_count only, never on
 // the number of threads, so per-chunk results can be combined deterministically.
 template <class Fn>
 void parallel_chunks(std::ptrdiff_t n, int chunk_count, Fn&& fn) {
-#pragma omp parallel for schedule(static) num_threads(thread_count()) if (n >= kMinParallelItems)
-  for (int k = 0; k < chunk_count; ++k) {
-    const std::ptrdiff_t begin = n * k / chunk_count;
-    const std::ptrdiff_t end = n * (k + 1) / chunk_count;
-    fn(begin, end, k);
-  }
+  const auto chunk = [&](int k) { fn(n * k / chunk_count, n * (k + 1) / chunk_count, k); };
+  const int threads = n >= kMinParallelItems ? thread_count() : 1;
+  using Chunk = decltype(chunk);
+  Team::of_this_thread().run(
+      threads, chunk_count, [](const void* c, int k) { (*static_cast<const Chunk*>(c))(k); }, &chunk);
+}
+
+// Calls fn(i) for i in [0, n), spread over the threads.
+template <class Fn>
+void parallel_for(std::ptrdiff_t n, Fn&& fn) {
+  parallel_chunks(n, kBufferChunks, [&](std::ptrdiff_t begin, std::ptrdiff_t end, int) {
+    for (std::ptrdiff_t i = begin; i < end; ++i) fn(i);
+  });
 }
 
 }  // namespace ishibashi

@@ -1,0 +1,141 @@
+#include "engine/team.h"
+
+#include <algorithm>
+#include <chrono>
+
+namespace ishibashi {
+namespace {
+
+thread_local bool inside_loop = false;
+
+using Clock = std::chrono::steady_clock;
+double seconds_since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
+
+// A waiting thread spins through the short gaps between a step's loops, then sleeps: a
+// sleeping thread leaves its core idle, and the kernel moves a team mate that another
+// process has pushed off its own core there at once (spinning or yielding keeps the core
+// busy, and the team mate waits for a scheduler slice).
+constexpr double kSpinS = 200e-6;
+
+void pause() {
+#if defined(__x86_64__) || defined(__i386__)
+  __builtin_ia32_pause();
+#endif
+}
+
+// Spins until ready() or `spin_s` has passed; returns ready().
+template <class Ready>
+bool spin_until(Ready&& ready, double spin_s) {
+  const auto t0 = Clock::now();
+  for (int i = 1;; ++i) {
+    if (ready()) return true;
+    pause();
+    if (i % 64 == 0 && seconds_since(t0) > spin_s) return ready();
+  }
+}
+
+std::uint32_t generation_of(std::uint64_t loop) { return static_cast<std::uint32_t>(loop >> 32); }
+
+}  // namespace
+
+Team& Team::of_this_thread() {
+  thread_local Team team;
+  return team;
+}
+
+bool Team::inside_a_loop() { return inside_loop; }
+
+Team::~Team() {
+  stop_.store(true);
+  posted_.fetch_add(1);  // wakes every waiter: the values they wait on change
+  posted_.notify_all();
+  active_workers_.fetch_add(1);
+  active_workers_.notify_all();
+  for (std::thread& w : workers_) w.join();
+}
+
+void Team::run(int threads, int chunk_count, ChunkFn chunk, const void* context) {
+  if (threads <= 1 || chunk_count <= 1 || inside_loop) {
+    for (int k = 0; k < chunk_count; ++k) chunk(context, k);
+    return;
+  }
+  const int workers = threads - 1;
+  while (static_cast<int>(workers_.size()) < workers)
+    workers_.emplace_back(&Team::worker_loop, this, static_cast<int>(workers_.size()));
+  if (active_workers_.load() != workers) {
+    active_workers_.store(workers);
+    active_workers_.notify_all();
+  }
+
+  chunk_.store(chunk);
+  threads_.store(threads);
+  context_.store(context);
+  done_.store(0);
+  ++generation_;
+  loop_.store(std::uint64_t{generation_} << 32 | std::uint64_t(chunk_count) << 20);
+  posted_.store(generation_);
+  if (sleepers_.load() > 0) posted_.notify_all();
+
+  inside_loop = true;
+  run_chunks();
+  inside_loop = false;
+  // Only chunks other threads have claimed and not finished are left: wait for them.
+  const auto all_done = [&] { return done_.load(std::memory_order_acquire) == chunk_count; };
+  if (spin_until(all_done, kSpinS)) return;
+  caller_asleep_.store(true);  // then reads done_; a worker adds to done_, then reads this
+  for (int done = done_.load(); done != chunk_count; done = done_.load()) done_.wait(done);
+  caller_asleep_.store(false);
+}
+
+std::uint32_t Team::run_chunks() {
+  int done = 0;
+  for (;;) {
+    // Guided claims: a share of what is left, so that few claims cross between cores and
+    // the last chunks still spread over the team.
+    const std::uint64_t seen = loop_.load(std::memory_order_relaxed);
+    const auto count_seen = seen >> 20 & 0xFFF, next_seen = std::min(seen & 0xFFFFF, count_seen);
+    const int batch = std::max(1, static_cast<int>(count_seen - next_seen) / threads_.load(std::memory_order_relaxed));
+    const std::uint64_t loop = loop_.fetch_add(batch);
+    const int k = static_cast<int>(loop & 0xFFFFF), count = static_cast<int>(loop >> 20 & 0xFFF);
+    if (k >= count) {
+      if (done > 0) {  // once per thread and loop: the counter's cache line moves little
+        done_.fetch_add(done);
+        if (caller_asleep_.load()) done_.notify_one();
+      }
+      return generation_of(loop);
+    }
+    // The loop cannot be replaced before these chunks are counted done, so these are its own.
+    const ChunkFn chunk = chunk_.load();
+    const void* context = context_.load();
+    const int end = std::min(k + batch, count);
+    for (int j = k; j < end; ++j) chunk(context, j);
+    done += end - k;
+  }
+}
+
+bool Team::wait_for_loop(int index, std::uint32_t seen) {
+  for (;;) {
+    if (stop_.load()) return false;
+    const int active = active_workers_.load();
+    if (index >= active) {  // not in the team now: sleep until its size changes
+      active_workers_.wait(active);
+      continue;
+    }
+    const auto posted = [&] { return stop_.load() || generation_of(loop_.load()) != seen; };
+    if (spin_until(posted, kSpinS)) return !stop_.load();
+    // Sleep. The caller stores posted_ before it reads sleepers_, this thread counts
+    // itself before it reads posted_: one of the two sees the other.
+    sleepers_.fetch_add(1);
+    for (std::uint32_t p = posted_.load(); !posted() && index < active_workers_.load(); p = posted_.load())
+      posted_.wait(p);
+    sleepers_.fetch_sub(1);
+  }
+}
+
+void Team::worker_loop(int index) {
+  inside_loop = true;
+  std::uint32_t seen = 0;
+  while (wait_for_loop(index, seen)) seen = run_chunks();
+}
+
+}  // namespace ishibashi

@@ -1,0 +1,107 @@
+// The team behind the parallel loops (engine/team.h): every chunk runs once whatever the
+// team does, workers take part, a loop inside a chunk runs inline, a team stops with its
+// thread, and a loop does not wait for a worker that is held off its core.
+#include <gtest/gtest.h>
+#include <pthread.h>
+#include <signal.h>
+#include <time.h>
+
+#include <atomic>
+#include <chrono>
+#include <thread>
+#include <vector>
+
+#include "engine/parallel.h"
+
+namespace ishibashi {
+namespace {
+
+// Runs fn(k) for every chunk k of one loop on a team of `threads`.
+template <class Fn>
+void run_loop(int threads, int chunk_count, Fn&& fn) {
+  using F = std::remove_reference_t<Fn>;
+  Team::of_this_thread().run(
+      threads, chunk_count, [](const void* c, int k) { (*static_cast<const F*>(c))(k); }, &fn);
+}
+
+TEST(Team, EveryChunkRunsOnceWhateverTheTeam) {
+  std::vector<std::atomic<int>> runs(Team::kMaxChunks);
+  const int chunk_counts[] = {1, 2, 7, 64, 1000, Team::kMaxChunks};
+  for (int loop = 0; loop < 3000; ++loop) {
+    const int threads = 1 + loop % 4, chunks = chunk_counts[loop % 6];
+    for (int k = 0; k < chunks; ++k) runs[k] = 0;
+    run_loop(threads, chunks, [&](int k) { runs[k].fetch_add(1); });
+    for (int k = 0; k < chunks; ++k) ASSERT_EQ(runs[k].load(), 1) << "loop " << loop << ", chunk " << k;
+  }
+}
+
+// The chunks sleep, so a worker gets some even on one core.
+std::vector<pthread_t> threads_of_a_sleepy_loop(int threads) {
+  std::vector<pthread_t> who(16);
+  run_loop(threads, 16, [&](int k) {
+    who[k] = pthread_self();
+    std::this_thread::sleep_for(std::chrono::milliseconds(1));
+  });
+  return who;
+}
+
+TEST(Team, WorkersTakePart) {
+  int on_workers = 0;
+  for (pthread_t t : threads_of_a_sleepy_loop(2)) on_workers += !pthread_equal(t, pthread_self());
+  EXPECT_GT(on_workers, 0);
+  EXPECT_LT(on_workers, 16);
+}
+
+TEST(Team, ALoopInsideAChunkRunsInline) {
+  std::vector<int> inner_on_its_thread(64, 0);
+  run_loop(2, 64, [&](int k) {
+    const pthread_t outer = pthread_self();
+    int same = 0;
+    parallel_chunks(1000, 8, [&](std::ptrdiff_t, std::ptrdiff_t, int) { same += pthread_equal(pthread_self(), outer); });
+    inner_on_its_thread[k] = same;
+  });
+  for (int same : inner_on_its_thread) EXPECT_EQ(same, 8);
+}
+
+TEST(Team, StopsWithItsThread) {
+  std::atomic<int> chunks{0};
+  std::thread caller([&] { run_loop(4, 64, [&](int) { chunks.fetch_add(1); }); });
+  caller.join();  // the thread's team joins its workers as the thread exits
+  EXPECT_EQ(chunks.load(), 64);
+}
+
+std::atomic<bool> held{false};
+void hold_this_thread(int) {  // async-signal-safe: an atomic store and nanosleep
+  held = true;
+  const timespec half_second{0, 500'000'000};
+  nanosleep(&half_second, nullptr);
+}
+
+// A worker the scheduler keeps off its core (held here in a signal handler for 0.5 s)
+// misses the loops instead of holding them up: a barrier on every thread would wait.
+TEST(Team, LoopsDoNotWaitForAWorkerHeldOffItsCore) {
+  pthread_t worker{};
+  for (pthread_t t : threads_of_a_sleepy_loop(2))
+    if (!pthread_equal(t, pthread_self())) worker = t;
+  ASSERT_FALSE(pthread_equal(worker, pthread_t{})) << "no chunk ran on the worker";
+
+  struct sigaction action {}, previous{};
+  action.sa_handler = hold_this_thread;
+  sigaction(SIGUSR1, &action, &previous);
+  held = false;
+  pthread_kill(worker, SIGUSR1);
+  while (!held) std::this_thread::yield();
+
+  const auto t0 = std::chrono::steady_clock::now();
+  std::vector<double> sums(64);
+  for (int loop = 0; loop < 100; ++loop) run_loop(2, 64, [&](int k) { sums[k] += k; });
+  const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  EXPECT_LT(seconds, 0.25) << "the loops waited for the held worker";
+  for (int k = 0; k < 64; ++k) EXPECT_EQ(sums[k], 100.0 * k);
+
+  threads_of_a_sleepy_loop(2);  // the worker is back and takes part again
+  sigaction(SIGUSR1, &previous, nullptr);
+}
+
+}  // namespace
+}  // namespace ishibashi
