@@ -52,8 +52,10 @@ void parallel_chunks(std::ptrdiff_t n, int chunk_count, Fn&& fn) {
   const auto chunk = [&](int k) { fn(n * k / chunk_count, n * (k + 1) / chunk_count, k); };
   const int threads = n >= kMinParallelItems ? thread_count() : 1;
   using Chunk = decltype(chunk);
+  // noexcept: an exception in a chunk ends the program, as one escaping an OpenMP loop
+  // does (the other threads may still be running chunks that use this frame).
   Team::of_this_thread().run(
-      threads, chunk_count, [](const void* c, int k) { (*static_cast<const Chunk*>(c))(k); }, &chunk);
+      threads, chunk_count, [](const void* c, int k) noexcept { (*static_cast<const Chunk*>(c))(k); }, &chunk);
 }
 
 // Calls fn(i) for i in [0, n), spread over the threads.

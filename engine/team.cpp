@@ -55,7 +55,7 @@ Team::~Team() {
 }
 
 void Team::run(int threads, int chunk_count, ChunkFn chunk, const void* context) {
-  if (threads <= 1 || chunk_count <= 1 || inside_loop) {
+  if (threads <= 1 || chunk_count <= 1 || chunk_count > kMaxChunks || inside_loop) {
     for (int k = 0; k < chunk_count; ++k) chunk(context, k);
     return;
   }

@@ -34,8 +34,9 @@ class Team {
   Team(const Team&) = delete;
   Team& operator=(const Team&) = delete;
 
-  // Calls chunk(context, k) for every k in [0, chunk_count) (at most kMaxChunks) on the
-  // calling thread and up to threads - 1 workers; returns when all have returned.
+  // Calls chunk(context, k) for every k in [0, chunk_count) on the calling thread and up
+  // to threads - 1 workers (more than kMaxChunks chunks: on the calling thread alone);
+  // returns when all have returned.
   void run(int threads, int chunk_count, ChunkFn chunk, const void* context);
 
  private:

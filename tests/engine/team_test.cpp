@@ -25,10 +25,10 @@ void run_loop(int threads, int chunk_count, Fn&& fn) {
 }
 
 TEST(Team, EveryChunkRunsOnceWhateverTheTeam) {
-  std::vector<std::atomic<int>> runs(Team::kMaxChunks);
-  const int chunk_counts[] = {1, 2, 7, 64, 1000, Team::kMaxChunks};
-  for (int loop = 0; loop < 3000; ++loop) {
-    const int threads = 1 + loop % 4, chunks = chunk_counts[loop % 6];
+  std::vector<std::atomic<int>> runs(Team::kMaxChunks + 1);
+  const int chunk_counts[] = {1, 2, 7, 64, 1000, Team::kMaxChunks, Team::kMaxChunks + 1};
+  for (int loop = 0; loop < 3500; ++loop) {
+    const int threads = 1 + loop % 4, chunks = chunk_counts[loop % 7];
     for (int k = 0; k < chunks; ++k) runs[k] = 0;
     run_loop(threads, chunks, [&](int k) { runs[k].fetch_add(1); });
     for (int k = 0; k < chunks; ++k) ASSERT_EQ(runs[k].load(), 1) << "loop " << loop << ", chunk " << k;
