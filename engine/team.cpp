@@ -121,7 +121,9 @@ bool Team::wait_for_loop(int index, std::uint32_t seen) {
       active_workers_.wait(active);
       continue;
     }
-    const auto posted = [&] { return stop_.load() || generation_of(loop_.load()) != seen; };
+    // posted_ (stored just after loop_) has a line of its own: the spinning does not slow
+    // the claims of a loop still running on the others.
+    const auto posted = [&] { return stop_.load() || posted_.load() != seen; };
     if (spin_until(posted, kSpinS)) return !stop_.load();
     // Sleep. The caller stores posted_ before it reads sleepers_, this thread counts
     // itself before it reads posted_: one of the two sees the other.
