@@ -6,6 +6,7 @@
 namespace ishibashi {
 namespace {
 
+// True on a worker, and on a caller while its loop runs.
 thread_local bool inside_loop = false;
 
 using Clock = std::chrono::steady_clock;
@@ -42,8 +43,6 @@ Team& Team::of_this_thread() {
   thread_local Team team;
   return team;
 }
-
-bool Team::inside_a_loop() { return inside_loop; }
 
 Team::~Team() {
   stop_.store(true);

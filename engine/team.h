@@ -8,7 +8,7 @@
 //
 // Which thread runs a chunk never changes what the chunk computes (chunks write their own
 // slots), so results do not depend on the team. No heap allocation after the workers
-// start; the only atomics are the claim and done counters, one pair per loop.
+// start; atomics only to post a loop, claim its chunks and count them done (none on forces).
 #pragma once
 #include <atomic>
 #include <cstdint>
@@ -25,9 +25,6 @@ class Team {
   // The team of the calling thread: its workers start on first use and stop when the
   // thread exits (each `study --jobs` job has its own).
   static Team& of_this_thread();
-  // True on a worker, and on a caller while its loop runs: a loop started there runs
-  // inline (no nested teams, as OpenMP's default).
-  static bool inside_a_loop();
 
   Team() = default;
   ~Team();
@@ -35,8 +32,9 @@ class Team {
   Team& operator=(const Team&) = delete;
 
   // Calls chunk(context, k) for every k in [0, chunk_count) on the calling thread and up
-  // to threads - 1 workers (more than kMaxChunks chunks: on the calling thread alone);
-  // returns when all have returned.
+  // to threads - 1 workers (more than kMaxChunks chunks, or a loop started inside a
+  // chunk: on the calling thread alone, no nested teams, as OpenMP's default); returns
+  // when all have returned.
   void run(int threads, int chunk_count, ChunkFn chunk, const void* context);
 
  private:
