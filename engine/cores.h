@@ -1,7 +1,7 @@
 // How many cores this process may use: the CPUs it may run on (its affinity mask, what
 // OpenMP counts) and, below that, the CPU time its control group allows. A container
 // started with `docker run --cpus=2` on a 64-core host sees 64 CPUs but gets two cores'
-// worth of time; 64 threads there spend the run waiting for each other at barriers.
+// worth of time; 64 threads there spend the run waiting for each other's chunks.
 #pragma once
 #include <filesystem>
 

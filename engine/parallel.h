@@ -40,8 +40,7 @@ constexpr int kReductionChunks = 64;
 constexpr int kBufferChunks = 64;
 
 // Below this many items (blocks or pairs) a loop runs on the calling thread: waking a
-// team costs more than a tiny scene's whole step, and a descheduled thread on a busy
-// machine would stall it.
+// team costs more than a tiny scene's whole step.
 constexpr std::ptrdiff_t kMinParallelItems = 128;
 
 // Calls fn(begin, end, chunk) for `chunk_count` contiguous chunks covering [0, n), chunk k

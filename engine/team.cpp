@@ -9,14 +9,11 @@ namespace {
 // True on a worker, and on a caller while its loop runs.
 thread_local bool inside_loop = false;
 
-using Clock = std::chrono::steady_clock;
-double seconds_since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
-
 // A waiting thread spins through the short gaps between a step's loops, then sleeps: a
 // sleeping thread leaves its core idle, and the kernel moves a team mate that another
 // process has pushed off its own core there at once (spinning or yielding keeps the core
 // busy, and the team mate waits for a scheduler slice).
-constexpr double kSpinS = 200e-6;
+constexpr std::chrono::microseconds kSpin{200};
 
 void pause() {
 #if defined(__x86_64__) || defined(__i386__)
@@ -24,18 +21,21 @@ void pause() {
 #endif
 }
 
-// Spins until ready() or `spin_s` has passed; returns ready().
+// Spins until ready() or kSpin has passed; returns ready().
 template <class Ready>
-bool spin_until(Ready&& ready, double spin_s) {
-  const auto t0 = Clock::now();
+bool spin_until(Ready&& ready) {
+  const auto give_up = std::chrono::steady_clock::now() + kSpin;
   for (int i = 1;; ++i) {
     if (ready()) return true;
     pause();
-    if (i % 64 == 0 && seconds_since(t0) > spin_s) return ready();
+    if (i % 64 == 0 && std::chrono::steady_clock::now() > give_up) return ready();
   }
 }
 
+// The fields of the loop word (Team::loop_).
 std::uint32_t generation_of(std::uint64_t loop) { return static_cast<std::uint32_t>(loop >> 32); }
+int count_of(std::uint64_t loop) { return static_cast<int>(loop >> 20 & 0xFFF); }
+int next_of(std::uint64_t loop) { return static_cast<int>(loop & 0xFFFFF); }
 
 }  // namespace
 
@@ -67,7 +67,6 @@ void Team::run(int threads, int chunk_count, ChunkFn chunk, const void* context)
   }
 
   chunk_.store(chunk);
-  threads_.store(threads);
   context_.store(context);
   done_.store(0);
   ++generation_;
@@ -80,7 +79,7 @@ void Team::run(int threads, int chunk_count, ChunkFn chunk, const void* context)
   inside_loop = false;
   // Only chunks other threads have claimed and not finished are left: wait for them.
   const auto all_done = [&] { return done_.load(std::memory_order_acquire) == chunk_count; };
-  if (spin_until(all_done, kSpinS)) return;
+  if (spin_until(all_done)) return;
   caller_asleep_.store(true);  // then reads done_; a worker adds to done_, then reads this
   for (int done = done_.load(); done != chunk_count; done = done_.load()) done_.wait(done);
   caller_asleep_.store(false);
@@ -92,10 +91,10 @@ std::uint32_t Team::run_chunks() {
     // Guided claims: a share of what is left, so that few claims cross between cores and
     // the last chunks still spread over the team.
     const std::uint64_t seen = loop_.load(std::memory_order_relaxed);
-    const auto count_seen = seen >> 20 & 0xFFF, next_seen = std::min(seen & 0xFFFFF, count_seen);
-    const int batch = std::max(1, static_cast<int>(count_seen - next_seen) / threads_.load(std::memory_order_relaxed));
+    const int left = std::max(0, count_of(seen) - next_of(seen));
+    const int batch = std::max(1, left / (active_workers_.load(std::memory_order_relaxed) + 1));
     const std::uint64_t loop = loop_.fetch_add(batch);
-    const int k = static_cast<int>(loop & 0xFFFFF), count = static_cast<int>(loop >> 20 & 0xFFF);
+    const int k = next_of(loop), count = count_of(loop);
     if (k >= count) {
       if (done > 0) {  // once per thread and loop: the counter's cache line moves little
         done_.fetch_add(done);
@@ -123,7 +122,7 @@ bool Team::wait_for_loop(int index, std::uint32_t seen) {
     // posted_ (stored just after loop_) has a line of its own: the spinning does not slow
     // the claims of a loop still running on the others.
     const auto posted = [&] { return stop_.load() || posted_.load() != seen; };
-    if (spin_until(posted, kSpinS)) return !stop_.load();
+    if (spin_until(posted)) return !stop_.load();
     // Sleep. The caller stores posted_ before it reads sleepers_, this thread counts
     // itself before it reads posted_: one of the two sees the other.
     sleepers_.fetch_add(1);

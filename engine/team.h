@@ -54,10 +54,9 @@ class Team {
   alignas(64) std::atomic<std::uint32_t> posted_{0};  // the generation, for waiting workers
   alignas(64) std::atomic<ChunkFn> chunk_{nullptr};
   std::atomic<const void*> context_{nullptr};
-  std::atomic<int> threads_{1};                // the team size of the posted loop
   std::atomic<int> sleepers_{0};               // workers asleep on posted_
   std::atomic<bool> caller_asleep_{false};     // the caller sleeps on done_
-  std::atomic<int> active_workers_{0};         // workers 0 .. active-1 take part (team size - 1)
+  std::atomic<int> active_workers_{0};         // workers 0 .. active-1 take part: the team size - 1
   std::atomic<bool> stop_{false};
 };
 
