@@ -1,6 +1,9 @@
 // The stages of one time step, in the order World::step calls them. Each stage reads the
 // Model and updates part of the State; each lives in its own .cpp file.
 #pragma once
+#include <cmath>
+#include <vector>
+
 #include "engine/model.h"
 #include "engine/state.h"
 
@@ -41,6 +44,14 @@ double apply_contact_law(const Model& model, State& state, double dt_s);
 // per block and degree of freedom 2/omega (sqrt(1 + zeta^2) - zeta), omega^2 = K/M; with
 // zeta = 0 unless with_damping. Sets *block to the limiting block.
 double stability_limit_s(const Model& model, const State& state, bool with_damping, int* block);
+// The same per block (nb): its own limit and the degree of freedom that sets it (0-2
+// translations, 3-5 rotations about the principal axes); infinite for blocks that are not
+// free or touch nothing.
+struct BlockLimit {
+  double dt_s = INFINITY;
+  int dof = -1;
+};
+std::vector<BlockLimit> block_stability_limits(const Model& model, const State& state, bool with_damping);
 // stability.cpp (Damping::capped): sets State::damping_scale so that every
 // free block's damping ratio zeta in each degree of freedom keeps dt within
 // kDampingCapMargin (model.h) of its limit; 1 where the materials' h already does.

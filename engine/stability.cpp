@@ -58,25 +58,34 @@ Mode mode_of(double k, double c, double m) { return {std::sqrt(k / m), c / (2.0 
 
 }  // namespace
 
-double stability_limit_s(const Model& m, const State& s, bool with_damping, int* block) {
+std::vector<BlockLimit> block_stability_limits(const Model& m, const State& s, bool with_damping) {
   std::vector<Vec6> stiffness, damping;
   block_stiffness_damping(m, s, stiffness, damping);
-  double best = INFINITY;
+  std::vector<BlockLimit> limits(m.block_count);
   for (int b = 0; b < m.block_count; ++b) {
     if (m.motion[b] != Motion::free) continue;
     const Vec6 mass = block_mass(m, b);
+    BlockLimit& limit = limits[b];
     for (int j = 0; j < 6; ++j) {
       if (stiffness[b][j] <= 0) continue;
       // 2/omega (sqrt(1 + zeta^2) - zeta): Cundall's 2 sqrt(m / K) when undamped.
       const Mode mode = mode_of(stiffness[b][j], damping[b][j], mass[j]);
       const double zeta = with_damping ? mode.zeta : 0.0;
-      const double limit = 2.0 / mode.omega * (std::sqrt(1.0 + zeta * zeta) - zeta);
-      if (limit < best) {
-        best = limit;
-        if (block) *block = b;
-      }
+      const double dof_limit = 2.0 / mode.omega * (std::sqrt(1.0 + zeta * zeta) - zeta);
+      if (dof_limit < limit.dt_s) limit = {dof_limit, j};
     }
   }
+  return limits;
+}
+
+double stability_limit_s(const Model& m, const State& s, bool with_damping, int* block) {
+  const std::vector<BlockLimit> limits = block_stability_limits(m, s, with_damping);
+  double best = INFINITY;
+  for (int b = 0; b < m.block_count; ++b)
+    if (limits[b].dt_s < best) {
+      best = limits[b].dt_s;
+      if (block) *block = b;
+    }
   return best;
 }
 
