@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "engine/pipeline.h"
 #include "engine/world.h"
 #include "geometry/demo_scenes.h"
 #include "scenes.h"
@@ -70,6 +71,30 @@ TEST(DampingCap, CapOfAStoneOnABaseIsTheClosedForm) {
     EXPECT_NEAR(w.state().damping_scale[1], expected, 1e-9) << "dt " << share << " of the springs' limit";
     EXPECT_EQ(w.state().damping_scale[0], 1.0) << "the fixed base is never capped";
   }
+}
+
+// The study's dashpots, block by block: the stone's own limit is the smallest of its six
+// modes' 2/omega (sqrt(1 + zeta^2) - zeta), set by the mode that gives it (a rocking mode:
+// its corner dashpots act with the corners' levers); the fixed base has none.
+TEST(DampingCap, StoneOnABaseLimitIsItsStiffestDampedMode) {
+  const std::vector<Mode> modes = stone_modes(1.0);
+  double expected = INFINITY;
+  int expected_dof = -1;
+  for (int j = 0; j < 6; ++j) {
+    const double z = modes[j].zeta();
+    const double limit = 2.0 / modes[j].omega() * (std::sqrt(1.0 + z * z) - z);
+    if (limit < expected) expected = limit, expected_dof = j;
+  }
+  ASSERT_GE(expected_dof, 3) << "rocking or twist sets the stone's limit";
+  const World w(stone_on_base(1.0, false), 1e-9);
+  const std::vector<BlockLimit> limits = block_stability_limits(w.model(), w.state(), /*with_damping=*/true);
+  ASSERT_EQ(limits.size(), 2u);
+  EXPECT_FALSE(std::isfinite(limits[0].dt_s)) << "the fixed base";
+  EXPECT_NEAR(limits[1].dt_s, expected, 1e-9 * expected);
+  EXPECT_EQ(limits[1].dof, expected_dof);
+  int block = -1;
+  EXPECT_EQ(stability_limit_s(w.model(), w.state(), true, &block), limits[1].dt_s);
+  EXPECT_EQ(block, 1);
 }
 
 // Where the step resolves every dashpot, the caps change nothing, to the last bit.
