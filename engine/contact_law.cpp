@@ -109,6 +109,17 @@ double apply_contact_law(const Model& m, State& s, double dt) {
       const double damping_scale = implicit_dashpots ? 0.0 : std::min(s.damping_scale[a], s.damping_scale[b]);
       Vec3 pair_force = Vec3::Zero(), pair_torque = Vec3::Zero();
       for (int i = pair.sub_begin; i < pair.sub_begin + pair.sub_count; ++i) {
+        // A dry sub-contact that was open and stays open (gap >= 0 before and after, no
+        // stretch, no dashpot force) carries nothing and stores nothing: only its flags
+        // change. Shaken bridges keep many such points within the contact tolerance (model
+        // C dry, 10 s of Kobe: 60 % of its sub-contacts); the law below would give them the
+        // same zeros.
+        if (!(c.flags[i] & SubContactFlag::bonded) && c.normal_stretch_m[i] == 0 && c.gap_m[i] >= 0 &&
+            c.gap_m[i] - c.gap_change_m[i] >= 0 && c.shear_stretch_m[i] == Vec3::Zero() &&
+            c.damping_force_n[i] == Vec3::Zero()) {
+          c.flags[i] = (c.flags[i] & (SubContactFlag::broken | SubContactFlag::original)) | SubContactFlag::open;
+          continue;
+        }
         const Vec3 r = c.point[i] - xa;
         const Vec3& n = c.normal[i];
         const Vec3 v_rel = v0 + w_rel.cross(r);
