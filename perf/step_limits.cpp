@@ -4,8 +4,11 @@
 // at its own limit) could gain over one step for all at the smallest limit.
 // Usage: step_limits SCENARIO.toml...   (one CSV row per scenario)
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <exception>
+#include <stdexcept>
+#include <string>
 #include <vector>
 
 #include "analysis/load.h"
@@ -35,6 +38,7 @@ void report(const char* file) {
       (with_damping ? damped : springs).push_back(limit.dt_s);
       if (with_damping && limit.dof >= 3) ++rocking;
     }
+  if (damped.empty()) throw std::runtime_error(std::string(file) + ": no free block touches another, so nothing limits the step");
   std::sort(damped.begin(), damped.end());
   std::sort(springs.begin(), springs.end());
   // Steps of all blocks per simulated second: n / min at one step, sum 1 / dt_b per block.
