@@ -1,8 +1,9 @@
 // Chooses the team size of a run's steps from their measured wall time. The most threads
 // are not always the fastest: a small model's loops are shorter than posting them to the
 // team and waiting for its last chunks, and when another process holds some of the cores
-// a thread descheduled in the middle of a chunk holds up its loop (team.h). Results never depend on the team size (fixed chunking,
-// parallel.h), so it may change at any step; only the speed does.
+// a thread descheduled in the middle of a chunk holds up its loop (team.h). Results never
+// depend on the team size (fixed chunking, parallel.h), so it may change at any step; only
+// the speed does.
 //
 // The tuner measures windows of steps (at least kWindowS of wall time) on the team size
 // it holds best, and every kProbeEvery windows one window on a neighbouring size of the
