@@ -156,7 +156,9 @@ struct SeismicRun::Progress {
   Vec3 settled_crown = Vec3::Zero();
   Vec3 ground_accel = Vec3::Zero(), ground_displacement = Vec3::Zero();  // at the last step
   Clock::time_point wall0 = Clock::now(), checkpoint_wall = Clock::now();
+  double wall_before_s = 0;  // of the earlier parts of a resumed run, each to its last checkpoint
   double checkpoint_time_s = 0;
+  double wall_s() const { return wall_before_s + std::chrono::duration<double>(Clock::now() - wall0).count(); }
 
   template <class Archive>
   void visit(Archive& a) {
@@ -186,7 +188,7 @@ void SeismicRun::write_summary(Progress& p, bool finished) {
   r.balance_error_relative = relative_balance_error(e);
   r.steps = s.step;
   r.state_hash = world_->state_hash();
-  r.wall_s = std::chrono::duration<double>(Clock::now() - p.wall0).count();
+  r.wall_s = p.wall_s();
   const BridgeSpec& bridge = scenario_.model.bridge;
   const RunDescription run{scenario_.model.name,
                            monitored_block(),
@@ -207,6 +209,7 @@ void SeismicRun::write_checkpoint(Progress& p) {
                            scenario_.ground_motion.duration_s, scenario_.ground_motion.start_s, scenario_.subdivision,
                            scenario_.joint_rule, scenario_.damping, scenario_.bonds_when_settled,
                            scenario_.shear_spring};
+  p.result.wall_s = p.wall_s();  // the work so far, what a resumed run's wall time goes on from
   write_atomically(options_.out / "checkpoint.bin", [&](const std::filesystem::path& tmp) {
     std::ofstream file(tmp, std::ios::binary);
     CheckpointWriter w(file);
@@ -228,6 +231,7 @@ void SeismicRun::restore_checkpoint(Progress& p) {
   try {
     p.visit(in);
     read_state(in, s);
+    p.wall_before_s = p.result.wall_s;
   } catch (const CheckpointError& e) {
     throw InputError(file.string() + ": damaged checkpoint (" + e.what() + ")");
   }

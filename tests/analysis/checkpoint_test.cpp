@@ -13,6 +13,7 @@
 #include <memory>
 #include <random>
 #include <sstream>
+#include <string>
 
 #include "command_line.h"
 
@@ -95,6 +96,26 @@ TEST(Checkpoint, RunWithCappedDashpotsResumesBitIdentical) {
 // it, the resumed run's solves would stop at other iterates.
 TEST(Checkpoint, RunWithImplicitDashpotsResumesBitIdentical) {
   expect_killed_run_resumes_bit_identical("ishibashi_checkpoint_implicit", " --damping implicit", 0.4);
+}
+
+// A resumed run's wall time is the work of every part: stopped (SIGINT, which writes a
+// checkpoint) once five of its eight frames of shaking are written, the first part is
+// the longer, and the resumed run's summary must count it.
+TEST(Checkpoint, ResumedRunsWallTimeCountsEveryPart) {
+  const auto file = scenario("ishibashi_checkpoint_wall.toml", 0.1, 0.4);
+  const auto out = tmp_dir() / "ishibashi_cp_wall";
+  std::filesystem::remove_all(out);
+  int status = 0;
+  run_command("bash -c '" + kRun + file.string() + " --checkpoint-wall 1000 --out " + out.string() +
+                  " & run=$!; while [ $(cat " + (out / "history.csv").string() +
+                  " 2> /dev/null | grep -c ,shake,) -lt 5 ] && kill -0 $run 2> /dev/null; do sleep 0.02; done; kill -INT $run; wait $run'",
+              &status);
+  ASSERT_TRUE(std::filesystem::exists(out / "checkpoint.bin")) << "the run ended before it was stopped";
+  const double first_part_s = std::stod(summary_field(out, "wall_time_s"));
+  const std::string resumed = run_command(kRun + "--resume " + out.string(), &status);
+  ASSERT_EQ(status, 0) << resumed;
+  EXPECT_EQ(summary_field(out, "finished"), "true,");
+  EXPECT_GT(std::stod(summary_field(out, "wall_time_s")), first_part_s);
 }
 
 TEST(Checkpoint, CheckpointOfAnotherBuildOrOfChangedInputsIsRefused) {
