@@ -237,7 +237,7 @@ StudyOutcome run_study(const StudyFile& study, const StudyOptions& o) {
       }
       const bool resumed = !o.force && resumable(job);
       event(name + (resumed ? ": goes on from its checkpoint" : ": started"));
-      progress.started(i);
+      progress.started(i, resumed);
       const auto t0 = std::chrono::steady_clock::now();
       try {
         use_threads(threads);

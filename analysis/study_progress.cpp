@@ -8,13 +8,20 @@ namespace ishibashi {
 
 TimeLeft estimate_time_left(const std::vector<JobProgress>& jobs, int workers) {
   constexpr double kFirstFraction = 0.05;  // before it, a run's pace is mostly its settling
-  // The whole duration of each kind's jobs so far: done ones as they took, running runs projected.
+  // The whole duration of each kind's jobs so far: done ones as they took, running runs
+  // projected; both at the pace measured since their origin (a resumed run's part after its
+  // checkpoint stands for the whole).
+  auto covered = [](const JobProgress& j) { return j.fraction - j.origin_fraction; };
+  auto projected = [&](const JobProgress& j) {
+    return j.state == JobProgress::running && j.is_run && covered(j) >= kFirstFraction;
+  };
   double sum[2] = {0, 0};
   int count[2] = {0, 0};
   for (const JobProgress& j : jobs) {
     double total = -1;
-    if (j.state == JobProgress::done) total = j.elapsed_s;
-    if (j.state == JobProgress::running && j.is_run && j.fraction >= kFirstFraction) total = j.elapsed_s / j.fraction;
+    if (j.state == JobProgress::done && 1 - j.origin_fraction >= kFirstFraction)
+      total = (j.elapsed_s - j.origin_s) / (1 - j.origin_fraction);
+    if (projected(j)) total = (j.elapsed_s - j.origin_s) / covered(j);
     if (total >= 0) sum[j.is_run] += total, ++count[j.is_run];
   }
   TimeLeft t;
@@ -22,10 +29,11 @@ TimeLeft estimate_time_left(const std::vector<JobProgress>& jobs, int workers) {
   for (const JobProgress& j : jobs) {
     if (j.state != JobProgress::pending && j.state != JobProgress::running) continue;
     double left;
-    if (j.state == JobProgress::running && j.is_run && j.fraction >= kFirstFraction)
-      left = j.elapsed_s / j.fraction - j.elapsed_s;
+    if (projected(j))
+      left = (j.elapsed_s - j.origin_s) / covered(j) * (1 - j.fraction);
     else if (count[j.is_run] > 0)
-      left = std::max(0.0, sum[j.is_run] / count[j.is_run] - (j.state == JobProgress::running ? j.elapsed_s : 0.0));
+      left = std::max(0.0, sum[j.is_run] / count[j.is_run] * (1 - j.origin_fraction) -
+                               (j.state == JobProgress::running ? j.elapsed_s - j.origin_s : 0.0));
     else {
       ++t.not_counted;
       continue;
@@ -58,15 +66,22 @@ StudyProgress::StudyProgress(std::vector<JobProgress> jobs, int workers, double 
       last_print_(Clock::now()),
       print_(std::move(print)) {}
 
-void StudyProgress::started(std::size_t job) {
+void StudyProgress::started(std::size_t job, bool resumed) {
   const std::lock_guard<std::mutex> guard(lock_);
   jobs_[job].state = JobProgress::running;
+  jobs_[job].awaiting_origin = resumed;
   started_[job] = Clock::now();
 }
 
 void StudyProgress::advanced(std::size_t job, double fraction) {
   const std::lock_guard<std::mutex> guard(lock_);
-  jobs_[job].fraction = fraction;
+  JobProgress& j = jobs_[job];
+  j.fraction = fraction;
+  if (j.awaiting_origin) {
+    j.awaiting_origin = false;
+    j.origin_fraction = fraction;
+    j.origin_s = std::chrono::duration<double>(Clock::now() - started_[job]).count();
+  }
   if (std::chrono::duration<double>(Clock::now() - last_print_).count() >= every_s_) print_locked();
 }
 

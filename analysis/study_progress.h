@@ -17,10 +17,18 @@ struct JobProgress {
   State state = pending;
   double fraction = 0;    // of its shaking, for a running run
   double elapsed_s = 0;   // wall time since it started (running) or in all (done)
+  // Where the pace of a run is measured from: a fresh run from its start (0 of its shaking,
+  // 0 s); a run that goes on from a checkpoint from its first report (the fraction it had
+  // reached, and the seconds it took to load and get there), so the part already done
+  // before the checkpoint is not taken as done in no time.
+  bool awaiting_origin = false;  // a resumed run before its first report
+  double origin_fraction = 0;
+  double origin_s = 0;
 };
 
 // Wall seconds the study has left with `workers` jobs at once, from the jobs so far: a run
-// at fraction f after e s takes e / f in all (once f >= 0.05); a pending job as long as the
+// at fraction f after e s, from its origin (f0, e0), takes (e - e0) / (f - f0) for its whole
+// shaking (once f - f0 >= 0.05; for a fresh run e / f); a pending job as long as the
 // mean of the done and projected jobs of its kind. Jobs of a kind with nothing to go by yet
 // (say the frequency analyses, which run last) are left out and counted in `not_counted`.
 struct TimeLeft {
@@ -37,7 +45,7 @@ std::string duration_text(double seconds);
 class StudyProgress {
  public:
   StudyProgress(std::vector<JobProgress> jobs, int workers, double every_s, std::function<void(const std::string&)> print);
-  void started(std::size_t job);
+  void started(std::size_t job, bool resumed = false);  // resumed: goes on from a checkpoint
   void advanced(std::size_t job, double fraction);
   void finished(std::size_t job, JobProgress::State how);  // done, failed or skipped
 

@@ -41,6 +41,30 @@ TEST(StudyProgress, SkippedJobsCountNothingAndUnknownKindsSaySo) {
   EXPECT_EQ(estimate_time_left(jobs, 2).not_counted, 0);
 }
 
+TEST(StudyProgress, ARunThatGoesOnFromACheckpointIsTimedFromItsFirstReport) {
+  // Resumed at 50 % of its shaking; its first report came 30 s after it started (loading
+  // the checkpoint, the first frame). At 75 % after 130 s: 25 % in 100 s, so 100 s left
+  // (timed from its start as a fresh run it would seem to need 130 / 0.75 - 130 = 43 s).
+  JobProgress resumed = job(true, JobProgress::running, 0.75, 130);
+  resumed.origin_fraction = 0.5;
+  resumed.origin_s = 30;
+  EXPECT_DOUBLE_EQ(estimate_time_left({resumed}, 1).seconds, 100);
+  // Its pace stands for a whole run (400 s) for the runs not started yet; done, the same.
+  std::vector<JobProgress> jobs = {resumed, job(true, JobProgress::pending, 0, 0)};
+  EXPECT_DOUBLE_EQ(estimate_time_left(jobs, 1).seconds, 500);
+  jobs[0].state = JobProgress::done;
+  jobs[0].elapsed_s = 230;
+  EXPECT_DOUBLE_EQ(estimate_time_left(jobs, 1).seconds, 400);
+
+  // Through StudyProgress: the origin is the first report after a resumed start.
+  std::vector<std::string> lines;
+  StudyProgress p({{"run a", true}}, 1, 0.0, [&](const std::string& l) { lines.push_back(l); });
+  p.started(0, /*resumed=*/true);
+  p.advanced(0, 0.66);  // the first report: the origin; no pace yet
+  p.advanced(0, 0.67);
+  EXPECT_NE(lines.back().find("time left not known yet"), std::string::npos) << lines.back();
+}
+
 TEST(StudyProgress, DurationsReadAsAPersonWouldSayThem) {
   EXPECT_EQ(duration_text(40), "40 s");
   EXPECT_EQ(duration_text(12 * 60 + 10), "12 min");
