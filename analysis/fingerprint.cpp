@@ -25,8 +25,11 @@ std::uint64_t program_fingerprint() {
 }
 
 std::uint64_t scenario_fingerprint(const std::filesystem::path& scenario_file) {
-  const Scenario sc = read_scenario(scenario_file);
-  std::uint64_t h = fnv1a(file_bytes(scenario_file));
+  return scenario_fingerprint(read_scenario(scenario_file));
+}
+
+std::uint64_t scenario_fingerprint(const Scenario& sc) {
+  std::uint64_t h = fnv1a(file_bytes(sc.file));
   h = fnv1a(file_bytes(sc.model_file), h);
   for (const auto& c : sc.ground_motion.component)
     if (c) h = fnv1a(file_bytes(c->file), h);

@@ -8,10 +8,13 @@
 
 namespace ishibashi {
 
+struct Scenario;
+
 std::string file_bytes(const std::filesystem::path& file);
 std::uint64_t fnv1a(const std::string& bytes, std::uint64_t h = 1469598103934665603ull);
 std::uint64_t program_fingerprint();
 // The scenario file, its model file and its ground-motion records.
 std::uint64_t scenario_fingerprint(const std::filesystem::path& scenario_file);
+std::uint64_t scenario_fingerprint(const Scenario& scenario);  // read from scenario.file
 
 }  // namespace ishibashi

@@ -27,7 +27,7 @@ int axis_index(const std::string& letter) {
 }
 
 FrequencyAnalysis analyse_frequencies(const LoadedModel& loaded, const FrequencyOptions& o, const std::filesystem::path& out) {
-  const Model model = loaded.build();
+  const Model& model = loaded.model();
   const World world(model, 1e-9);  // finds the joints in contact at the start
   FrequencyAnalysis a;
   a.modal = modal_analysis(model, world.state(), o.modes);

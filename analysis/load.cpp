@@ -3,9 +3,9 @@
 #include <cstdio>
 
 #include "geometry/block_files.h"
-#include "io/scenario_file.h"
 
 namespace ishibashi {
+namespace {
 
 std::vector<BridgeBlock> model_blocks(const ModelFile& file, const std::filesystem::path& path) {
   std::vector<BridgeBlock> blocks;
@@ -33,20 +33,6 @@ ValidationReport validate_model_blocks(const std::vector<BridgeBlock>& blocks) {
   return validate_blocks(shapes, names);
 }
 
-ModelBuilder load_model_builder(const ModelFile& file, const std::filesystem::path& path) {
-  std::vector<BridgeBlock> blocks = model_blocks(file, path);
-  const ValidationReport report = validate_model_blocks(blocks);
-  if (!report.ok()) {
-    for (const std::string& e : report.errors) std::fprintf(stderr, "  error: %s\n", e.c_str());
-    throw InputError(path.string() + ": the blocks failed validation (" + std::to_string(report.errors.size()) + " errors above)");
-  }
-  // Imported blocks reach the engine with coplanar triangles merged into one face each (a
-  // face is a contact plane); only once validation has shown them convex.
-  if (file.imported())
-    for (BridgeBlock& b : blocks) b.shape = merged_faces(b.shape);
-  return bridge_builder(file.bridge, blocks);
-}
-
 Model build_model(const ModelBuilder& builder, const ModelOptions& options, const std::filesystem::path& path) {
   try {
     return builder.build(options);
@@ -55,18 +41,60 @@ Model build_model(const ModelBuilder& builder, const ModelOptions& options, cons
   }
 }
 
-LoadedModel load_model_or_scenario(const std::filesystem::path& file) {
-  if (!is_scenario_file(file)) {
-    const ModelFile model = read_model_file(file);
-    return {model.name, file, load_model_builder(model, file), {}};
-  }
-  const Scenario sc = read_scenario(file);  // its model file, with the scenario's mortar
-  ModelOptions options;
-  options.subdivision = sc.subdivision;
-  options.joint_rule = sc.joint_rule;
-  options.shear_spring = sc.shear_spring;
-  LoadedModel loaded{sc.model.name, file, load_model_builder(sc.model, sc.model_file), options};
-  loaded.build();  // options checked now, with the scenario named
+void require_valid(const CompiledModel& c, const std::filesystem::path& path) {
+  if (c.validation.ok()) return;
+  for (const std::string& e : c.validation.errors) std::fprintf(stderr, "  error: %s\n", e.c_str());
+  throw InputError(path.string() + ": the blocks failed validation (" + std::to_string(c.validation.errors.size()) +
+                   " errors above)");
+}
+
+// What a frequency analysis takes of a run's settings: the joints' geometry. It has no
+// settling (its joints are bonded from the start) and no dashpot in its linear joints.
+ModelOptions frequency_options(RunSettings settings, const RunOverrides& overrides) {
+  apply_overrides(settings, overrides);
+  ModelOptions options = model_options(settings);
+  options.damping = Damping::study;
+  options.bonds_when_settled = false;
+  return options;
+}
+
+}  // namespace
+
+CompiledModel compile_model(const ModelFile& file, const std::filesystem::path& path, const ModelOptions& options) {
+  CompiledModel c;
+  c.blocks = model_blocks(file, path);
+  c.validation = validate_model_blocks(c.blocks);
+  if (!c.validation.ok()) return c;
+  // Imported blocks reach the engine with coplanar triangles merged into one face each (a
+  // face is a contact plane); only once validation has shown them convex.
+  if (file.imported())
+    for (BridgeBlock& b : c.blocks) b.shape = merged_faces(b.shape);
+  c.builder = bridge_builder(file.bridge, c.blocks);
+  c.model = build_model(c.builder, options, path);
+  return c;
+}
+
+Model load_model(const ModelFile& file, const std::filesystem::path& path, const ModelOptions& options) {
+  CompiledModel c = compile_model(file, path, options);
+  require_valid(c, path);
+  return std::move(c.model);
+}
+
+Model LoadedModel::build(const ModelOptions& with) const { return build_model(compiled.builder, with, file); }
+
+LoadedModel load_scenario_model(const Scenario& sc, const RunOverrides& overrides) {
+  const ModelOptions options = frequency_options(sc.settings, overrides);
+  LoadedModel loaded{sc.model.name, sc.file, options, compile_model(sc.model, sc.model_file, options)};
+  require_valid(loaded.compiled, sc.model_file);
+  return loaded;
+}
+
+LoadedModel load_model_or_scenario(const std::filesystem::path& file, const RunOverrides& overrides) {
+  if (is_scenario_file(file)) return load_scenario_model(read_scenario(file), overrides);
+  const ModelFile model = read_model_file(file);
+  const ModelOptions options = frequency_options(RunSettings{}, overrides);
+  LoadedModel loaded{model.name, file, options, compile_model(model, file, options)};
+  require_valid(loaded.compiled, file);
   return loaded;
 }
 

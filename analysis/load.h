@@ -1,5 +1,5 @@
-// Models for the analyses: the blocks generated from a model file (or imported from block
-// files), validated with CGAL and compiled for the engine.
+// Models for the analyses, compiled in one place (compile_model): the blocks generated from
+// a model file (or imported from block files), validated with CGAL and built for the engine.
 #pragma once
 #include <filesystem>
 #include <string>
@@ -9,36 +9,40 @@
 #include "geometry/bridge.h"
 #include "geometry/validate.h"
 #include "io/model_file.h"
+#include "io/run_settings.h"
+#include "io/scenario_file.h"
 
 namespace ishibashi {
 
-// The blocks a model file describes, not yet validated. Throws InputError naming the file.
-std::vector<BridgeBlock> model_blocks(const ModelFile& file, const std::filesystem::path& path);
+// A model file compiled for the engine: its blocks, their validation (each block sound and
+// convex, no overlaps, joints on shared faces) and, when they pass, the builder (to build
+// again with other options) and the Model with the options asked for.
+struct CompiledModel {
+  std::vector<BridgeBlock> blocks;  // imported ones with coplanar triangles merged once shown convex
+  ValidationReport validation;
+  ModelBuilder builder;             // empty when validation failed
+  Model model;                      // empty when validation failed
+};
 
-// CGAL validation of the blocks: each sound and convex, no overlaps, joints on shared faces.
-ValidationReport validate_model_blocks(const std::vector<BridgeBlock>& blocks);
+// Throws InputError naming the file for blocks that cannot be made or an option out of
+// range; blocks that fail validation are in the result (validation.ok() false).
+CompiledModel compile_model(const ModelFile& file, const std::filesystem::path& path, const ModelOptions& options);
 
-// The blocks of a model file, validated and ready to build with an analysis's options;
-// prints the validation errors and throws InputError when there are any.
-ModelBuilder load_model_builder(const ModelFile& file, const std::filesystem::path& path);
+// compile_model's Model; prints the validation errors and throws InputError when there are any.
+Model load_model(const ModelFile& file, const std::filesystem::path& path, const ModelOptions& options);
 
-// The Model of a model file with `options`; throws InputError naming the file when an
-// option is out of range.
-Model build_model(const ModelBuilder& builder, const ModelOptions& options, const std::filesystem::path& path);
-inline Model load_model(const ModelFile& file, const std::filesystem::path& path, const ModelOptions& options = {}) {
-  return build_model(load_model_builder(file, path), options, path);
-}
-
-// A model file, or a scenario file's model with the scenario's mortar and contact
-// subdivision (in `options`): what the modal and impulse analyses of that file study.
+// A model file, or a scenario file's model with the scenario's mortar, compiled with the
+// joints' settings (subdivision, joint rule, shear spring: in `options`) of the scenario and
+// of `overrides`: what the modal and impulse analyses of that file study.
 struct LoadedModel {
   std::string name;
   std::filesystem::path file;
-  ModelBuilder builder;
   ModelOptions options;
-  Model build(const ModelOptions& with) const { return build_model(builder, with, file); }
-  Model build() const { return build(options); }
+  CompiledModel compiled;
+  const Model& model() const { return compiled.model; }
+  Model build(const ModelOptions& with) const;  // the same blocks with other options
 };
-LoadedModel load_model_or_scenario(const std::filesystem::path& file);
+LoadedModel load_model_or_scenario(const std::filesystem::path& file, const RunOverrides& overrides = {});
+LoadedModel load_scenario_model(const Scenario& scenario, const RunOverrides& overrides = {});
 
 }  // namespace ishibashi

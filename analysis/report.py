@@ -24,14 +24,9 @@ matplotlib.use("Agg")  # headless: no display needed
 import matplotlib.pyplot as plt  # noqa: E402
 from mpl_toolkits.mplot3d.art3d import Poly3DCollection  # noqa: E402
 
+from run_outputs import read_rows  # noqa: E402  (beside this file)
+
 G = 9.80665  # m/s^2
-
-
-def read_rows(path):
-    if not path.exists():
-        return []
-    with open(path, newline="") as f:
-        return list(csv.DictReader(f))
 
 
 def number(text, default=math.nan):
@@ -165,7 +160,8 @@ def energy_figure(out, runs, figures):
         t = [number(x["time_s"]) - t0 for x in shake]
         for term in terms:
             a.plot(t, [number(x[term]) / 1000 for x in shake], lw=0.9, label=term[:-2].replace("_", " "))
-        finish_panel(a, f"{r['scenario']}: energy balance {number(r['energy_balance_pct']):.3f} %", "time of shaking [s]", "kJ")
+        balance_pct = 100 * number(r["energy_balance_error_relative"])
+        finish_panel(a, f"{r['scenario']}: energy balance {balance_pct:.3f} %", "time of shaking [s]", "kJ")
     axes[0].legend(fontsize=7)
     fig.tight_layout()
     return save(fig, figures / "energy.png")
@@ -213,7 +209,7 @@ def block_faces(vtu):
 def snapshot_figure(out, run, shaking_s, figures, limits):
     folder = out / "runs" / run["scenario"]
     series = frames(folder)
-    shaking = number(run["shaking_s"], 0.0)
+    shaking = number(run["shaking_time_s"], 0.0)
     if not series or shaking_s > shaking + 0.01:  # within a frame of the end
         return None
     t0 = number(run["settle_time_s"], 0.0)
@@ -256,7 +252,7 @@ def animation(out, run, figures, limits):
     from matplotlib.animation import PillowWriter
 
     folder = out / "runs" / run["scenario"]
-    t0, shaking = number(run["settle_time_s"], 0.0), number(run["shaking_s"], 0.0)
+    t0, shaking = number(run["settle_time_s"], 0.0), number(run["shaking_time_s"], 0.0)
     chosen = animation_frames(frames(folder), t0, shaking)
     if len(chosen) < 2:
         return None
@@ -418,10 +414,10 @@ def main():
                            "ratio", "z of y step [Hz]", "ratio"], against), []))
 
     if runs:  # a study of frequencies alone has none
-        run_rows = [[r["scenario"], r["settled"], fmt(r["shaking_s"], 2),
+        run_rows = [[r["scenario"], r["settled"], fmt(r["shaking_time_s"], 2),
                      "none" if r["first_opening_s"] == "" else fmt(r["first_opening_s"], 3),
                      fmt(r["largest_crown_drop_m"], 1, 1000), r["fallen_stones"], r["collapse"],
-                     f"{r['joints_cracked']} / {r['joints']}", fmt(r["energy_balance_pct"], 3), fmt(r["wall_s"], 0),
+                     f"{r['joints_cracked']} / {r['joints']}", fmt(r["energy_balance_error_relative"], 3, 100), fmt(r["wall_s"], 0),
                      study_says.get(r["scenario"], "")]
                     for r in runs]
         sections.append(("Seismic runs",

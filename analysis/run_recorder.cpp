@@ -2,7 +2,10 @@
 
 #include <algorithm>
 #include <cstdio>
+#include <cstring>
 #include <sstream>
+
+#include <nlohmann/json.hpp>
 
 #include "geometry/bridge.h"
 #include "io/atomic_file.h"
@@ -22,6 +25,80 @@ RunCounts count_damage(const Model& m, const State& s, const JointThresholds& th
   return c;
 }
 
+namespace {
+
+// What a row of history.csv reads: the state's energies and the frame's counts.
+struct HistoryFrame {
+  double time_s;
+  const char* phase;
+  Vec3 ground_accel_m_s2, ground_displacement_m;
+  const Energy& e;
+  const RunCounts& c;
+  std::vector<Vec3> monitored_m;  // of each monitored block, relative to the ground
+};
+struct HistoryColumn {
+  const char* name;
+  OutputValue (*value)(const HistoryFrame& f);
+};
+using F = HistoryFrame;
+using V = OutputValue;
+// history.csv's columns, listed once; the monitored blocks' displacements relative to the
+// ground (block<b>_dx_m, _dy_m, _dz_m) come after the column named kMonitorsAfter. The
+// counts have the names of summary.json's (result_columns) where they are the same quantity.
+const HistoryColumn kHistoryColumns[] = {
+    {"time_s", [](const F& f) -> V { return f.time_s; }},
+    {"phase", [](const F& f) -> V { return std::string(f.phase); }},
+    {"ground_ax_m_s2", [](const F& f) -> V { return f.ground_accel_m_s2.x(); }},
+    {"ground_ay_m_s2", [](const F& f) -> V { return f.ground_accel_m_s2.y(); }},
+    {"ground_az_m_s2", [](const F& f) -> V { return f.ground_accel_m_s2.z(); }},
+    {"ground_dx_m", [](const F& f) -> V { return f.ground_displacement_m.x(); }},
+    {"ground_dy_m", [](const F& f) -> V { return f.ground_displacement_m.y(); }},
+    {"ground_dz_m", [](const F& f) -> V { return f.ground_displacement_m.z(); }},
+    {"kinetic_j", [](const F& f) -> V { return f.e.kinetic_j; }},
+    {"gravitational_j", [](const F& f) -> V { return f.e.gravitational_j; }},
+    {"elastic_j", [](const F& f) -> V { return f.e.elastic_j; }},
+    {"damping_j", [](const F& f) -> V { return f.e.damping_j; }},
+    {"friction_j", [](const F& f) -> V { return f.e.friction_j; }},
+    {"bond_j", [](const F& f) -> V { return f.e.bond_j; }},
+    {"left_model_j", [](const F& f) -> V { return f.e.left_model_j; }},
+    {"ground_work_j", [](const F& f) -> V { return f.e.prescribed_work_j; }},  // the prescribed blocks' work
+    {"balance_error_j", [](const F& f) -> V { return f.e.balance_error_j(); }},
+    {"joints_open", [](const F& f) -> V { return (long long)f.c.joints.open; }},
+    {"joints_cracked", [](const F& f) -> V { return (long long)f.c.joints.cracked; }},
+    {"joints_slipped", [](const F& f) -> V { return (long long)f.c.joints.slipped; }},
+    {"largest_opening_m", [](const F& f) -> V { return f.c.joints.largest_opening_m; }},
+    {"largest_slip_m", [](const F& f) -> V { return f.c.joints.largest_slip_m; }},
+    {"fallen_stones", [](const F& f) -> V { return (long long)f.c.fallen; }},
+    {"blocks_left_model", [](const F& f) -> V { return (long long)f.c.left_model; }},
+};
+constexpr const char* kMonitorsAfter = "ground_dz_m";
+
+std::string history_header(const std::vector<int>& monitors) {
+  std::string header;
+  for (const HistoryColumn& c : kHistoryColumns) {
+    if (!header.empty()) header += ',';
+    header += c.name;
+    if (std::strcmp(c.name, kMonitorsAfter) == 0)
+      for (int b : monitors)
+        for (const char* axis : {"x", "y", "z"}) header.append(",block").append(std::to_string(b)).append("_d").append(axis).append("_m");
+  }
+  return header + "\n";
+}
+
+std::string history_row(const HistoryFrame& frame) {
+  std::string row;
+  for (const HistoryColumn& c : kHistoryColumns) {
+    if (!row.empty()) row += ',';
+    row += csv_field(c.value(frame));
+    if (std::strcmp(c.name, kMonitorsAfter) == 0)
+      for (const Vec3& d : frame.monitored_m)
+        for (int axis = 0; axis < 3; ++axis) row.append(",").append(csv_field(d[axis]));
+  }
+  return row + "\n";
+}
+
+}  // namespace
+
 RunRecorder::RunRecorder(std::filesystem::path out, const Model& model, std::vector<int> monitors,
                          std::function<void(const std::string&)> on_warning)
     : out_(std::move(out)),
@@ -31,12 +108,7 @@ RunRecorder::RunRecorder(std::filesystem::path out, const Model& model, std::vec
       blocks_(out_, "blocks"),
       contacts_(out_, "contacts", VtkSeriesWriter::Kind::contacts),
       reported_left_(model.block_count, 0) {
-  std::ostringstream header;
-  header << "time_s,phase,ground_ax_m_s2,ground_ay_m_s2,ground_az_m_s2,ground_dx_m,ground_dy_m,ground_dz_m";
-  for (int b : monitors_) header << ",block" << b << "_dx_m,block" << b << "_dy_m,block" << b << "_dz_m";
-  header << ",kinetic_j,gravitational_j,elastic_j,damping_j,friction_j,bond_j,left_model_j,ground_work_j,balance_error_j,"
-            "open_joints,cracked_joints,slipped_joints,largest_opening_m,largest_slip_m,fallen_blocks,left_model_blocks\n";
-  history_ = header.str();
+  history_ = history_header(monitors_);
   // The camera frames the bridge as built; the ground slab reaches far beyond it.
   view_.lower_m = Vec3::Constant(1e30);
   view_.upper_m = Vec3::Constant(-1e30);
@@ -62,20 +134,9 @@ RunCounts RunRecorder::record(const char* phase, const State& s, const Vec3& ga,
         on_warning_(text);
       }
     }
-  std::ostringstream row;
-  row.precision(9);
-  row << s.time_s << "," << phase << "," << ga.x() << "," << ga.y() << "," << ga.z() << "," << gd.x() << "," << gd.y() << ","
-      << gd.z();
-  for (int b : monitors_) {
-    const Vec3 d = s.position[b] - m.initial_position[b] - gd;
-    row << "," << d.x() << "," << d.y() << "," << d.z();
-  }
-  const Energy& e = s.energy;
-  row << "," << e.kinetic_j << "," << e.gravitational_j << "," << e.elastic_j << "," << e.damping_j << "," << e.friction_j
-      << "," << e.bond_j << "," << e.left_model_j << "," << e.prescribed_work_j << "," << e.balance_error_j() << ","
-      << c.joints.open << "," << c.joints.cracked << "," << c.joints.slipped << "," << c.joints.largest_opening_m << ","
-      << c.joints.largest_slip_m << "," << c.fallen << "," << c.left_model << "\n";
-  history_ += row.str();
+  HistoryFrame frame{s.time_s, phase, ga, gd, s.energy, c, {}};
+  for (int b : monitors_) frame.monitored_m.push_back(s.position[b] - m.initial_position[b] - gd);
+  history_ += history_row(frame);
   write_text_atomically(out_ / "history.csv", history_);
   blocks_.write(m, s, gd);
   contacts_.write(m, s, gd, &joints);
@@ -92,51 +153,29 @@ RunCounts RunRecorder::record(const char* phase, const State& s, const Vec3& ga,
 
 void RunRecorder::write_summary(const RunDescription& run, const SeismicRunResult& r, const State& s, const Joints& joints,
                                 bool finished) const {
-  auto yes = [](bool v) { return v ? "true" : "false"; };
-  const JointCounts& jc = r.joint_counts;
-  const int slip_joint = jc.largest_slip_joint;
-  std::ostringstream j;
-  j.precision(9);
-  j << "{\n  \"model\": \"" << run.model_name << "\",\n  \"finished\": " << yes(finished)
-    << ",\n  \"interrupted\": " << yes(r.interrupted) << ",\n  \"settled\": " << yes(r.settled)
-    << ",\n  \"settle_time_s\": " << r.settle_time_s << ",\n  \"simulated_time_s\": " << s.time_s
-    << ",\n  \"first_opening_time_s\": ";
-  if (r.first_opening_s < 0) j << "null";
-  else j << r.first_opening_s;
-  j << ",\n  \"collapse\": " << yes(r.collapse) << ",\n  \"fallen_stones\": " << r.fallen_stones
-    << ",\n  \"blocks_left_model\": " << r.blocks_left_model << ",\n  \"joints\": " << r.joints
-    << ",\n  \"joints_open_at_end\": " << jc.open << ",\n  \"joints_cracked\": " << jc.cracked
-    << ",\n  \"joints_bond_broken_while_settling\": " << r.bonds_broken_settling
-    << ",\n  \"joints_slipped_at_end\": " << jc.slipped << ",\n  \"largest_opening_m\": " << jc.largest_opening_m
-    << ",\n  \"largest_slip_m\": " << jc.largest_slip_m << ",\n  \"largest_slip_blocks\": ";
-  if (slip_joint < 0) j << "null";
-  else j << "[" << joints.block_a[slip_joint] << ", " << joints.block_b[slip_joint] << "]";
-  j << ",\n  \"largest_crown_drop_m\": " << r.largest_crown_drop_m << ",\n  \"monitored_block\": " << run.monitored_block
-    << ",\n  \"energy_balance_error_j\": " << r.balance_error_j
-    << ",\n  \"energy_balance_error_relative\": " << r.balance_error_relative << ",\n  \"dt_s\": " << run.dt_s
-    << ",\n  \"damping\": \"" << run.damping << "\""
-    << ",\n  \"joint_rule\": \"" << run.joint_rule << "\""
-    << ",\n  \"mortar_pa\": " << run.mortar_pa << ",\n  \"mortar_fracture_j_m2\": [" << run.mortar_fracture_j_m2[0] << ", "
-    << run.mortar_fracture_j_m2[1] << "]"
-    << ",\n  \"steps\": " << s.step << ",\n  \"threads\": " << run.threads
-    << ",\n  \"mean_team_size\": " << (s.step > 0 ? double(s.profile.thread_steps) / s.step : 0.0) << ",\n  \"state_hash\": \""
-    << std::hex << r.state_hash << std::dec << "\"" << ",\n  \"wall_time_s\": " << r.wall_s << "\n}\n";
-  write_text_atomically(out_ / "summary.json", j.str());
-}
-
-std::string result_csv_header() {
-  return "settled,settle_time_s,shaking_s,first_opening_s,largest_crown_drop_m,fallen_stones,collapse,joints,joints_cracked,"
-         "energy_balance_pct,steps,wall_s";
-}
-
-std::string result_csv_values(const SeismicRunResult& r) {
-  std::ostringstream row;
-  row.precision(9);
-  row << (r.settled ? "yes" : "no") << "," << r.settle_time_s << "," << r.shaking_time_s << ",";
-  if (r.first_opening_s >= 0) row << r.first_opening_s;
-  row << "," << r.largest_crown_drop_m << "," << r.fallen_stones << "," << (r.collapse ? "yes" : "no") << "," << r.joints
-      << "," << r.joint_counts.cracked << "," << 100 * r.balance_error_relative << "," << r.steps << "," << r.wall_s;
-  return row.str();
+  using Json = nlohmann::ordered_json;
+  Json j;
+  j["model"] = run.model_name;
+  j["finished"] = finished;
+  for (const ResultColumn& column : result_columns())
+    j[column.name] = std::visit(
+        [](const auto& v) -> Json {
+          if constexpr (std::is_same_v<std::decay_t<decltype(v)>, std::monostate>) return nullptr;
+          else return v;
+        },
+        column.value(r));
+  j["simulated_time_s"] = s.time_s;
+  const int slip_joint = r.joint_counts.largest_slip_joint;
+  j["largest_slip_blocks"] = slip_joint < 0 ? Json() : Json::array({joints.block_a[slip_joint], joints.block_b[slip_joint]});
+  j["monitored_block"] = run.monitored_block;
+  j["dt_s"] = run.dt_s;  // the step used (settings.dt_s: the one asked for, 0 a share of the limit)
+  j["mortar_pa"] = run.mortar_pa;
+  j["mortar_fracture_j_m2"] = {run.mortar_fracture_j_m2[0], run.mortar_fracture_j_m2[1]};
+  j["threads"] = run.threads;
+  j["mean_team_size"] = s.step > 0 ? double(s.profile.thread_steps) / s.step : 0.0;
+  Json& settings = j["settings"];
+  for_each_run_setting([&](const SettingInfo& info, auto member) { settings[info.key] = setting_value(run.settings.*member); });
+  write_text_atomically(out_ / "summary.json", j.dump(2) + "\n");
 }
 
 }  // namespace ishibashi

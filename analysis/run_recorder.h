@@ -13,6 +13,7 @@
 #include "engine/model.h"
 #include "engine/state.h"
 #include "io/paraview_state.h"
+#include "io/run_settings.h"
 #include "io/vtk_output.h"
 
 namespace ishibashi {
@@ -29,12 +30,11 @@ RunCounts count_damage(const Model& m, const State& s, const JointThresholds& th
 struct RunDescription {
   std::string model_name;
   int monitored_block = -1;
-  double dt_s = 0;
-  const char* damping = "study";
-  const char* joint_rule = "corners";
-  int threads = 0;
-  double mortar_pa = 0;                              // f_t = c of the stone joints; 0: dry
+  double dt_s = 0;                                  // the step used
+  int threads = 0;                                  // at most, in a step
+  double mortar_pa = 0;                             // f_t = c of the stone joints; 0: dry
   double mortar_fracture_j_m2[2] = {0, 0};          // G_f^I, G_f^II; 0, 0: a brittle bond
+  RunSettings settings;                             // as the run was asked for ("settings" in summary.json)
 };
 
 class RunRecorder {

@@ -1,9 +1,11 @@
 // What a seismic run found, defined once: its fields (the list below, which the checkpoint
-// visits) and its columns in a table of runs (result_csv_header/values, which the study's
-// runs.csv and a sweep's sweep.csv share).
+// visits) and the quantities its outputs give (result_columns: summary.json, and the study's
+// runs.csv and a sweep's sweep.csv).
 #pragma once
 #include <cstdint>
 #include <string>
+#include <variant>
+#include <vector>
 
 #include "engine/joints.h"
 
@@ -44,9 +46,22 @@ struct SeismicRunResult {
   }
 };
 
-// The result's columns of a table of runs, in one order: the study's runs.csv and a sweep's
-// sweep.csv put their own columns (which run, at what intensity) around these.
-std::string result_csv_header();  // "settled,...,wall_s" (no newline)
+// A quantity of the result as the outputs give it: nothing (JSON null, an empty CSV field),
+// a flag, a count, a number or a text.
+using OutputValue = std::variant<std::monostate, bool, long long, double, std::string>;
+
+// The result's quantities, listed once (run_result.cpp): each name is summary.json's key
+// and a table's column, its unit the name's suffix (_s, _m, _j; none: a count, a flag or a
+// fraction). summary.json gives them all, in this order; the study's runs.csv and a sweep's
+// sweep.csv put their own columns (which run, at what intensity) around them.
+struct ResultColumn {
+  const char* name;
+  OutputValue (*value)(const SeismicRunResult& r);
+};
+const std::vector<ResultColumn>& result_columns();
+std::string result_csv_header();  // "interrupted,settled,...,wall_s" (no newline)
 std::string result_csv_values(const SeismicRunResult& r);
+// A CSV field: empty for nothing, "yes"/"no" for a flag, 9 significant digits for a number.
+std::string csv_field(const OutputValue& v);
 
 }  // namespace ishibashi

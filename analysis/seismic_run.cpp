@@ -23,26 +23,20 @@ extern "C" void on_interrupt(int) { stop_flag = 1; }
 
 using Clock = std::chrono::steady_clock;
 
-constexpr char kCheckpointMagic[] = "ishibashi checkpoint 8\n";
+constexpr char kCheckpointMagic[] = "ishibashi checkpoint 9\n";
 
 // What the checkpoint's run was: the program, the input files and the run's settings
-// beyond the scenario file (command-line overrides), so that a resume rebuilds the same run.
+// (command-line overrides included, dt_s the step it used), so that a resume rebuilds the same run.
 struct CheckpointHeader {
   std::uint64_t program = 0, inputs = 0;
   std::string scenario_file;
-  double dt_s = 0, duration_s = 0, motion_duration_s = 0, start_s = 0;
-  int subdivision = 1;
-  JointRule joint_rule = JointRule::corners;
-  Damping damping = Damping::study;
-  bool bonds_when_settled = false;
-  ShearSpring shear_spring = ShearSpring::shear_modulus;
+  RunSettings settings;
 };
 
 template <class Archive, class H>
 void visit_header(Archive& a, H& h) {
-  a.field(h.program), a.field(h.inputs), a.field(h.scenario_file), a.field(h.dt_s), a.field(h.duration_s);
-  a.field(h.motion_duration_s), a.field(h.start_s), a.field(h.subdivision), a.field(h.joint_rule);
-  a.field(h.damping), a.field(h.bonds_when_settled), a.field(h.shear_spring);
+  a.field(h.program), a.field(h.inputs), a.field(h.scenario_file);
+  for_each_run_setting([&](const SettingInfo&, auto member) { a.field(h.settings.*member); });
 }
 
 CheckpointHeader read_header(CheckpointReader& in, const std::filesystem::path& file) {
@@ -68,24 +62,19 @@ double relative_balance_error(const Energy& e) {
 
 SeismicRun::SeismicRun(const Scenario& scenario, SeismicRunOptions options)
     : scenario_(scenario), options_(std::move(options)) {
+  const RunSettings& settings = scenario_.settings;
   // Threads of this run: the calling thread's OpenMP teams (a study runs several at once).
-  use_threads(scenario_.threads);
-  // The fixed blocks move with the ground (kinematic drive).
-  ModelOptions model_options;
-  model_options.subdivision = scenario_.subdivision;
-  model_options.joint_rule = scenario_.joint_rule;
-  model_options.damping = scenario_.damping;
-  model_options.drive_fixed_blocks = true;
-  model_options.bonds_when_settled = scenario_.bonds_when_settled;
-  model_options.shear_spring = scenario_.shear_spring;
+  use_threads(settings.threads);
+  ModelOptions model_options = ishibashi::model_options(settings);
+  model_options.drive_fixed_blocks = true;  // the fixed blocks move with the ground (kinematic drive)
   const Model model = load_model(scenario_.model, scenario_.model_file, model_options);
   limit_s_ = World(model, 1e-9).critical_time_step_s(&limiting_block_);
-  const double share = scenario_.damping == Damping::capped     ? kCappedDtShare
-                       : scenario_.damping == Damping::implicit ? kImplicitDtShare
-                                                                : kStudyDtShare;
-  dt_ = (scenario_.dt_s > 0 ? scenario_.dt_s : share * limit_s_) * options_.dt_factor;
-  steps_per_frame_ = std::max(1L, std::lround(scenario_.output_interval_s / dt_));
-  ground_ = prepare_ground_motion(scenario_.ground_motion, dt_);
+  const double share = settings.damping == Damping::capped     ? kCappedDtShare
+                       : settings.damping == Damping::implicit ? kImplicitDtShare
+                                                               : kStudyDtShare;
+  dt_ = (settings.dt_s > 0 ? settings.dt_s : share * limit_s_) * options_.dt_factor;
+  steps_per_frame_ = std::max(1L, std::lround(settings.output_interval_s / dt_));
+  ground_ = prepare_ground_motion(scenario_.motion(), dt_);
   world_ = std::make_unique<World>(model, dt_);
   world_->set_adaptive_threads(options_.adaptive_threads);
   const Model& m = world_->model();
@@ -99,7 +88,7 @@ SeismicRun::SeismicRun(const Scenario& scenario, SeismicRunOptions options)
 
 SeismicRun::~SeismicRun() = default;
 
-std::unique_ptr<SeismicRun> SeismicRun::resume(SeismicRunOptions options, int threads) {
+std::unique_ptr<SeismicRun> SeismicRun::resume(SeismicRunOptions options, const RunOverrides& overrides) {
   const std::filesystem::path file = options.out / "checkpoint.bin";
   std::ifstream in(file, std::ios::binary);
   if (!in) throw InputError(file.string() + ": no checkpoint to resume from (run with --checkpoint-every or --checkpoint-wall)");
@@ -120,16 +109,8 @@ std::unique_ptr<SeismicRun> SeismicRun::resume(SeismicRunOptions options, int th
     throw InputError(file.string() + ": the scenario " + h.scenario_file +
                      ", its model file or its records changed since the checkpoint was written; start the run again");
   Scenario sc = read_scenario(h.scenario_file);
-  sc.dt_s = h.dt_s;
-  sc.duration_s = h.duration_s;
-  sc.ground_motion.duration_s = h.motion_duration_s;
-  sc.ground_motion.start_s = h.start_s;
-  sc.subdivision = h.subdivision;
-  sc.joint_rule = h.joint_rule;
-  sc.damping = h.damping;
-  sc.bonds_when_settled = h.bonds_when_settled;
-  sc.shear_spring = h.shear_spring;
-  if (threads >= 0) sc.threads = threads;
+  sc.settings = h.settings;
+  apply_overrides(sc.settings, overrides);
   options.dt_factor = 1;  // h.dt_s is the step the run used
   auto run = std::make_unique<SeismicRun>(sc, std::move(options));
   run->resume_from_ = std::move(body);
@@ -193,22 +174,19 @@ void SeismicRun::write_summary(Progress& p, bool finished) {
   const RunDescription run{scenario_.model.name,
                            monitored_block(),
                            dt_,
-                           damping_name(scenario_.damping),
-                           joint_rule_name(scenario_.joint_rule),
                            world_->thread_tuner().max_threads(),
                            bridge.mortar_pa,
-                           {bridge.mortar_tension_fracture_j_m2, bridge.mortar_shear_fracture_j_m2}};
+                           {bridge.mortar_tension_fracture_j_m2, bridge.mortar_shear_fracture_j_m2},
+                           scenario_.settings};
   p.recorder.write_summary(run, r, s, p.joints, finished);
 }
 
 // Everything the rest of the run depends on, at an output frame (CheckpointWriter).
 void SeismicRun::write_checkpoint(Progress& p) {
   const State& s = world_->state();
-  const CheckpointHeader h{program_fingerprint(), scenario_fingerprint(scenario_.file),
-                           std::filesystem::absolute(scenario_.file).string(), dt_, scenario_.duration_s,
-                           scenario_.ground_motion.duration_s, scenario_.ground_motion.start_s, scenario_.subdivision,
-                           scenario_.joint_rule, scenario_.damping, scenario_.bonds_when_settled,
-                           scenario_.shear_spring};
+  CheckpointHeader h{program_fingerprint(), scenario_fingerprint(scenario_.file),
+                     std::filesystem::absolute(scenario_.file).string(), scenario_.settings};
+  h.settings.dt_s = dt_;  // the step used (dt_factor applied)
   p.result.wall_s = p.wall_s();  // the work so far, what a resumed run's wall time goes on from
   write_atomically(options_.out / "checkpoint.bin", [&](const std::filesystem::path& tmp) {
     std::ofstream file(tmp, std::ios::binary);
@@ -247,7 +225,7 @@ void SeismicRun::settle(Progress& p) {
   World& world = *world_;
   const Model& m = world.model();
   State& s = world.state();
-  const double settle_max_s = scenario_.settle_max_s;
+  const double settle_max_s = scenario_.settings.settle_max_s;
   if (s.step == 0) p.record("settle", m, s);
   // Rest is judged every kSettleCheckS whatever the output interval, so that finer frames
   // do not end the settling elsewhere; a frame is written at the end of it too.
@@ -259,7 +237,7 @@ void SeismicRun::settle(Progress& p) {
     world.run(steps);
     const bool last = steps == to_end;  // settle_max_s reached: a frame and a check
     const bool frame = last || s.step % steps_per_frame_ == 0;
-    if ((last || s.step % check_steps == 0) && s.energy.kinetic_j < scenario_.settle_kinetic_j) {
+    if ((last || s.step % check_steps == 0) && s.energy.kinetic_j < scenario_.settings.settle_kinetic_j) {
       p.result.settled = true;
       p.record("settle", m, s);
       break;

@@ -64,8 +64,8 @@ class SeismicRun {
   // it was written: run() then appends to its series and history and ends bit-identical
   // to a run never stopped. Throws InputError when there is no checkpoint, or when it was
   // written by another build of the program or for other input files.
-  // threads >= 0 replaces the scenario's [run] threads.
-  static std::unique_ptr<SeismicRun> resume(SeismicRunOptions options, int threads = -1);
+  // `overrides` may change how it runs, not what (the command line allows threads alone).
+  static std::unique_ptr<SeismicRun> resume(SeismicRunOptions options, const RunOverrides& overrides = {});
 
   const Scenario& scenario() const { return scenario_; }
   const World& world() const { return *world_; }

@@ -6,6 +6,7 @@
 #include <cstdio>
 #include <fstream>
 #include <mutex>
+#include <optional>
 #include <sstream>
 #include <thread>
 #include <vector>
@@ -30,6 +31,7 @@ struct Job {
   JobKind kind;
   fs::path input;   // model or scenario file
   fs::path folder;  // its outputs
+  std::optional<Scenario> scenario{};  // the input, parsed once, when it is a scenario
   std::string joint_rule{};  // a frequency analysis under this rule; empty: the model's own
   std::string key{};  // fingerprint of everything the outputs depend on
   std::string status = "pending", error{};
@@ -44,9 +46,9 @@ std::string job_key(const Job& job, const StudyFile& study) {
   std::ostringstream in;
   in << program_fingerprint() << (job.kind == JobKind::run ? " run " : " frequencies ");
   if (job.kind == JobKind::run)  // the scenario, its model file and records
-    in << scenario_fingerprint(job.input) << " duration " << study.duration_s;
-  else if (is_scenario_file(job.input))
-    in << file_bytes(job.input) << file_bytes(read_scenario(job.input).model_file);
+    in << scenario_fingerprint(*job.scenario) << " duration " << study.duration_s;
+  else if (job.scenario)
+    in << file_bytes(job.input) << file_bytes(job.scenario->model_file);
   else
     in << file_bytes(job.input);
   if (job.kind == JobKind::frequencies)
@@ -97,13 +99,15 @@ std::string seismic_job(const Job& job, const StudyFile& study, int threads, con
   options.out = job.folder;
   options.on_frame = on_fraction;
   options.checkpoint_wall_s = kStudyCheckpointWallS;
+  RunOverrides overrides;
+  overrides.set(&RunSettings::threads, threads);
   std::unique_ptr<SeismicRun> run;
   if (resumed) {
-    run = SeismicRun::resume(options, threads);
+    run = SeismicRun::resume(options, overrides);
   } else {
-    Scenario sc = read_scenario(job.input);
-    if (study.duration_s >= 0) sc.duration_s = sc.ground_motion.duration_s = study.duration_s;
-    sc.threads = threads;
+    Scenario sc = *job.scenario;
+    if (study.duration_s >= 0) overrides.set(&RunSettings::duration_s, study.duration_s);
+    apply_overrides(sc.settings, overrides);
     run = std::make_unique<SeismicRun>(sc, options);
   }
   const SeismicRunResult r = run->run();
@@ -111,7 +115,7 @@ std::string seismic_job(const Job& job, const StudyFile& study, int threads, con
   fs::remove(job.folder / "checkpoint.bin");
   const Scenario& sc = run->scenario();
   // The ground motion as the report plots it: 200 samples per second.
-  const GroundMotion g = prepare_ground_motion(sc.ground_motion, 0.005);
+  const GroundMotion g = prepare_ground_motion(sc.motion(), 0.005);
   std::ostringstream csv;
   csv << "time_s,ax_m_s2,ay_m_s2,az_m_s2\n";
   for (std::size_t k = 0; k < g.accel_m_s2.size(); ++k)
@@ -128,8 +132,9 @@ std::string seismic_job(const Job& job, const StudyFile& study, int threads, con
 std::string frequency_job(const Job& job, const StudyFile& study) {
   fs::remove_all(job.folder);
   fs::create_directories(job.folder);
-  LoadedModel loaded = load_model_or_scenario(job.input);
-  if (!job.joint_rule.empty()) loaded.options.joint_rule = job.joint_rule == "moments" ? JointRule::moments : JointRule::corners;
+  RunOverrides rule;
+  if (!job.joint_rule.empty()) rule.set(&RunSettings::joint_rule, parse_joint_rule(job.joint_rule));
+  const LoadedModel loaded = job.scenario ? load_scenario_model(*job.scenario, rule) : load_model_or_scenario(job.input, rule);
   FrequencyOptions options;
   options.modes = study.modes;
   options.impulse_s = study.impulse_s;
@@ -168,11 +173,13 @@ fs::path python() { return fs::exists("/usr/bin/python3") ? "/usr/bin/python3" :
 // The long runs first: the frequency analyses fill the gaps at the end.
 std::vector<Job> make_jobs(const StudyFile& study, const fs::path& out) {
   std::vector<Job> jobs;
-  for (const fs::path& s : study.scenarios) jobs.push_back({JobKind::run, s, out / "runs" / s.stem()});
+  for (const fs::path& s : study.scenarios) jobs.push_back({JobKind::run, s, out / "runs" / s.stem(), read_scenario(s)});
   for (const fs::path& m : study.models) {
-    if (study.joint_rules.empty()) jobs.push_back({JobKind::frequencies, m, out / "frequencies" / m.stem()});
+    std::optional<Scenario> scenario;
+    if (is_scenario_file(m)) scenario = read_scenario(m);
+    if (study.joint_rules.empty()) jobs.push_back({JobKind::frequencies, m, out / "frequencies" / m.stem(), scenario});
     for (const std::string& rule : study.joint_rules)
-      jobs.push_back({JobKind::frequencies, m, out / "frequencies" / (m.stem().string() + "_" + rule), rule});
+      jobs.push_back({JobKind::frequencies, m, out / "frequencies" / (m.stem().string() + "_" + rule), scenario, rule});
   }
   for (Job& job : jobs) job.key = job_key(job, study);
   return jobs;

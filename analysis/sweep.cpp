@@ -51,9 +51,12 @@ std::string run_case(const SweepFile& sweep, const Case& c, int threads, const f
   const SweepRecord& record = sweep.records[c.record];
   const double level = sweep.levels[c.level];
   Scenario sc = read_scenario(sweep.scenarios[c.scenario]);
-  if (sweep.duration_s >= 0) sc.duration_s = sweep.duration_s;
-  GroundMotionSpec motion = record.motion;
-  motion.duration_s = sc.duration_s;
+  RunOverrides overrides;
+  overrides.set(&RunSettings::threads, threads).set(&RunSettings::start_s, record.motion.start_s);
+  if (sweep.duration_s >= 0) overrides.set(&RunSettings::duration_s, sweep.duration_s);
+  apply_overrides(sc.settings, overrides);
+  GroundMotionSpec motion = record.motion;  // the record's components and window at this level
+  motion.duration_s = sc.settings.duration_s;
   motion.baseline_correction = sc.ground_motion.baseline_correction;
   const double record_pga_g = horizontal_pga_m_s2(motion) / kG;
   if (sweep.scale_to_pga && !(record_pga_g > 0))
@@ -62,7 +65,6 @@ std::string run_case(const SweepFile& sweep, const Case& c, int threads, const f
   for (auto& component : motion.component)
     if (component) component->scale *= factor;
   sc.ground_motion = motion;
-  sc.threads = threads;
 
   SeismicRunOptions options;
   options.out = out / "runs" / scenario_name(sweep, c.scenario) / (record.name + "_" + level_label(level));

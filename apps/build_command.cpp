@@ -19,13 +19,15 @@ namespace ishibashi {
 int run_build(const BuildOptions& o) {
   const auto t0 = std::chrono::steady_clock::now();
   const ModelFile file = read_model_file(o.model_file);
-  std::vector<BridgeBlock> blocks = model_blocks(file, o.model_file);
   std::printf("%s: %s\n", file.name.c_str(), file.description.c_str());
-
+  RunSettings settings;  // a run's defaults, with the command line's joint settings
+  apply_overrides(settings, o.overrides);
+  const ModelOptions options = model_options(settings);
   // Validation (CGAL): every block sound, no overlaps, every block on a shared face.
-  const ValidationReport report = validate_model_blocks(blocks);
+  const CompiledModel compiled = compile_model(file, o.model_file, options);
+  const ValidationReport& report = compiled.validation;
   double ground_volume = 0;  // our fixed slab is not part of the design outline
-  for (const BridgeBlock& b : blocks)
+  for (const BridgeBlock& b : compiled.blocks)
     if (b.part == Part::ground) ground_volume += polyhedron_mass_properties(b.shape.vertices, b.shape.faces).volume_m3;
   const double built = report.volume_m3 - ground_volume;
   const double design = file.imported() ? built : design_volume_m3(file.bridge);
@@ -36,13 +38,7 @@ int run_build(const BuildOptions& o) {
     std::printf("validation failed: %zu errors\n", report.errors.size());
     return 3;
   }
-  // Imported blocks reach the engine with coplanar triangles merged into one face each
-  // (a face is a contact plane); only once validation has shown them convex.
-  if (file.imported())
-    for (BridgeBlock& b : blocks) b.shape = merged_faces(b.shape);
-  ModelOptions options;
-  options.joint_rule = o.joint_rule == "moments" ? JointRule::moments : JointRule::corners;
-  const Model model = compile_bridge(file.bridge, blocks, options);
+  const Model& model = compiled.model;
   std::map<std::string, std::pair<int, int>> by_part;  // free, fixed
   double mass = 0;
   Vec3 lo = model.initial_position[0], hi = lo;
@@ -73,12 +69,12 @@ int run_build(const BuildOptions& o) {
               model.block_label(limiting).c_str(), model.mass_kg[limiting]);
   ModelOptions implicit = options;
   implicit.damping = Damping::implicit;
-  const double springs_s = World(compile_bridge(file.bridge, blocks, implicit), 1e-9).critical_time_step_s();
+  const double springs_s = World(compiled.builder.build(implicit), 1e-9).critical_time_step_s();
   std::printf("  with implicit dashpots (damping = \"implicit\") the springs' limit %.3g s; runs use 0.4 of it\n", springs_s);
 
   if (!o.export_file.empty()) {
     std::vector<Polyhedron> shapes_out;
-    for (const BridgeBlock& b : blocks) shapes_out.push_back(b.shape);
+    for (const BridgeBlock& b : compiled.blocks) shapes_out.push_back(b.shape);
     write_block_file(o.export_file, shapes_out);
     std::printf("exported %zu blocks to %s\n", shapes_out.size(), o.export_file.c_str());
   }

@@ -8,6 +8,7 @@
 #include "apps/build_command.h"
 #include "apps/demo.h"
 #include "apps/modal_command.h"
+#include "apps/run_setting_flags.h"
 #include "apps/run_command.h"
 #include "apps/study_command.h"
 #include "apps/sweep_command.h"
@@ -37,8 +38,7 @@ int main(int argc, char** argv) {
   build_cmd->add_option("model_file", build.model_file, "model file (TOML), e.g. models/nishida_b.toml")->required();
   build_cmd->add_option("--out", build.out, "output folder for the .vtu");
   build_cmd->add_option("--export", build.export_file, "also write the blocks to this .off or .obj file");
-  build_cmd->add_option("--joint-rule", build.joint_rule, "joint points for the stability limit: \"corners\" or \"moments\"")
-      ->check(CLI::IsMember({"corners", "moments"}));
+  ishibashi::add_run_setting_flags(build_cmd, build.overrides, {"joint_rule", "subdivision", "shear_spring"});
 
   ishibashi::RunOptions run;
   CLI::App* run_cmd = app.add_subcommand("run", "Settle a bridge under gravity, then shake it with a recorded ground motion");
@@ -47,27 +47,9 @@ int main(int argc, char** argv) {
   run_cmd->add_option("--out", run.out, "output folder (default: out/<scenario name>)");
   run_cmd->add_flag("--profile", run.profile, "print the time spent in each stage of the step");
   run_cmd->add_flag("--quiet", run.quiet, "no progress bar");
-  run_cmd->add_option("--duration", run.duration_s, "seconds of shaking, replacing the scenario's duration_s (0: whole record)")
-      ->check(CLI::NonNegativeNumber);
-  run_cmd->add_option("--threads", run.threads, "threads, replacing the scenario's threads (0: every usable core)")
-      ->check(CLI::NonNegativeNumber);
-  run_cmd->add_option("--start", run.start_s, "where in the record the shaking starts, s, replacing the scenario's start_s")
-      ->check(CLI::NonNegativeNumber);
-  run_cmd->add_option("--dt", run.dt_s, "time step, s, replacing the scenario's dt_s (0: 0.8 of the stability limit)")
-      ->check(CLI::NonNegativeNumber);
+  const std::vector<CLI::Option*> run_settings = ishibashi::add_run_setting_flags(run_cmd, run.overrides);
   run_cmd->add_option("--dt-factor", run.dt_factor, "multiplies the time step (0.5 halves it: convergence studies)")
       ->check(CLI::Range(1e-3, 1.0));
-  run_cmd->add_option("--subdivision", run.subdivision, "contact subdivision, replacing the scenario's")
-      ->check(CLI::Range(1, 16));
-  run_cmd->add_option("--joint-rule", run.joint_rule,
-                      "joint points, replacing the scenario's: \"corners\" (the study's corner contacts) or \"moments\" "
-                      "(corners, centroid and fan centroids: a uniform bed's second moments)")
-      ->check(CLI::IsMember({"corners", "moments"}));
-  run_cmd->add_option("--damping", run.damping,
-                      "dashpots, replacing the scenario's: \"study\" (as specified; dt set by them) or \"capped\" "
-                      "(scaled down where dt would not resolve them; dt set by the springs) or \"implicit\" (as specified, integrated "
-                      "implicitly; dt set by the springs)")
-      ->check(CLI::IsMember({"study", "capped", "implicit"}));
   run_cmd->add_flag("--fixed-threads", run.fixed_threads,
                     "every step on all threads (default: the team size that is fastest as the run goes)");
   run_cmd->add_option("--checkpoint-every", run.checkpoint_every_s, "write a checkpoint every this many simulated seconds")
@@ -77,8 +59,10 @@ int main(int argc, char** argv) {
   CLI::Option* resume = run_cmd->add_option(
       "--resume", run.resume, "continue the run in this output folder from its checkpoint (bit-identical to an unbroken run)");
   resume->excludes(run_scenario_file);
-  for (const char* setting : {"--out", "--duration", "--start", "--dt", "--dt-factor", "--subdivision", "--joint-rule", "--damping"})
-    resume->excludes(run_cmd->get_option(setting));  // a resumed run is the run it was
+  // A resumed run is the run it was: of its settings only the threads may change.
+  for (CLI::Option* setting : run_settings)
+    if (setting->get_name() != "--threads") resume->excludes(setting);
+  for (const char* option : {"--out", "--dt-factor"}) resume->excludes(run_cmd->get_option(option));
   run_cmd->callback([&] {
     if (run.scenario.empty() && run.resume.empty()) throw CLI::RequiredError("a scenario file or --resume DIR");
   });
@@ -87,11 +71,7 @@ int main(int argc, char** argv) {
   CLI::App* modal_cmd = app.add_subcommand("modal", "Natural frequencies and mode shapes (modal analysis, joints held linear)");
   modal_cmd->add_option("file", modal.file, "model or scenario file")->required();
   modal_cmd->add_option("--modes", modal.modes, "number of modes")->check(CLI::Range(1, 500));
-  modal_cmd->add_option("--joint-rule", modal.joint_rule, "joint points: \"corners\" or \"moments\" (default: the scenario's, else corners)")
-      ->check(CLI::IsMember({"corners", "moments"}));
-  modal_cmd->add_option("--shear-spring", modal.shear_spring,
-                        "joint shear spring: \"shear_modulus\" (K_s from G, MODEL.md) or \"normal\" (K_s = K_n) (default: the scenario's, else shear_modulus)")
-      ->check(CLI::IsMember({"shear_modulus", "normal"}));
+  ishibashi::add_run_setting_flags(modal_cmd, modal.overrides, {"joint_rule", "subdivision", "shear_spring"});
   modal_cmd->add_option("--out", modal.out, "output folder (default: out/<name>_modal)");
   modal_cmd->add_option("--impulse", modal.impulse_s, "also run impulse responses of this many seconds (x, y, z steps)")
       ->check(CLI::NonNegativeNumber);
@@ -125,7 +105,7 @@ int main(int argc, char** argv) {
 
   CLI11_PARSE(app, argc, argv);
   ishibashi::use_threads(threads);  // demo, build, modal; a run, study or sweep decides its own from it
-  if (threads > 0 && run.threads < 0) run.threads = threads;
+  if (threads > 0 && !run.overrides.given.count("threads")) run.overrides.set(&ishibashi::RunSettings::threads, threads);
   if (threads > 0 && study.threads_per_job == 0) study.threads_per_job = threads;
   if (threads > 0 && sweep.threads_per_job == 0) sweep.threads_per_job = threads;
   try {

@@ -10,10 +10,7 @@ namespace ishibashi {
 
 int run_modal(const ModalOptions& o) {
   const auto t0 = std::chrono::steady_clock::now();
-  LoadedModel loaded = load_model_or_scenario(o.file);
-  if (!o.joint_rule.empty()) loaded.options.joint_rule = o.joint_rule == "moments" ? JointRule::moments : JointRule::corners;
-  if (!o.shear_spring.empty())
-    loaded.options.shear_spring = o.shear_spring == "normal" ? ShearSpring::normal : ShearSpring::shear_modulus;
+  const LoadedModel loaded = load_model_or_scenario(o.file, o.overrides);
   FrequencyOptions options;
   options.modes = o.modes;
   options.impulse_s = o.impulse_s;

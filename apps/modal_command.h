@@ -5,6 +5,8 @@
 #include <filesystem>
 #include <string>
 
+#include "io/run_settings.h"
+
 namespace ishibashi {
 
 struct ModalOptions {
@@ -15,8 +17,7 @@ struct ModalOptions {
   std::string excite;          // "x", "y" or "z": one impulse along this axis; empty: x, y and z
   std::string read;            // the component read ("x", "y", "z"); empty: the excitation's
   int block = -1;              // the monitored block; -1: the unit on top of the crown
-  std::string joint_rule;      // "corners" or "moments"; empty: the scenario's (corners for a model file)
-  std::string shear_spring;    // "shear_modulus" or "normal"; empty: the scenario's (shear_modulus for a model file)
+  RunOverrides overrides;      // --subdivision, --joint-rule, --shear-spring: replace the scenario's (a model file's defaults)
 };
 
 int run_modal(const ModalOptions& options);

@@ -27,16 +27,10 @@ int run_scenario(const RunOptions& o) {
     };
   std::unique_ptr<SeismicRun> resumed;
   if (!o.resume.empty()) {
-    resumed = SeismicRun::resume(options, o.threads);  // the only setting a resume may change
+    resumed = SeismicRun::resume(options, o.overrides);  // threads: the only setting a resume may change
   } else {
     Scenario sc = read_scenario(o.scenario);
-    if (o.duration_s >= 0) sc.duration_s = sc.ground_motion.duration_s = o.duration_s;
-    if (o.threads >= 0) sc.threads = o.threads;
-    if (o.start_s >= 0) sc.ground_motion.start_s = o.start_s;
-    if (o.dt_s >= 0) sc.dt_s = o.dt_s;
-    if (o.subdivision > 0) sc.subdivision = o.subdivision;
-    if (!o.damping.empty()) sc.damping = parse_damping(o.damping);
-    if (!o.joint_rule.empty()) sc.joint_rule = o.joint_rule == "moments" ? JointRule::moments : JointRule::corners;
+    apply_overrides(sc.settings, o.overrides);
     resumed = std::make_unique<SeismicRun>(sc, options);
   }
   SeismicRun& run = *resumed;
@@ -45,14 +39,14 @@ int run_scenario(const RunOptions& o) {
   if (!o.resume.empty()) std::printf("resuming %s from its checkpoint\n", options.out.c_str());
   std::printf("%s: %d blocks, %zu sub-contacts (%s joint rule), dt = %.3g s, at most %d threads; ground motion %.2f s (from "
               "%.2f s of the record)\n", sc.model.name.c_str(), m.block_count, run.world().state().contacts.size(),
-              joint_rule_name(sc.joint_rule), run.dt_s(), run.world().thread_tuner().max_threads(), run.ground_motion().duration_s(),
-              sc.ground_motion.start_s);
+              joint_rule_name(sc.settings.joint_rule), run.dt_s(), run.world().thread_tuner().max_threads(),
+              run.ground_motion().duration_s(), sc.settings.start_s);
   std::printf("  stability limit %.3g s, set by %s and its joints%s\n", run.stability_limit_s(),
               m.block_label(run.limiting_block()).c_str(),
-              sc.damping == Damping::capped     ? " (springs alone: dashpots capped where dt would not resolve them)"
-              : sc.damping == Damping::implicit ? " (springs alone: dashpots implicit)"
+              sc.settings.damping == Damping::capped     ? " (springs alone: dashpots capped where dt would not resolve them)"
+              : sc.settings.damping == Damping::implicit ? " (springs alone: dashpots implicit)"
                                                 : "");
-  if (sc.damping == Damping::capped) {
+  if (sc.settings.damping == Damping::capped) {
     const std::vector<double>& scale = run.world().state().damping_scale;
     const long capped = std::count_if(scale.begin(), scale.end(), [](double f) { return f < 1; });
     std::printf("  dashpots capped on %ld blocks (smallest factor %.3f)\n", capped, *std::min_element(scale.begin(), scale.end()));
@@ -83,7 +77,7 @@ int run_scenario(const RunOptions& o) {
     std::printf("steps %ld, broadphase rebuilds %ld, contact regroups %ld, %.1f steps/s, mean team %.2f of %d threads\n",
                 r.steps, p.broadphase_rebuilds, p.contact_regroups, r.steps / total, double(p.thread_steps) / r.steps,
                 run.world().thread_tuner().max_threads());
-    if (sc.damping == Damping::implicit)
+    if (sc.settings.damping == Damping::implicit)
       std::printf("implicit dashpots: %.2f conjugate-gradient iterations per step, %ld steps stopped unconverged\n",
                   double(p.damping_iterations) / r.steps, p.damping_unconverged);
   }

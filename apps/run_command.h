@@ -4,6 +4,8 @@
 #include <filesystem>
 #include <string>
 
+#include "io/run_settings.h"
+
 namespace ishibashi {
 
 struct RunOptions {
@@ -11,14 +13,8 @@ struct RunOptions {
   std::filesystem::path out;  // empty: out/<scenario name>
   bool profile = false;       // print the per-stage time table at the end
   bool quiet = false;         // no progress bar
-  double duration_s = -1;     // >= 0: replaces the scenario's [run] duration_s (0: whole record)
-  int threads = -1;           // >= 0: replaces the scenario's [run] threads (0: all cores)
-  double start_s = -1;        // >= 0: replaces the scenario's [ground_motion] start_s
-  double dt_s = -1;           // >= 0: replaces the scenario's [run] dt_s (0: 0.8 of the limit)
+  RunOverrides overrides;     // settings replacing the scenario's (--dt, --duration, ...; a resume: --threads)
   double dt_factor = 1;       // multiplies the time step (0.5: half of it, for convergence studies)
-  int subdivision = 0;        // > 0: replaces the scenario's [run] subdivision
-  std::string joint_rule;     // non-empty: replaces the scenario's [run] joint_rule ("corners", "moments")
-  std::string damping;        // non-empty: replaces the scenario's [run] damping ("study", "capped")
   bool fixed_threads = false; // every step on all threads (default: the team size found fastest)
   double checkpoint_every_s = 0;   // > 0: a checkpoint every this many simulated seconds
   double checkpoint_wall_s = 0;    // > 0: a checkpoint every this many wall-clock seconds

@@ -17,16 +17,18 @@ std::string Model::block_label(int b) const {
   return s.str();
 }
 
-const char* joint_rule_name(JointRule rule) { return rule == JointRule::moments ? "moments" : "corners"; }
-const char* shear_spring_name(ShearSpring spring) { return spring == ShearSpring::normal ? "normal" : "shear_modulus"; }
-const char* damping_name(Damping damping) {
-  return damping == Damping::capped ? "capped" : damping == Damping::implicit ? "implicit" : "study";
+namespace {
+template <class E>
+E parse_choice(const std::string& name, const char* what) {
+  const int i = choice_index<E>(name);
+  if (i < 0) throw ModelError(std::string(what) + " is \"" + name + "\"; it must be " + choice_list<E>());
+  return static_cast<E>(i);
 }
-Damping parse_damping(const std::string& name) {
-  for (Damping d : {Damping::study, Damping::capped, Damping::implicit})
-    if (name == damping_name(d)) return d;
-  throw ModelError("damping is \"" + name + "\"; it must be \"study\", \"capped\" or \"implicit\"");
-}
+}  // namespace
+
+JointRule parse_joint_rule(const std::string& name) { return parse_choice<JointRule>(name, "joint_rule"); }
+ShearSpring parse_shear_spring(const std::string& name) { return parse_choice<ShearSpring>(name, "shear_spring"); }
+Damping parse_damping(const std::string& name) { return parse_choice<Damping>(name, "damping"); }
 
 PairLaw default_pair_law(const Material& a, const Material& b) {
   PairLaw law;

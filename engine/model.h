@@ -100,7 +100,12 @@ enum class JointRule : std::uint8_t {
   // opening at an edge rocks about that edge.
   moments,
 };
-const char* joint_rule_name(JointRule rule);  // "corners", "moments"
+// The names of an option's values, in the enum's order: its name and parse functions and
+// the scenario reader's list of choices all read this one list.
+inline constexpr std::array<const char*, 2> kJointRuleNames{"corners", "moments"};
+inline const auto& choice_names(JointRule) { return kJointRuleNames; }
+inline const char* joint_rule_name(JointRule rule) { return kJointRuleNames[static_cast<int>(rule)]; }
+JointRule parse_joint_rule(const std::string& name);  // throws ModelError listing the choices
 
 // The shear spring of a joint (MODEL.md section 3; the study's own formula is lost from our
 // copy, so this is a choice it leaves open).
@@ -111,7 +116,10 @@ enum class ShearSpring : std::uint8_t {
   // K_s = K_n, as many DEM codes take it for want of a better value.
   normal = 1,
 };
-const char* shear_spring_name(ShearSpring spring);  // "shear_modulus", "normal"
+inline constexpr std::array<const char*, 2> kShearSpringNames{"shear_modulus", "normal"};
+inline const auto& choice_names(ShearSpring) { return kShearSpringNames; }
+inline const char* shear_spring_name(ShearSpring spring) { return kShearSpringNames[static_cast<int>(spring)]; }
+ShearSpring parse_shear_spring(const std::string& name);
 
 // How the dashpots of MODEL.md section 3 enter the step.
 enum class Damping : std::uint8_t {
@@ -126,8 +134,28 @@ enum class Damping : std::uint8_t {
   // alone limit dt, and each step solves for the dashpots over the whole structure.
   implicit = 2,
 };
-const char* damping_name(Damping damping);  // "study", "capped", "implicit"
-Damping parse_damping(const std::string& name);  // damping_name's inverse; throws ModelError
+inline constexpr std::array<const char*, 3> kDampingNames{"study", "capped", "implicit"};
+inline const auto& choice_names(Damping) { return kDampingNames; }
+inline const char* damping_name(Damping damping) { return kDampingNames[static_cast<int>(damping)]; }
+Damping parse_damping(const std::string& name);
+
+// The value of enum E named `name` (choice_names(E{})), or -1.
+template <class E>
+int choice_index(const std::string& name) {
+  const auto& names = choice_names(E{});
+  for (std::size_t i = 0; i < names.size(); ++i)
+    if (name == names[i]) return static_cast<int>(i);
+  return -1;
+}
+// "\"a\", \"b\" or \"c\"", for messages.
+template <class E>
+std::string choice_list() {
+  const auto& names = choice_names(E{});
+  std::string list;
+  for (std::size_t i = 0; i < names.size(); ++i)
+    list += std::string(i == 0 ? "" : i + 1 == names.size() ? " or " : ", ") + "\"" + names[i] + "\"";
+  return list;
+}
 
 // What an analysis asks of a model beyond its blocks and materials. Applied and checked
 // once, by ModelBuilder::build; a built Model is never edited (the same blocks with other

@@ -44,18 +44,16 @@ Scenario read_scenario(const std::filesystem::path& file) {
   TableReader model(file, root, "model");
   std::string model_file;
   model.text("file", model_file);
-  model.number("mortar_pa", sc.mortar_pa);  // < 0: as the model file says
-  double tension_fracture = -1, shear_fracture = -1;  // < 0: as the model file says
+  double mortar_pa = -1, tension_fracture = -1, shear_fracture = -1;  // < 0: as the model file says
+  model.number("mortar_pa", mortar_pa);
   model.number("mortar_tension_fracture_j_m2", tension_fracture);
   model.number("mortar_shear_fracture_j_m2", shear_fracture);
-  std::string bonds = "settled";
-  model.text("mortar_bonds", bonds, {"settled", "initial"});
-  sc.bonds_when_settled = bonds == "settled";
+  read_run_settings(model, "model", sc.settings);
   model.finish();
   if (model_file.empty()) throw InputError(file.string() + ": [model] file = \"...\" is required (a model file, e.g. models/nishida_a.toml)");
   sc.model_file = base / model_file;
   sc.model = read_model_file(sc.model_file);
-  if (sc.mortar_pa >= 0) sc.model.bridge.mortar_pa = sc.mortar_pa;
+  if (mortar_pa >= 0) sc.model.bridge.mortar_pa = mortar_pa;
   if (tension_fracture >= 0 || shear_fracture >= 0) {
     sc.model.bridge.mortar_tension_fracture_j_m2 = std::max(0.0, tension_fracture);
     sc.model.bridge.mortar_shear_fracture_j_m2 = std::max(0.0, shear_fracture);
@@ -63,30 +61,14 @@ Scenario read_scenario(const std::filesystem::path& file) {
   }
 
   TableReader run(file, root, "run");
-  run.non_negative("dt_s", sc.dt_s);
-  run.non_negative("settle_max_s", sc.settle_max_s);
-  run.non_negative("settle_kinetic_j", sc.settle_kinetic_j);
-  run.non_negative("duration_s", sc.duration_s);
-  run.positive("output_interval_s", sc.output_interval_s);
-  run.integer_at_least("threads", sc.threads, 0);
-  run.integer_in("subdivision", sc.subdivision, 1, kMaxSubdivision);
-  std::string rule = joint_rule_name(sc.joint_rule);
-  run.text("joint_rule", rule, {"corners", "moments"});
-  sc.joint_rule = rule == "moments" ? JointRule::moments : JointRule::corners;
-  std::string shear = shear_spring_name(sc.shear_spring);
-  run.text("shear_spring", shear, {"shear_modulus", "normal"});
-  sc.shear_spring = shear == "normal" ? ShearSpring::normal : ShearSpring::shear_modulus;
-  std::string damping = damping_name(sc.damping);
-  run.text("damping", damping, {"study", "capped", "implicit"});
-  sc.damping = parse_damping(damping);
+  read_run_settings(run, "run", sc.settings);
   run.finish();
 
   TableReader gm(file, root, "ground_motion");
   read_ground_motion_components(gm, file, base, "ground_motion", sc.ground_motion);
-  gm.number("start_s", sc.ground_motion.start_s);
+  read_run_settings(gm, "ground_motion", sc.settings);
   gm.boolean("baseline_correction", sc.ground_motion.baseline_correction);
   gm.finish();
-  sc.ground_motion.duration_s = sc.duration_s;
 
   TableReader monitor(file, root, "monitor");
   monitor.integers("blocks", sc.monitor_blocks);

@@ -7,29 +7,25 @@
 
 #include "io/ground_motion.h"
 #include "io/model_file.h"
+#include "io/run_settings.h"
 
 namespace ishibashi {
 
 struct Scenario {
   std::filesystem::path file;          // the scenario file itself
   std::filesystem::path model_file;    // [model] file
-  ModelFile model;
-  double mortar_pa = -1.0;             // [model] mortar_pa; < 0: as the model file says
-  bool bonds_when_settled = true;      // [model] mortar_bonds = "settled" (true) or "initial"
-                                       // (ModelOptions::bonds_when_settled)
-  double dt_s = 0.0;                   // [run] dt_s; 0: a share of the stability limit
-                                       // (kStudyDtShare, kCappedDtShare in seismic_run.h)
-  double settle_max_s = 1.0;           // [run] longest gravity settling
-  double settle_kinetic_j = 1e-3;      // [run] settled when the kinetic energy is below
-  double duration_s = 0.0;             // [run] shaking time; 0: the whole ground motion
-  double output_interval_s = 0.05;     // [run] ParaView frames and history rows
-  int threads = 0;                     // [run] 0: all cores
-  int subdivision = 1;                 // [run] contact subdivision
-  JointRule joint_rule = JointRule::corners;  // [run] joint_rule = "corners" or "moments" (model.h)
-  ShearSpring shear_spring = ShearSpring::shear_modulus;  // [run] shear_spring = "shear_modulus" or "normal"
-  Damping damping = Damping::study;    // [run] damping = "study", "capped" or "implicit"
-  GroundMotionSpec ground_motion;      // [ground_motion] x, y, z = { file, format, scale, unit, dt_s }
+  ModelFile model;                     // with the scenario's [model] mortar_pa and fracture energies
+  RunSettings settings;                // [run], [model] mortar_bonds, [ground_motion] start_s (run_settings.h)
+  GroundMotionSpec ground_motion;      // [ground_motion] x, y, z = { file, format, scale, unit, dt_s }, baseline_correction
   std::vector<int> monitor_blocks;     // [monitor] blocks; empty: the unit on top of the crown
+
+  // The ground motion to run: the records over the settings' window.
+  GroundMotionSpec motion() const {
+    GroundMotionSpec spec = ground_motion;
+    spec.start_s = settings.start_s;
+    spec.duration_s = settings.duration_s;
+    return spec;
+  }
 };
 
 Scenario read_scenario(const std::filesystem::path& file);

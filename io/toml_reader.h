@@ -79,6 +79,21 @@ class TableReader {
       out = *v;
     }
   }
+  // One of an option enum's values, by name (choice_names in engine/model.h).
+  template <class E>
+  void choice(const char* key, E& out) {
+    if (const toml::node* n = find(key)) {
+      auto v = n->value<std::string>();
+      if (!v) fail(*n, std::string("'") + key + "' must be a string");
+      const int i = choice_index<E>(*v);
+      if (i < 0) {
+        std::string list;
+        for (const char* a : choice_names(E{})) list += std::string(list.empty() ? "" : ", ") + "\"" + a + "\"";
+        fail(*n, std::string("'") + key + "' is \"" + *v + "\"; allowed: " + list);
+      }
+      out = static_cast<E>(i);
+    }
+  }
   void integers(const char* key, std::vector<int>& out) {
     if (const toml::node* n = find(key)) {
       const toml::array* a = n->as_array();

@@ -24,9 +24,10 @@ for threads in ${THREADS:-1 2}; do
   # shellcheck disable=SC2086
   "$exe" run "$work/scenario.toml" --out "$work/out_$threads" --duration "$shaking" --threads "$threads" \
     --quiet --profile ${RUN_ARGS:-} > "$log"
-  field() { sed -n "s/.*\"$1\": \([0-9.e+-]*\).*/\1/p" "$work/out_$threads/summary.json"; }
+  # summary.json's top-level value (its "settings" come last and repeat a few names)
+  field() { sed -n "s/^  \"$1\": \([0-9.e+-]*\).*/\1/p" "$work/out_$threads/summary.json" | head -1; }
   counts=$(sed -n 's/.*: \([0-9]*\) blocks, \([0-9]*\) sub-contacts.*/\1,\2/p' "$log")
-  awk -v t="$threads" -v c="$counts" -v dt="$(field dt_s)" -v steps="$(field steps)" -v wall="$(field wall_time_s)" \
+  awk -v t="$threads" -v c="$counts" -v dt="$(field dt_s)" -v steps="$(field steps)" -v wall="$(field wall_s)" \
     -v shaking="$shaking" 'BEGIN { rate = steps / wall;
       split(c, n, ","); printf "%s,%s,%.4g,%d,%.1f,%.0f,%s,%.1f,%.1f\n", t, c, dt, steps, wall, rate, shaking,
       10 / dt / rate / 60, 1e9 / rate / n[2] }'

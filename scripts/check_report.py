@@ -5,7 +5,6 @@ draws, at most a few MB, and played inline by report.html.
 
     /usr/bin/python3 scripts/check_report.py OUT        (OUT: the study's output folder)
 """
-import csv
 import sys
 import xml.etree.ElementTree as ET
 from pathlib import Path
@@ -14,16 +13,16 @@ from PIL import Image
 
 sys.path.insert(0, str(Path(__file__).resolve().parent.parent / "analysis"))
 from report import ANIMATION_FRAMES  # noqa: E402
+from run_outputs import read_rows  # noqa: E402
 
 MAX_BYTES = 5 * 1024 * 1024
 out = Path(sys.argv[1])
 failures = []
 html = (out / "report.html").read_text()
-with open(out / "runs.csv", newline="") as f:
-    runs = list(csv.DictReader(f))
+runs = read_rows(out / "runs.csv")
 for run in runs:
     name = run["scenario"]
-    t0, shaking = float(run["settle_time_s"]), float(run["shaking_s"])
+    t0, shaking = float(run["settle_time_s"]), float(run["shaking_time_s"])
     times = [float(d.get("timestep")) for d in ET.parse(out / "runs" / name / "blocks.pvd").getroot().iter("DataSet")]
     expected = min(ANIMATION_FRAMES, sum(1 for t in times if t0 - 1e-9 <= t <= t0 + shaking + 1e-9))
     gif = out / "figures" / f"animation_{name}.gif"

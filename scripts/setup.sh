@@ -9,6 +9,7 @@ packages=(
   libcgal-dev libgmp-dev libmpfr-dev   # polyhedral geometry and validation (geometry)
   libvtk9-dev                          # ParaView output and its read-back tests (io)
   libtomlplusplus-dev libcli11-dev libfmt-dev   # scenario files, command line, formatting
+  nlohmann-json3-dev                   # summary.json
   libspectra-dev                       # sparse eigensolver (modal analysis)
   libgtest-dev libgmock-dev libbenchmark-dev    # tests and benchmarks
   python3-matplotlib python3-vtk9 python3-pil  # the study's report: figures, snapshots from the .vtu, GIFs

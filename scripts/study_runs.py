@@ -9,13 +9,15 @@ first_opening_s, first_fall_s (seconds of shaking; empty if none), largest_crown
 energy_balance_relative, dt_s, wall_s, commit (of the program that ran the study).
 """
 import csv
-import json
 import sys
 import xml.etree.ElementTree as ET
 from pathlib import Path
 
 from vtkmodules.util.numpy_support import vtk_to_numpy
 from vtkmodules.vtkIOXML import vtkXMLUnstructuredGridReader
+
+sys.path.insert(0, str(Path(__file__).resolve().parent.parent / "analysis"))
+from run_outputs import read_rows, read_summary  # noqa: E402
 
 RING = 1  # the generator's part label of voussoirs (geometry/bridge.h)
 
@@ -31,10 +33,9 @@ def fallen_ring_stones(run):
 
 
 def first_fall_s(run, settle_time_s):
-    with open(run / "history.csv", newline="") as f:
-        for row in csv.DictReader(f):
-            if row["phase"] != "settle" and int(row["fallen_blocks"]) > 0:
-                return f"{float(row['time_s']) - settle_time_s:.3f}"
+    for row in read_rows(run / "history.csv"):
+        if row["phase"] != "settle" and int(row["fallen_stones"]) > 0:
+            return f"{float(row['time_s']) - settle_time_s:.3f}"
     return ""
 
 
@@ -46,13 +47,13 @@ def main():
     for run in sorted((out / "runs").iterdir()):
         if not (run / "row.csv").exists():  # not finished
             continue
-        s = json.loads((run / "summary.json").read_text())
+        s = read_summary(run)
         name = run.name.split("_")  # nishida_<model>_kobe_<variant>
-        opening = s["first_opening_time_s"]
+        opening = s["first_opening_s"]
         writer.writerow([name[1], name[3], int(s["collapse"]), s["fallen_stones"], fallen_ring_stones(run),
-                         "" if opening < 0 else f"{opening:.3f}", first_fall_s(run, s["settle_time_s"]),
+                         "" if opening is None or opening < 0 else f"{opening:.3f}", first_fall_s(run, s["settle_time_s"]),
                          f"{s['largest_crown_drop_m']:.4f}", f"{s['energy_balance_error_relative']:.2e}",
-                         f"{s['dt_s']:.4e}", f"{s['wall_time_s']:.0f}", commit])
+                         f"{s['dt_s']:.4e}", f"{s['wall_s']:.0f}", commit])
 
 
 if __name__ == "__main__":

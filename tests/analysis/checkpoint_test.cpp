@@ -16,6 +16,7 @@
 #include <string>
 
 #include "command_line.h"
+#include "io/run_settings.h"
 
 namespace ishibashi {
 namespace {
@@ -111,11 +112,11 @@ TEST(Checkpoint, ResumedRunsWallTimeCountsEveryPart) {
                   " 2> /dev/null | grep -c ,shake,) -lt 5 ] && kill -0 $run 2> /dev/null; do sleep 0.02; done; kill -INT $run; wait $run'",
               &status);
   ASSERT_TRUE(std::filesystem::exists(out / "checkpoint.bin")) << "the run ended before it was stopped";
-  const double first_part_s = std::stod(summary_field(out, "wall_time_s"));
+  const double first_part_s = std::stod(summary_field(out, "wall_s"));
   const std::string resumed = run_command(kRun + "--resume " + out.string(), &status);
   ASSERT_EQ(status, 0) << resumed;
   EXPECT_EQ(summary_field(out, "finished"), "true,");
-  EXPECT_GT(std::stod(summary_field(out, "wall_time_s")), first_part_s);
+  EXPECT_GT(std::stod(summary_field(out, "wall_s")), first_part_s);
 }
 
 TEST(Checkpoint, CheckpointOfAnotherBuildOrOfChangedInputsIsRefused) {
@@ -141,9 +142,10 @@ TEST(Checkpoint, CheckpointOfAnotherBuildOrOfChangedInputsIsRefused) {
 
   // The first byte after the header is the phase flag: a byte other than 0 or 1 is damage.
   const std::string magic = "ishibashi checkpoint 6\n";
-  // magic, program and inputs, scenario path, dt and durations and start, subdivision,
-  // joint rule, damping flag, mortar timing, shear spring
-  const std::size_t header = 8 + magic.size() + 16 + 8 + std::filesystem::absolute(file).string().size() + 32 + 4 + 1 + 1 + 1 + 1;
+  // magic, program and inputs, scenario path, each run setting (io/run_settings.h)
+  std::size_t settings_bytes = 0;
+  for_each_run_setting([&](const SettingInfo&, auto member) { settings_bytes += sizeof(RunSettings{}.*member); });
+  const std::size_t header = 8 + magic.size() + 16 + 8 + std::filesystem::absolute(file).string().size() + settings_bytes;
   std::string bad_flag = good;
   bad_flag[header] = 7;
   std::ofstream(out / "checkpoint.bin", std::ios::binary) << bad_flag;

@@ -100,7 +100,7 @@ TEST(Impulse, BothSwayRockingModesAndNoResponseAcrossTheSymmetryPlane) {
 // first x mode of the modal analysis.
 TEST(Impulse, FaceUnitBesideTheCrownShowsTheInPlaneModeVertically) {
   const LoadedModel a = load_model_or_scenario(std::filesystem::path(ISHIBASHI_SOURCE_DIR) / "models" / "nishida_a.toml");
-  const Model m = a.build();
+  const Model& m = a.model();
   const int crown = crown_unit(m), face = face_unit_beside_crown(m);
   ASSERT_GE(face, 0);
   const Vec3 c = m.initial_position[crown], f = m.initial_position[face];

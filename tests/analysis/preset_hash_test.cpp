@@ -47,11 +47,10 @@ void expect_recorded_hashes(const std::string& file_name, double settle_max_s, d
   std::string lines;
   for (const char* preset : kPresets) {
     Scenario sc = read_scenario(kRoot / "scenarios" / (std::string(preset) + ".toml"));
-    if (settle_max_s >= 0) sc.settle_max_s = settle_max_s;
-    if (start_s >= 0) sc.ground_motion.start_s = start_s;
-    sc.duration_s = shake_s;
-    sc.ground_motion.duration_s = shake_s;
-    sc.threads = 0;
+    if (settle_max_s >= 0) sc.settings.settle_max_s = settle_max_s;
+    if (start_s >= 0) sc.settings.start_s = start_s;
+    sc.settings.duration_s = shake_s;
+    sc.settings.threads = 0;
     SeismicRunOptions options;
     options.out = std::filesystem::temp_directory_path() / preset;
     const SeismicRunResult r = SeismicRun(sc, options).run();

@@ -25,7 +25,7 @@ Scenario strong_pulses(int threads, const char* model = "nishida_a", double sett
                    << "y = { file = \"" << (kobe / "RSN1106_KOBE_KJM000.AT2").string() << "\" }\n"
                    << "z = { file = \"" << (kobe / "RSN1106_KOBE_KJM-UP.AT2").string() << "\" }\n";
   Scenario sc = read_scenario(f);
-  sc.threads = threads;
+  sc.settings.threads = threads;
   return sc;
 }
 

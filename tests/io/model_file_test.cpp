@@ -75,11 +75,11 @@ TEST(ScenarioFile, DampingIsStudyCappedOrImplicitAndABadChoiceNamesItsLine) {
   const auto file = std::filesystem::temp_directory_path() / "ishibashi_scenario_damping.toml";
   auto write = [&](const std::string& damping) { write_scenario(file, damping); };
   write("");
-  EXPECT_EQ(read_scenario(file).damping, Damping::study);
+  EXPECT_EQ(read_scenario(file).settings.damping, Damping::study);
   write("damping = \"capped\"");
-  EXPECT_EQ(read_scenario(file).damping, Damping::capped);
+  EXPECT_EQ(read_scenario(file).settings.damping, Damping::capped);
   write("damping = \"implicit\"");
-  EXPECT_EQ(read_scenario(file).damping, Damping::implicit);
+  EXPECT_EQ(read_scenario(file).settings.damping, Damping::implicit);
   write("damping = \"none\"");
   try {
     read_scenario(file);
@@ -95,9 +95,9 @@ TEST(ScenarioFile, JointRuleAndSubdivisionAreCheckedAtTheirLine) {
   const auto file = std::filesystem::temp_directory_path() / "ishibashi_scenario_joint_rule.toml";
   auto write = [&](const std::string& run) { write_scenario(file, run); };
   write("");
-  EXPECT_EQ(read_scenario(file).joint_rule, JointRule::corners);
+  EXPECT_EQ(read_scenario(file).settings.joint_rule, JointRule::corners);
   write("joint_rule = \"moments\"");
-  EXPECT_EQ(read_scenario(file).joint_rule, JointRule::moments);
+  EXPECT_EQ(read_scenario(file).settings.joint_rule, JointRule::moments);
   for (const auto& [line, message] : {std::pair<std::string, std::string>{"joint_rule = \"gauss\"", "allowed: \"corners\", \"moments\""},
                                       {"subdivision = 17", "'subdivision' is 17; it must be at least 1 and at most 16"}}) {
     write(line);
