@@ -5,7 +5,7 @@
 #include <cstdio>
 #include <map>
 
-#include "analysis/load.h"
+#include "analysis/model/compile_model.h"
 #include "engine/mass_properties.h"
 #include "engine/world.h"
 #include "geometry/block_files.h"

@@ -3,8 +3,8 @@
 #include <chrono>
 #include <cstdio>
 
-#include "analysis/frequencies.h"
-#include "analysis/load.h"
+#include "analysis/dynamics/frequencies.h"
+#include "analysis/model/compile_model.h"
 
 namespace ishibashi {
 

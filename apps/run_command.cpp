@@ -5,7 +5,7 @@
 #include <cstdio>
 #include <string>
 
-#include "analysis/seismic_run.h"
+#include "analysis/run/seismic_run.h"
 #include "engine/cores.h"
 
 namespace ishibashi {

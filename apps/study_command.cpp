@@ -2,8 +2,8 @@
 
 #include <cstdio>
 
-#include "analysis/seismic_run.h"
-#include "analysis/study.h"
+#include "analysis/run/seismic_run.h"
+#include "analysis/batch/study.h"
 
 namespace ishibashi {
 

@@ -2,8 +2,8 @@
 
 #include <cstdio>
 
-#include "analysis/seismic_run.h"
-#include "analysis/sweep.h"
+#include "analysis/run/seismic_run.h"
+#include "analysis/batch/sweep.h"
 
 namespace ishibashi {
 

@@ -11,7 +11,7 @@
 #include <string>
 #include <vector>
 
-#include "analysis/load.h"
+#include "analysis/model/compile_model.h"
 #include "engine/pipeline.h"
 #include "engine/world.h"
 

@@ -12,29 +12,26 @@ Frames closer than the run's 0.05 s default show the path (a run with output_int
 0.005: scenarios/results/README.md).
 """
 import collections
-import csv
 import os
 import sys
+from pathlib import Path
 
 import numpy as np
-import vtk
-from vtk.util.numpy_support import vtk_to_numpy as v2n
+from vtkmodules.util.numpy_support import vtk_to_numpy as v2n
+
+sys.path.insert(0, str(Path(__file__).resolve().parent.parent / "analysis" / "report"))
+from run_outputs import PART_NAME, cell_array, point_array, read_rows, read_vtu  # noqa: E402
 
 base = sys.argv[1]
-with open(base + '/history.csv', newline='') as f:
-    rows = list(csv.DictReader(f))
+rows = read_rows(base + '/history.csv')
 settled = [float(r['time_s']) for r in rows if r['phase'] == 'settle']
 interval = float(rows[1]['time_s']) - float(rows[0]['time_s'])
 t0_frame = int(round(settled[-1] / interval)) if settled else 0  # the frame where shaking began
-def blocks_part():
-    r = vtk.vtkXMLUnstructuredGridReader(); r.SetFileName(base + '/blocks_000000.vtu'); r.Update()
-    return v2n(r.GetOutput().GetCellData().GetArray('part'))
-part = blocks_part()
-names = {0: 'ground', 1: 'ring', 2: 'wall', 3: 'fill'}
+part = cell_array(read_vtu(base + '/blocks_000000.vtu'), 'part')
+names = PART_NAME
 ft = 2e5; c = 2e5; tanphi = np.tan(np.radians(33.23))
 def per_pair(i):
-    r = vtk.vtkXMLUnstructuredGridReader(); r.SetFileName(f'{base}/contacts_{i:06d}.vtu'); r.Update()
-    o = r.GetOutput(); pd = o.GetPointData(); g = lambda n: v2n(pd.GetArray(n))
+    o = read_vtu(f'{base}/contacts_{i:06d}.vtu'); g = lambda n: point_array(o, n)
     p, st, s, t, a, b, n = v2n(o.GetPoints().GetData()), g('state'), g('normal_stress_pa'), g('shear_stress_pa'), g('block_a'), g('block_b'), g('normal')
     d = {}
     for k in np.nonzero(st == 0)[0]:

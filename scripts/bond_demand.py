@@ -12,25 +12,14 @@ Times are the run's (settling included). Ground joints (soil, never bonded) are 
 """
 import argparse
 import math
-import xml.etree.ElementTree as ET
+import sys
 from pathlib import Path
 
 import numpy as np
 from vtkmodules.util.numpy_support import vtk_to_numpy
-from vtkmodules.vtkIOXML import vtkXMLUnstructuredGridReader
 
-GROUND = 0  # the generator's part label of the ground slab (geometry/bridge.h)
-
-
-def grid_of(path):
-    reader = vtkXMLUnstructuredGridReader()
-    reader.SetFileName(str(path))
-    reader.Update()
-    return reader.GetOutput()
-
-
-def point_array(grid, name):
-    return vtk_to_numpy(grid.GetPointData().GetArray(name))
+sys.path.insert(0, str(Path(__file__).resolve().parent.parent / "analysis" / "report"))
+from run_outputs import PART, cell_array, frames, point_array, read_vtu  # noqa: E402
 
 
 def main():
@@ -44,21 +33,18 @@ def main():
     a = p.parse_args()
     tan_phi = math.tan(math.radians(a.friction_deg))
 
-    first = next(ET.parse(a.run / "blocks.pvd").getroot().iter("DataSet"))
-    blocks = grid_of(a.run / first.get("file"))
-    part = vtk_to_numpy(blocks.GetCellData().GetArray("part"))
-    block_id = vtk_to_numpy(blocks.GetCellData().GetArray("block_id"))
-    ground = set(block_id[part == GROUND].tolist())
+    blocks = read_vtu(frames(a.run)[0][1])
+    part, block_id = cell_array(blocks, "part"), cell_array(blocks, "block_id")
+    ground = set(block_id[part == PART["ground"]].tolist())
 
     bands = a.bands
     print(f"strength {a.strength:.3g} Pa; per frame: stone-stone sub-contacts originally in contact, "
           f"the share at or past their strength (tension or shear), the median and 99th percentile utilisation, "
           f"and the share past strength by height band {bands}")
-    for d in ET.parse(a.run / "contacts.pvd").getroot().iter("DataSet"):
-        t = float(d.get("timestep"))
+    for t, vtu in frames(a.run, "contacts"):
         if t < a.t0 or t > a.t1:
             continue
-        g = grid_of(a.run / d.get("file"))
+        g = read_vtu(vtu)
         original = point_array(g, "original") == 1
         ba, bb = point_array(g, "block_a"), point_array(g, "block_b")
         stone = original & ~np.isin(ba, list(ground)) & ~np.isin(bb, list(ground))

@@ -1,8 +1,10 @@
 #!/usr/bin/env python3
 """The source tree's house rules, checked (CI runs this before the tests):
 
-* layers: engine <- geometry <- io <- analysis <- apps. A file includes project headers of
-  its own layer or a lower one only (engine knows no CGAL or VTK; analysis no command);
+* layers: engine <- geometry <- io <- analysis/model <- analysis/run, analysis/dynamics <-
+  analysis/batch <- apps. A file includes project headers of its own folder or a lower layer
+  only (engine knows no CGAL or VTK; a run knows no frequency analysis and no study;
+  analysis no command);
 * no include cycles between project headers;
 * no source file over 350 lines;
 * no function in engine/ or analysis/ over 80 lines unless a comment right above it says why.
@@ -14,7 +16,23 @@ import sys
 from pathlib import Path
 
 ROOT = Path(__file__).resolve().parent.parent
-LAYERS = ["engine", "geometry", "io", "analysis", "apps"]
+# From the bottom up; folders on one line are peers, which may not include each other.
+LAYERS = [["engine"], ["geometry"], ["io"], ["analysis/model"], ["analysis/run", "analysis/dynamics"], ["analysis/batch"],
+          ["apps"]]
+FOLDERS = [folder for level in LAYERS for folder in level]
+
+
+def level_of(folder):
+    return next(i for i, level in enumerate(LAYERS) if folder in level)
+
+
+def folder_of(path):
+    """The layer folder of a project path ("analysis/run/seismic_run.h" -> "analysis/run"), or None."""
+    parts = path.split("/")
+    for depth in (2, 1):
+        if "/".join(parts[:depth]) in FOLDERS and len(parts) > depth:
+            return "/".join(parts[:depth])
+    return None
 MAX_FILE_LINES = 350
 MAX_FUNCTION_LINES = 80
 INCLUDE = re.compile(r'^\s*#\s*include\s+"([^"]+)"')
@@ -24,10 +42,13 @@ BODY_OPENS = re.compile(r"\)\s*(const\s*)?(noexcept\s*)?(->\s*[^{]+)?\{\s*$")
 
 
 def sources():
-    for layer in LAYERS:
-        for path in sorted((ROOT / layer).glob("*")):
+    for folder in FOLDERS:
+        for path in sorted((ROOT / folder).glob("*")):
             if path.suffix in (".h", ".cpp"):
-                yield layer, path
+                yield folder, path
+    for path in sorted((ROOT / "analysis").glob("*")):  # a file left beside the role folders
+        if path.suffix in (".h", ".cpp"):
+            yield "analysis", path
 
 
 def main():
@@ -35,6 +56,9 @@ def main():
     graph = {}
     for layer, path in sources():
         rel = path.relative_to(ROOT).as_posix()
+        if layer == "analysis":
+            breaches.append(f"{rel}: outside analysis's role folders (model, run, dynamics, batch)")
+            continue
         lines = path.read_text().splitlines()
         if len(lines) > MAX_FILE_LINES:
             breaches.append(f"{rel}: {len(lines)} lines (at most {MAX_FILE_LINES}): split it by job")
@@ -44,13 +68,14 @@ def main():
             if not m:
                 continue
             target = m.group(1)
-            target_layer = target.split("/")[0]
-            if target_layer not in LAYERS:
+            target_folder = folder_of(target)
+            if target_folder is None:
                 continue  # a test helper or a generated header
             graph[rel].append(target)
-            if LAYERS.index(target_layer) > LAYERS.index(layer):
-                breaches.append(f"{rel}:{number}: includes {target}, a higher layer ({' <- '.join(LAYERS)})")
-        if layer in ("engine", "analysis"):
+            if target_folder != layer and level_of(target_folder) >= level_of(layer):
+                order = " <- ".join(", ".join(level) for level in LAYERS)
+                breaches.append(f"{rel}:{number}: includes {target}, of a higher layer or a peer ({order})")
+        if layer == "engine" or layer.startswith("analysis"):
             breaches += long_functions(rel, lines)
     breaches += cycles(graph)
     for b in breaches:

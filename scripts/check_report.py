@@ -11,7 +11,7 @@ from pathlib import Path
 
 from PIL import Image
 
-sys.path.insert(0, str(Path(__file__).resolve().parent.parent / "analysis"))
+sys.path.insert(0, str(Path(__file__).resolve().parent.parent / "analysis" / "report"))
 from report import ANIMATION_FRAMES  # noqa: E402
 from run_outputs import read_rows  # noqa: E402
 

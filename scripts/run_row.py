@@ -7,7 +7,7 @@ and at most, the cracked joints, fallen stones, blocks that left the model, coll
 import sys
 from pathlib import Path
 
-sys.path.insert(0, str(Path(__file__).resolve().parent.parent / "analysis"))
+sys.path.insert(0, str(Path(__file__).resolve().parent.parent / "analysis" / "report"))
 from run_outputs import read_rows, read_summary  # noqa: E402
 
 HEADER = ("scenario,options,start_s,duration_s,dt_s,balance_error_pct,balance_error_before_first_fall_pct,"

@@ -10,26 +10,15 @@ energy_balance_relative, dt_s, wall_s, commit (of the program that ran the study
 """
 import csv
 import sys
-import xml.etree.ElementTree as ET
 from pathlib import Path
 
-from vtkmodules.util.numpy_support import vtk_to_numpy
-from vtkmodules.vtkIOXML import vtkXMLUnstructuredGridReader
-
-sys.path.insert(0, str(Path(__file__).resolve().parent.parent / "analysis"))
-from run_outputs import read_rows, read_summary  # noqa: E402
-
-RING = 1  # the generator's part label of voussoirs (geometry/bridge.h)
+sys.path.insert(0, str(Path(__file__).resolve().parent.parent / "analysis" / "report"))
+from run_outputs import PART, cell_array, frames, read_rows, read_summary, read_vtu  # noqa: E402
 
 
 def fallen_ring_stones(run):
-    last = list(ET.parse(run / "blocks.pvd").getroot().iter("DataSet"))[-1]
-    reader = vtkXMLUnstructuredGridReader()
-    reader.SetFileName(str(run / last.get("file")))
-    reader.Update()
-    data = reader.GetOutput().GetCellData()
-    part, fallen = vtk_to_numpy(data.GetArray("part")), vtk_to_numpy(data.GetArray("fallen"))
-    return int(((part == RING) & (fallen != 0)).sum())
+    grid = read_vtu(frames(run)[-1][1])
+    return int(((cell_array(grid, "part") == PART["ring"]) & (cell_array(grid, "fallen") != 0)).sum())
 
 
 def first_fall_s(run, settle_time_s):

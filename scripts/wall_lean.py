@@ -13,28 +13,24 @@ Prints each wall's largest lean and gap and when they happened.
 """
 import argparse
 import csv
-import xml.etree.ElementTree as ET
+import sys
 from pathlib import Path
 
 import numpy as np
 from vtkmodules.util.numpy_support import vtk_to_numpy
-from vtkmodules.vtkIOXML import vtkXMLUnstructuredGridReader
 
-WALL, FILL, SOIL = 2, 3, 4  # the generator's part labels (geometry/bridge.h)
+sys.path.insert(0, str(Path(__file__).resolve().parent.parent / "analysis" / "report"))
+from run_outputs import PART, cell_array, frames, point_array, read_vtu  # noqa: E402
 
 
 def read(vtu):
-    reader = vtkXMLUnstructuredGridReader()
-    reader.SetFileName(str(vtu))
-    reader.Update()
-    grid = reader.GetOutput()
-    moved = vtk_to_numpy(grid.GetPointData().GetArray("displacement"))
+    grid = read_vtu(vtu)
+    moved = point_array(grid, "displacement")
     points = vtk_to_numpy(grid.GetPoints().GetData())
     cells = grid.GetCells()
     offsets = vtk_to_numpy(cells.GetOffsetsArray())
     connectivity = vtk_to_numpy(cells.GetConnectivityArray())
-    part = vtk_to_numpy(grid.GetCellData().GetArray("part"))
-    fallen = vtk_to_numpy(grid.GetCellData().GetArray("fallen"))
+    part, fallen = cell_array(grid, "part"), cell_array(grid, "fallen")
     blocks = []
     for c in range(grid.GetNumberOfCells()):
         idx = connectivity[offsets[c]:offsets[c + 1]]
@@ -48,8 +44,8 @@ def groups(blocks):
     beside it, and the wall's thickness (from the first frame)."""
     out = {}
     for side in (-1, 1):
-        wall = [i for i, b in enumerate(blocks) if b[0] == WALL and side * b[2][:, 1].mean() > 0]
-        fill = [i for i, b in enumerate(blocks) if b[0] in (FILL, SOIL) and side * b[2][:, 1].mean() > 0]
+        wall = [i for i, b in enumerate(blocks) if b[0] == PART["wall"] and side * b[2][:, 1].mean() > 0]
+        fill = [i for i, b in enumerate(blocks) if b[0] in (PART["fill"], PART["soil"]) and side * b[2][:, 1].mean() > 0]
         if not wall:
             continue
         z = {i: blocks[i][2][:, 2].mean() for i in wall + fill}
@@ -77,8 +73,7 @@ def main():
     p.add_argument("run", type=Path)
     p.add_argument("--every", type=int, default=1, help="use every n-th frame")
     a = p.parse_args()
-    root = ET.parse(a.run / "blocks.pvd").getroot()
-    series = [(float(d.get("timestep")), a.run / d.get("file")) for d in root.iter("DataSet")][:: a.every]
+    series = frames(a.run)[:: a.every]
     sides = groups(read(series[0][1]))
     rows, largest = [], {}
     for time, vtu in series:

@@ -13,28 +13,24 @@ about their mean (small angles; a fallen stone is left out).
 import argparse
 import csv
 import math
-import xml.etree.ElementTree as ET
+import sys
 from pathlib import Path
 
 from vtkmodules.util.numpy_support import vtk_to_numpy
-from vtkmodules.vtkIOXML import vtkXMLUnstructuredGridReader
 
-WALL = 2  # the generator's part label of spandrel wall stones (geometry/bridge.h)
+sys.path.insert(0, str(Path(__file__).resolve().parent.parent / "analysis" / "report"))
+from run_outputs import PART, cell_array, frames, point_array, read_vtu, settle_end_s  # noqa: E402
 
 
 def wall_tilts(vtu, z_min):
     """(mean tilt of the y < 0 wall, of the y > 0 wall) in mrad, and the stones fallen."""
-    reader = vtkXMLUnstructuredGridReader()
-    reader.SetFileName(str(vtu))
-    reader.Update()
-    grid = reader.GetOutput()
-    moved = vtk_to_numpy(grid.GetPointData().GetArray("displacement"))
+    grid = read_vtu(vtu)
+    moved = point_array(grid, "displacement")
     points = vtk_to_numpy(grid.GetPoints().GetData())
-    part = vtk_to_numpy(grid.GetCellData().GetArray("part"))
-    fallen = vtk_to_numpy(grid.GetCellData().GetArray("fallen"))
+    part, fallen = cell_array(grid, "part"), cell_array(grid, "fallen")
     sides = {-1: [], 1: []}
     for c in range(grid.GetNumberOfCells()):
-        if part[c] != WALL or fallen[c]:
+        if part[c] != PART["wall"] or fallen[c]:
             continue
         ids = grid.GetCell(c).GetPointIds()
         idx = [ids.GetId(k) for k in range(ids.GetNumberOfIds())]
@@ -50,15 +46,6 @@ def wall_tilts(vtu, z_min):
     return mean, int(fallen.sum())
 
 
-def frames(run):
-    """(time, file) of the frames of a run's blocks.pvd, and when its shaking began."""
-    root = ET.parse(run / "blocks.pvd").getroot()
-    series = [(float(d.get("timestep")), run / d.get("file")) for d in root.iter("DataSet")]
-    with open(run / "history.csv", newline="") as f:
-        settle = [float(r["time_s"]) for r in csv.DictReader(f) if r["phase"] == "settle"]
-    return series, settle[-1] if settle else 0.0
-
-
 def main():
     p = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     p.add_argument("out")
@@ -66,7 +53,7 @@ def main():
     p.add_argument("--step", type=float, default=0.25)
     p.add_argument("--z-min", type=float, default=3.0)
     a = p.parse_args()
-    series = {run: frames(run) for run in a.runs}
+    series = {run: (frames(run), settle_end_s(run)) for run in a.runs}
     end = max(s[-1][0] - t0 for s, t0 in series.values())
     header = ["shaking_s"] + [f"{run.name}_{c}" for run in a.runs for c in ("minus_y_mrad", "plus_y_mrad", "fallen")]
     rows = []

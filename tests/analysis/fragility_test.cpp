@@ -5,7 +5,7 @@
 #include <cmath>
 #include <random>
 
-#include "analysis/fragility.h"
+#include "analysis/batch/fragility.h"
 
 namespace ishibashi {
 namespace {

@@ -4,10 +4,10 @@
 
 #include <cmath>
 
-#include "analysis/frequencies.h"
-#include "analysis/impulse.h"
-#include "analysis/modal.h"
-#include "analysis/spectrum.h"
+#include "analysis/dynamics/frequencies.h"
+#include "analysis/dynamics/impulse.h"
+#include "analysis/dynamics/modal.h"
+#include "analysis/dynamics/spectrum.h"
 #include "engine/world.h"
 #include "geometry/bridge.h"
 #include "scenes.h"

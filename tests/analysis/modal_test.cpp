@@ -5,8 +5,8 @@
 #include <utility>
 #include <vector>
 
-#include "analysis/modal.h"
-#include "analysis/modal_energy.h"
+#include "analysis/dynamics/modal.h"
+#include "analysis/dynamics/modal_energy.h"
 #include "engine/world.h"
 #include "geometry/bridge.h"
 #include "geometry/shapes.h"

@@ -14,7 +14,7 @@
 #include <map>
 #include <sstream>
 
-#include "analysis/seismic_run.h"
+#include "analysis/run/seismic_run.h"
 
 namespace ishibashi {
 namespace {

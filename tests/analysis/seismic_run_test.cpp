@@ -6,7 +6,7 @@
 #include <fstream>
 #include <thread>
 
-#include "analysis/seismic_run.h"
+#include "analysis/run/seismic_run.h"
 
 namespace ishibashi {
 namespace {

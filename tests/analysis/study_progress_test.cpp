@@ -1,7 +1,7 @@
 // The study's estimate of the time it has left, against the arithmetic by hand.
 #include <gtest/gtest.h>
 
-#include "analysis/study_progress.h"
+#include "analysis/batch/study_progress.h"
 
 namespace ishibashi {
 namespace {

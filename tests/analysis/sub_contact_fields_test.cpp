@@ -7,7 +7,7 @@
 #include <sstream>
 #include <string>
 
-#include "analysis/checkpoint.h"
+#include "analysis/run/checkpoint.h"
 #include "engine/state.h"
 
 namespace ishibashi {

@@ -14,7 +14,7 @@
 #include <stdexcept>
 #include <string>
 
-#include "analysis/checkpoint.h"
+#include "analysis/run/checkpoint.h"
 #include "geometry/block_files.h"
 #include "io/ground_motion.h"
 #include "io/model_file.h"

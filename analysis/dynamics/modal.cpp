@@ -1,4 +1,4 @@
-#include "analysis/modal.h"
+#include "analysis/dynamics/modal.h"
 
 #include <Eigen/Sparse>
 #include <Spectra/MatOp/SparseSymShiftSolve.h>

@@ -1,4 +1,4 @@
-#include "analysis/seismic_run.h"
+#include "analysis/run/seismic_run.h"
 
 #include <atomic>
 #include <chrono>
@@ -7,10 +7,10 @@
 #include <fstream>
 #include <sstream>
 
-#include "analysis/checkpoint.h"
-#include "analysis/fingerprint.h"
-#include "analysis/load.h"
-#include "analysis/run_recorder.h"
+#include "analysis/run/checkpoint.h"
+#include "analysis/model/fingerprint.h"
+#include "analysis/model/compile_model.h"
+#include "analysis/run/run_recorder.h"
 #include "engine/cores.h"
 #include "geometry/bridge.h"
 #include "io/atomic_file.h"

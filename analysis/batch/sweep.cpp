@@ -1,4 +1,4 @@
-#include "analysis/sweep.h"
+#include "analysis/batch/sweep.h"
 
 #include <mpi.h>
 #include <unistd.h>
@@ -14,9 +14,10 @@
 #include <thread>
 #include <vector>
 
-#include "analysis/fingerprint.h"
-#include "analysis/seismic_run.h"
-#include "analysis/sweep_table.h"
+#include "analysis/batch/job_queue.h"
+#include "analysis/batch/sweep_table.h"
+#include "analysis/model/fingerprint.h"
+#include "analysis/run/seismic_run.h"
 #include "engine/cores.h"
 #include "io/atomic_file.h"
 #include "io/input_error.h"
@@ -181,13 +182,9 @@ SweepOutcome run_sweep(const SweepFile& sweep, const SweepOptions& o, const MpiS
         std::to_string(mpi.size() > 1 ? mpi.size() : runs_here) + (mpi.size() > 1 ? " MPI ranks" : " at a time") + ", " +
         std::to_string(threads) + " threads each");
 
-  std::mutex lock;  // the queue, sweep.csv and the counts; outside any time step
-  std::size_t next_pending = 0;
+  JobQueue queue(pending);
+  std::mutex lock;  // sweep.csv and the counts; outside any time step
   std::ofstream append(table, std::ios::app);
-  auto take = [&]() -> int {
-    const std::lock_guard<std::mutex> guard(lock);
-    return next_pending < pending.size() && !stop_requested() ? pending[next_pending++] : -1;
-  };
   auto finish = [&](const std::string& message, int rank) {
     const std::lock_guard<std::mutex> guard(lock);
     if (message.empty()) return;
@@ -201,18 +198,14 @@ SweepOutcome run_sweep(const SweepFile& sweep, const SweepOptions& o, const MpiS
     event(message.substr(0, message.find(',', message.find(',', message.find(',') + 1) + 1)) + ": done (rank " +
           std::to_string(rank) + ")");
   };
-  auto local_worker = [&] {
-    for (int i = take(); i >= 0; i = take()) {
-      event(cases[i].key + ": started");
-      try {
-        finish(run_case(sweep, cases[i], threads, o.out), 0);
-      } catch (const std::exception& e) {
-        finish("!" + cases[i].key + ": " + e.what(), 0);
-      }
+  queue.start(runs_here, [&](int i) {
+    event(cases[i].key + ": started");
+    try {
+      finish(run_case(sweep, cases[i], threads, o.out), 0);
+    } catch (const std::exception& e) {
+      finish("!" + cases[i].key + ": " + e.what(), 0);
     }
-  };
-  std::vector<std::thread> pool;
-  for (int w = 0; w < runs_here; ++w) pool.emplace_back(local_worker);
+  });
   // The other ranks' requests, on this (the main) thread; it polls, so that it does not
   // take a core from this rank's own run.
   for (int remote = mpi.size() - 1; remote > 0;) {
@@ -228,20 +221,16 @@ SweepOutcome run_sweep(const SweepFile& sweep, const SweepOptions& o, const MpiS
     std::string message(static_cast<std::size_t>(length), '\0');
     MPI_Recv(message.data(), length, MPI_CHAR, status.MPI_SOURCE, kRowTag, MPI_COMM_WORLD, MPI_STATUS_IGNORE);
     finish(message, status.MPI_SOURCE);
-    const int next = take();
+    const int next = queue.take();
     if (next >= 0) event(cases[next].key + ": started on rank " + std::to_string(status.MPI_SOURCE));
     MPI_Send(&next, 1, MPI_INT, status.MPI_SOURCE, kCaseTag, MPI_COMM_WORLD);
     if (next < 0) --remote;
   }
-  for (std::thread& t : pool) t.join();
+  queue.join();
   append.close();
 
   outcome.fragility = write_sweep_curves(sweep, o.out, finished_sweep_rows(table));
-  if (!stop_requested()) {
-    const std::string python = fs::exists("/usr/bin/python3") ? "/usr/bin/python3" : "python3";
-    const std::string command = python + " " + ISHIBASHI_SOURCE_DIR "/analysis/sweep_plots.py \"" + o.out.string() + "\"";
-    outcome.plots_written = std::system(command.c_str()) == 0;
-  }
+  if (!stop_requested()) outcome.plots_written = run_report_script("sweep_plots.py", o.out);
   return outcome;
 }
 

@@ -1,4 +1,4 @@
-#include "analysis/run_result.h"
+#include "analysis/run/run_result.h"
 
 #include <cstdio>
 #include <sstream>

@@ -14,14 +14,14 @@
 //   comparison.csv           with several scenarios, each against the first: the cases
 //                            (record, level) where one fails and the other stands, and the
 //                            likelihood ratio of two fragility curves against one
-//   ida.png, fragility.png   (analysis/sweep_plots.py, matplotlib)
+//   ida.png, fragility.png   (analysis/report/sweep_plots.py, matplotlib)
 #pragma once
 #include <filesystem>
 #include <functional>
 #include <string>
 #include <vector>
 
-#include "analysis/sweep_table.h"
+#include "analysis/batch/sweep_table.h"
 #include "io/sweep_file.h"
 
 namespace ishibashi {

@@ -1,4 +1,4 @@
-#include "analysis/run_recorder.h"
+#include "analysis/run/run_recorder.h"
 
 #include <algorithm>
 #include <cstdio>

@@ -1,4 +1,4 @@
-#include "analysis/fragility.h"
+#include "analysis/batch/fragility.h"
 
 #include <Eigen/Dense>
 

@@ -7,7 +7,7 @@
 #include <memory>
 #include <string>
 
-#include "analysis/run_result.h"
+#include "analysis/run/run_result.h"
 #include "engine/joints.h"
 #include "engine/world.h"
 #include "io/ground_motion.h"

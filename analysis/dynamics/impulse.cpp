@@ -1,4 +1,4 @@
-#include "analysis/impulse.h"
+#include "analysis/dynamics/impulse.h"
 
 #include <cmath>
 

@@ -1,4 +1,4 @@
-#include "analysis/study_progress.h"
+#include "analysis/batch/study_progress.h"
 
 #include <algorithm>
 #include <cmath>

@@ -6,7 +6,7 @@
 #include <string>
 #include <vector>
 
-#include "analysis/modal.h"
+#include "analysis/dynamics/modal.h"
 
 namespace ishibashi {
 

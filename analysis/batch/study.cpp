@@ -1,21 +1,20 @@
-#include "analysis/study.h"
+#include "analysis/batch/study.h"
 
 
-#include <atomic>
 #include <chrono>
 #include <cstdio>
 #include <fstream>
 #include <mutex>
 #include <optional>
 #include <sstream>
-#include <thread>
 #include <vector>
 
-#include "analysis/fingerprint.h"
-#include "analysis/frequencies.h"
-#include "analysis/load.h"
-#include "analysis/seismic_run.h"
-#include "analysis/study_progress.h"
+#include "analysis/batch/job_queue.h"
+#include "analysis/batch/study_progress.h"
+#include "analysis/dynamics/frequencies.h"
+#include "analysis/model/compile_model.h"
+#include "analysis/model/fingerprint.h"
+#include "analysis/run/seismic_run.h"
 #include "engine/cores.h"
 #include "io/atomic_file.h"
 #include "io/scenario_file.h"
@@ -168,8 +167,6 @@ void gather_rows(const std::vector<Job>& jobs, JobKind kind, const std::string& 
   write_text_atomically(file, table);
 }
 
-fs::path python() { return fs::exists("/usr/bin/python3") ? "/usr/bin/python3" : "python3"; }
-
 // The long runs first: the frequency analyses fill the gaps at the end.
 std::vector<Job> make_jobs(const StudyFile& study, const fs::path& out) {
   std::vector<Job> jobs;
@@ -231,45 +228,42 @@ StudyOutcome run_study(const StudyFile& study, const StudyOptions& o) {
     progress_jobs.push_back({job_name(job), job.kind == JobKind::run});
   StudyProgress progress(std::move(progress_jobs), workers, o.progress_every_s, event);
 
-  std::atomic<std::size_t> next{0};
-  auto worker = [&] {
-    for (std::size_t i = next++; i < jobs.size() && !stop_requested(); i = next++) {
-      Job& job = jobs[i];
-      const std::string name = job_name(job);
-      if (!o.force && is_current(job)) {
-        job.status = "current";
-        event(name + ": current, kept");
-        progress.finished(i, JobProgress::skipped);
-        continue;
-      }
-      const bool resumed = !o.force && resumable(job);
-      event(name + (resumed ? ": goes on from its checkpoint" : ": started"));
-      progress.started(i, resumed);
-      const auto t0 = std::chrono::steady_clock::now();
-      try {
-        use_threads(threads);
-        const std::string row =
-            job.kind == JobKind::run
-                ? seismic_job(job, study, threads, [&progress, i](double done) { progress.advanced(i, done); }, resumed)
-                : frequency_job(job, study);
-        write_text_atomically(job.folder / "row.csv", row);
-        write_text_atomically(job.folder / "inputs.key", job.key + "\n");  // last: the outputs are complete
-        job.status = "ran";
-      } catch (const std::exception& e) {
-        job.status = "failed";
-        job.error = e.what();
-      }
-      job.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-      char took[64];
-      std::snprintf(took, sizeof took, " (%.1f s)", job.seconds);
-      event(name + (job.status == "ran" ? ": done" : ": FAILED: " + job.error) + took);
-      progress.finished(i, job.status == "ran" ? JobProgress::done : JobProgress::failed);
+  auto run_job = [&](int i) {
+    Job& job = jobs[i];
+    const std::string name = job_name(job);
+    if (!o.force && is_current(job)) {
+      job.status = "current";
+      event(name + ": current, kept");
+      progress.finished(i, JobProgress::skipped);
+      return;
     }
+    const bool resumed = !o.force && resumable(job);
+    event(name + (resumed ? ": goes on from its checkpoint" : ": started"));
+    progress.started(i, resumed);
+    const auto t0 = std::chrono::steady_clock::now();
+    try {
+      use_threads(threads);
+      const std::string row =
+          job.kind == JobKind::run
+              ? seismic_job(job, study, threads, [&progress, i](double done) { progress.advanced(i, done); }, resumed)
+              : frequency_job(job, study);
+      write_text_atomically(job.folder / "row.csv", row);
+      write_text_atomically(job.folder / "inputs.key", job.key + "\n");  // last: the outputs are complete
+      job.status = "ran";
+    } catch (const std::exception& e) {
+      job.status = "failed";
+      job.error = e.what();
+    }
+    job.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    char took[64];
+    std::snprintf(took, sizeof took, " (%.1f s)", job.seconds);
+    event(name + (job.status == "ran" ? ": done" : ": FAILED: " + job.error) + took);
+    progress.finished(i, job.status == "ran" ? JobProgress::done : JobProgress::failed);
   };
-  std::vector<std::thread> pool;
-  for (int w = 1; w < workers; ++w) pool.emplace_back(worker);
-  worker();
-  for (std::thread& t : pool) t.join();
+  JobQueue queue(every_job(static_cast<int>(jobs.size())));
+  queue.start(workers - 1, run_job);
+  queue.work(run_job);
+  queue.join();
 
   StudyOutcome outcome;
   for (const Job& job : jobs) {
@@ -280,9 +274,8 @@ StudyOutcome run_study(const StudyFile& study, const StudyOptions& o) {
   write_tables(jobs, study, o.out);
 
   if (o.report && !stop_requested()) {
-    const std::string command = python().string() + " " + ISHIBASHI_SOURCE_DIR "/analysis/report.py \"" + o.out.string() + "\"";
-    event("report: " + command);
-    outcome.report_written = std::system(command.c_str()) == 0;
+    event("report: analysis/report/report.py " + o.out.string());
+    outcome.report_written = run_report_script("report.py", o.out);
     if (!outcome.report_written) event("report: FAILED (needs python3 with matplotlib and vtk: bash scripts/setup.sh)");
   }
   return outcome;

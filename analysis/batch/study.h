@@ -6,7 +6,7 @@
 //   frequencies/<model>/   modes.csv, modes.vtu, spectrum_*.csv, peaks.csv, row.csv
 //   runs/<scenario>/       blocks.pvd, contacts.pvd, history.csv, summary.json, ground_motion.csv, row.csv
 //   frequencies.csv, runs.csv (one row per job), jobs.csv (what ran, was current or failed)
-//   report.md, report.html, figures/*.png (analysis/report.py)
+//   report.md, report.html, figures/*.png (analysis/report/report.py)
 #pragma once
 #include <filesystem>
 #include <functional>

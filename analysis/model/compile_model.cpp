@@ -1,4 +1,4 @@
-#include "analysis/load.h"
+#include "analysis/model/compile_model.h"
 
 #include <cstdio>
 

@@ -1,4 +1,4 @@
-#include "analysis/modal_energy.h"
+#include "analysis/dynamics/modal_energy.h"
 
 #include <algorithm>
 #include <map>

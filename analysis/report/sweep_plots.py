@@ -4,7 +4,7 @@ crown drop against the PGA the record was scaled to; failures marked) and fragil
 (per scenario, the fraction of runs that failed at each level and the fitted lognormal
 curve; several scenarios, e.g. dry and with mortar, on one figure).
 
-    /usr/bin/python3 analysis/sweep_plots.py OUT     (OUT: the sweep's output folder)
+    /usr/bin/python3 analysis/report/sweep_plots.py OUT     (OUT: the sweep's output folder)
 """
 import csv
 import sys

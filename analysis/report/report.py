@@ -6,7 +6,7 @@ of every run on one page, the impulse spectra, the energy terms, snapshots of ea
 run at the study's snapshot times and an animated GIF of each run beside its ground
 motion (rendered headless from the runs' .vtu files; Pillow writes the GIF).
 
-    /usr/bin/python3 analysis/report.py OUT        (OUT: the study's output folder)
+    /usr/bin/python3 analysis/report/report.py OUT        (OUT: the study's output folder)
 
 Needs Debian's python3-matplotlib and python3-vtk9 (scripts/setup.sh installs them).
 """
@@ -14,8 +14,8 @@ import base64
 import csv
 import html
 import math
+import os
 import sys
-import xml.etree.ElementTree as ET
 from pathlib import Path
 
 import matplotlib
@@ -24,7 +24,7 @@ matplotlib.use("Agg")  # headless: no display needed
 import matplotlib.pyplot as plt  # noqa: E402
 from mpl_toolkits.mplot3d.art3d import Poly3DCollection  # noqa: E402
 
-from run_outputs import read_rows  # noqa: E402  (beside this file)
+from run_outputs import PART, frames, read_rows, read_vtu  # noqa: E402  (beside this file)
 
 G = 9.80665  # m/s^2
 
@@ -167,42 +167,30 @@ def energy_figure(out, runs, figures):
     return save(fig, figures / "energy.png")
 
 
-def frames(folder):
-    """(time, file) of each frame of a run's blocks.pvd."""
-    pvd = folder / "blocks.pvd"
-    if not pvd.exists():
-        return []
-    root = ET.parse(pvd).getroot()
-    return [(float(d.get("timestep")), folder / d.get("file")) for d in root.iter("DataSet")]
-
-
 def block_faces(vtu):
     """The faces of the blocks other than the ground slab, as polygons, with each face's
     displacement relative to the ground (m), whether its block has fallen, and how many
     stones have."""
     from vtkmodules.util.numpy_support import vtk_to_numpy
     from vtkmodules.vtkFiltersGeometry import vtkDataSetSurfaceFilter
-    from vtkmodules.vtkIOXML import vtkXMLUnstructuredGridReader
 
-    reader = vtkXMLUnstructuredGridReader()
-    reader.SetFileName(str(vtu))
-    reader.Update()
-    if reader.GetOutput().GetNumberOfCells() == 0:
+    grid = read_vtu(vtu)
+    if grid.GetNumberOfCells() == 0:
         raise RuntimeError(f"{vtu}: VTK read no blocks")
     surface = vtkDataSetSurfaceFilter()
-    surface.SetInputConnection(reader.GetOutputPort())
+    surface.SetInputData(grid)
     surface.Update()
     poly = surface.GetOutput()
     points = vtk_to_numpy(poly.GetPoints().GetData())
     offsets = vtk_to_numpy(poly.GetPolys().GetOffsetsArray())
     connectivity = vtk_to_numpy(poly.GetPolys().GetConnectivityArray())
     moved = vtk_to_numpy(poly.GetCellData().GetArray("displacement_relative_to_ground"))
-    part = vtk_to_numpy(poly.GetCellData().GetArray("part"))  # 0: the ground slab
-    keep = [i for i in range(len(offsets) - 1) if part[i] != 0]
+    part = vtk_to_numpy(poly.GetCellData().GetArray("part"))
+    keep = [i for i in range(len(offsets) - 1) if part[i] != PART["ground"]]
     faces = [points[connectivity[offsets[i]:offsets[i + 1]]] for i in keep]
     moved = [math.sqrt(float(moved[i] @ moved[i])) for i in keep]
     fallen = vtk_to_numpy(poly.GetCellData().GetArray("fallen"))
-    stones = int(vtk_to_numpy(reader.GetOutput().GetCellData().GetArray("fallen")).sum())
+    stones = int(vtk_to_numpy(grid.GetCellData().GetArray("fallen")).sum())
     return faces, moved, [bool(fallen[i]) for i in keep], stones
 
 
@@ -245,6 +233,47 @@ def animation_frames(series, t0, shaking):
     return [shaking_frames[round(k * step)] for k in range(ANIMATION_FRAMES)]
 
 
+def colour_scale_and_side(scenes):
+    """One colour scale for a run, the 99th percentile of its standing stones' displacements
+    over its frames (a stone in flight, not yet counted fallen, would squash the largest), and
+    the side it is seen from: where more stones have fallen by the end (an out-of-plane
+    collapse)."""
+    standing = sorted(m for _, moved, fallen, _ in scenes for m, f in zip(moved, fallen) if not f)
+    top = max(standing[int(0.99 * (len(standing) - 1))] if standing else 0.0, 1e-3)
+    last_faces, _, last_fallen, _ = scenes[-1]
+    fallen_y = [float(f[:, 1].mean()) for f, gone in zip(last_faces, last_fallen) if gone]
+    return top, 75 if fallen_y and sum(fallen_y) > 0 else -75
+
+
+def ground_motion_panels(fig, motion, shaking):
+    """The ground motion's three components beside the bridge; returns their time cursors."""
+    ground = [fig.add_axes([0.68, 0.68 - 0.28 * k, 0.3, 0.22]) for k in range(3)]
+    t, *acc = columns(motion, "time_s", "ax_m_s2", "ay_m_s2", "az_m_s2") if motion else ([], [], [], [])
+    cursors = []
+    for a, values, name in zip(ground, acc, ("x", "y", "z")):
+        a.plot(t, [v / G for v in values], lw=0.5, color="k")
+        a.set_ylabel(f"{name} [g]", fontsize=8)
+        a.tick_params(labelsize=7)
+        a.set_xlim(0, max(shaking, 1e-3))
+        cursors.append(a.axvline(0, color="tab:red", lw=1.2))
+    ground[-1].set_xlabel("time of shaking [s]", fontsize=8)
+    return cursors
+
+
+def draw_bridge(axes, faces, moved, fallen, top, limits, azimuth):
+    """One frame of the bridge: faces coloured by displacement (fallen stones red)."""
+    lo, hi = limits
+    axes.cla()
+    colours = [(0.85, 0.1, 0.1, 1.0) if f else plt.cm.viridis(min(m / top, 1.0)) for m, f in zip(moved, fallen)]
+    axes.add_collection3d(Poly3DCollection(faces, facecolors=colours, edgecolors=(0, 0, 0, 0.25), linewidths=0.2))
+    axes.set_xlim(lo[0], hi[0])
+    axes.set_ylim(lo[1], hi[1])
+    axes.set_zlim(lo[2], hi[2])
+    axes.set_box_aspect([max(hi[i] - lo[i], 1e-3) for i in range(3)])
+    axes.view_init(elev=12, azim=azimuth)
+    axes.set_axis_off()
+
+
 def animation(out, run, figures, limits):
     """The run as an animated GIF: the bridge (coloured by displacement relative to the
     ground on one scale for the whole run, fallen stones red) beside the ground motion
@@ -257,44 +286,18 @@ def animation(out, run, figures, limits):
     if len(chosen) < 2:
         return None
     scenes = [block_faces(vtu) for _, vtu in chosen]
-    # One scale for the run: the 99th percentile of standing stones' displacements over its
-    # frames (a stone in flight, not yet counted fallen, would squash the largest).
-    standing = sorted(m for _, moved, fallen, _ in scenes for m, f in zip(moved, fallen) if not f)
-    top = max(standing[int(0.99 * (len(standing) - 1))] if standing else 0.0, 1e-3)
-    # From the side where more stones have fallen by the end (an out-of-plane collapse).
-    last_faces, _, last_fallen, _ = scenes[-1]
-    fallen_y = [float(f[:, 1].mean()) for f, gone in zip(last_faces, last_fallen) if gone]
-    azimuth = 75 if fallen_y and sum(fallen_y) > 0 else -75
-    motion = read_rows(folder / "ground_motion.csv")
+    top, azimuth = colour_scale_and_side(scenes)
     fig = plt.figure(figsize=(10, 3.6))
     bridge = fig.add_axes([0.0, 0.0, 0.6, 0.9], projection="3d")
     title = fig.text(0.02, 0.95, "", fontsize=9)
     mappable = plt.cm.ScalarMappable(cmap="viridis", norm=plt.Normalize(0, 1000 * top))
     fig.colorbar(mappable, ax=bridge, shrink=0.6, pad=0.0, label="displacement relative to the ground [mm]")
-    ground = [fig.add_axes([0.68, 0.68 - 0.28 * k, 0.3, 0.22]) for k in range(3)]
-    t, *acc = columns(motion, "time_s", "ax_m_s2", "ay_m_s2", "az_m_s2") if motion else ([], [], [], [])
-    cursors = []
-    for a, values, name in zip(ground, acc, ("x", "y", "z")):
-        a.plot(t, [v / G for v in values], lw=0.5, color="k")
-        a.set_ylabel(f"{name} [g]", fontsize=8)
-        a.tick_params(labelsize=7)
-        a.set_xlim(0, max(shaking, 1e-3))
-        cursors.append(a.axvline(0, color="tab:red", lw=1.2))
-    ground[-1].set_xlabel("time of shaking [s]", fontsize=8)
-    lo, hi = limits
+    cursors = ground_motion_panels(fig, read_rows(folder / "ground_motion.csv"), shaking)
     path = figures / f"animation_{run['scenario']}.gif"
     writer = PillowWriter(fps=8)
     with writer.saving(fig, path, dpi=80):
         for (time, _), (faces, moved, fallen, stones) in zip(chosen, scenes):
-            bridge.cla()
-            colours = [(0.85, 0.1, 0.1, 1.0) if f else plt.cm.viridis(min(m / top, 1.0)) for m, f in zip(moved, fallen)]
-            bridge.add_collection3d(Poly3DCollection(faces, facecolors=colours, edgecolors=(0, 0, 0, 0.25), linewidths=0.2))
-            bridge.set_xlim(lo[0], hi[0])
-            bridge.set_ylim(lo[1], hi[1])
-            bridge.set_zlim(lo[2], hi[2])
-            bridge.set_box_aspect([max(hi[i] - lo[i], 1e-3) for i in range(3)])
-            bridge.view_init(elev=12, azim=azimuth)
-            bridge.set_axis_off()
+            draw_bridge(bridge, faces, moved, fallen, top, limits, azimuth)
             title.set_text(f"{run['scenario']}: {time - t0:.2f} s of shaking, {stones} stones fallen")
             for c in cursors:
                 c.set_xdata([time - t0, time - t0])
@@ -370,24 +373,30 @@ def fmt(value, digits=3, scale=1.0):
     return "-" if math.isnan(v) else f"{v * scale:.{digits}f}"
 
 
-def main():
-    if len(sys.argv) != 2:
-        sys.exit("usage: report.py STUDY_OUTPUT_FOLDER")
-    out = Path(sys.argv[1])
+def read_study(out):
+    """The study's tables in its output folder (study.csv, runs.csv, frequencies.csv, jobs.csv,
+    reference.csv), as the report uses them."""
     if not (out / "study.csv").exists():
         sys.exit(f"report.py: {out}/study.csv not found: run `ishibashi study` first")
     about = {row[0]: row[1] for row in csv.reader(open(out / "study.csv")) if len(row) >= 2}
-    snapshot_times = [float(t) for t in about.get("snapshot_times_s", "").split()]
-    runs = read_rows(out / "runs.csv")
-    frequencies = read_rows(out / "frequencies.csv")
-    jobs = read_rows(out / "jobs.csv")
     reference = read_rows(out / "reference.csv")
-    study_hz = {r["key"]: [number(r[f"{a}_hz"]) for a in "xyz"] for r in reference if r["kind"] == "frequencies"}
-    study_says = {r["key"]: r["says"] for r in reference if r["kind"] == "says"}
-    figures = out / "figures"
-    figures.mkdir(exist_ok=True)
+    study_file = about.get("study_file", "")
+    return {
+        "name": about.get("name", "Study"),
+        # relative to the report, so that the folder reads the same wherever it is moved
+        "study_file": os.path.relpath(study_file, out.resolve()) if study_file else "",
+        "snapshot_times": [float(t) for t in about.get("snapshot_times_s", "").split()],
+        "runs": read_rows(out / "runs.csv"),
+        "frequencies": read_rows(out / "frequencies.csv"),
+        "jobs": read_rows(out / "jobs.csv"),
+        "study_hz": {r["key"]: [number(r[f"{a}_hz"]) for a in "xyz"] for r in reference if r["kind"] == "frequencies"},
+        "study_says": {r["key"]: r["says"] for r in reference if r["kind"] == "says"},
+    }
 
-    sections = []  # (title, text, table (header, rows) or None, figure paths)
+
+def frequency_sections(out, study, figures):
+    """(title, text, table (header, rows) or None, figure paths) of the frequency analyses."""
+    frequencies = study["frequencies"]
     freq_rows = []
     for f in frequencies:
         row = [f["model"], f["subdivision"], f["joint_rule"]]
@@ -395,13 +404,13 @@ def main():
             mode, peak = number(f[f"mode_{axis}_hz"]), number(f[f"impulse_{axis}_hz"])
             row += [fmt(mode), fmt(peak), "-" if not (mode > 0 and peak > 0) else f"{100 * (peak / mode - 1):+.2f} %"]
         freq_rows.append(row)
-    sections.append(("Natural frequencies",
-                     "First mode with more than 5 % effective mass per axis (modal analysis, joints held linear) "
-                     "and the first clear peak of the impulse response of the crown unit along the same axis.",
-                     (["model", "subdivision", "joint rule", "x modes [Hz]", "x impulse [Hz]", "x diff",
-                       "y modes [Hz]", "y impulse [Hz]", "y diff", "z modes [Hz]", "z impulse [Hz]", "z diff"], freq_rows),
-                     [spectra_figure(out, frequencies, figures)]))
-    against = study_frequency_rows(out, frequencies, study_hz)
+    sections = [("Natural frequencies",
+                 "First mode with more than 5 % effective mass per axis (modal analysis, joints held linear) "
+                 "and the first clear peak of the impulse response of the crown unit along the same axis.",
+                 (["model", "subdivision", "joint rule", "x modes [Hz]", "x impulse [Hz]", "x diff",
+                   "y modes [Hz]", "y impulse [Hz]", "y diff", "z modes [Hz]", "z impulse [Hz]", "z diff"], freq_rows),
+                 [spectra_figure(out, frequencies, figures)])]
+    against = study_frequency_rows(out, frequencies, study["study_hz"])
     if against:
         sections.append(("Natural frequencies against the study",
                          "Ours (the impulse response's first clear peak, the study's method, where it ran; else the "
@@ -412,57 +421,61 @@ def main():
                          (["model", "joint rule", "x ours [Hz]", "x study [Hz]", "x ratio", "y ours [Hz]",
                            "y study [Hz]", "y ratio", "z ours [Hz]", "z study [Hz]", "z ratio", "z of x step [Hz]",
                            "ratio", "z of y step [Hz]", "ratio"], against), []))
+    return sections
 
-    if runs:  # a study of frequencies alone has none
-        run_rows = [[r["scenario"], r["settled"], fmt(r["shaking_time_s"], 2),
-                     "none" if r["first_opening_s"] == "" else fmt(r["first_opening_s"], 3),
-                     fmt(r["largest_crown_drop_m"], 1, 1000), r["fallen_stones"], r["collapse"],
-                     f"{r['joints_cracked']} / {r['joints']}", fmt(r["energy_balance_error_relative"], 3, 100), fmt(r["wall_s"], 0),
-                     study_says.get(r["scenario"], "")]
-                    for r in runs]
-        sections.append(("Seismic runs",
-                         "Settled under gravity, then shaken. First opening: seconds of shaking until a joint first "
-                         "opened by more than 1 mm (or lost its bond). Crown drop: the largest downward displacement "
-                         "of the crown unit relative to the ground. Energy balance: the fraction of the energy "
-                         "exchanged (ground work, dashpots, friction, bonds) that the balance misses. Study says: what "
-                         "the published study reports of that run, where the study file gives it (the study's time axis "
-                         "runs 3.8 s behind the record: its 4.0 s is the record's 7.8 s, 3.8 s of shaking from 4.0 s).",
-                         (["scenario", "settled", "shaking [s]", "first opening [s]", "crown drop [mm]",
-                           "stones fallen", "collapse", "joints cracked", "energy balance [%]", "wall [s]", "study says"],
-                          run_rows),
-                         [ground_motion_figure(out, runs, figures), crown_figure(out, runs, figures),
-                          energy_figure(out, runs, figures)]))
 
-        snapshots, animations = [], []
-        for r in runs:
-            if not frames(out / "runs" / r["scenario"]):
-                continue
-            limits = model_limits(out, r)
-            limits = ([limits[0][0], limits[0][1], limits[0][2] - 1.0], limits[1])
-            for t in snapshot_times:
-                snapshots.append(snapshot_figure(out, r, t, figures, limits))
-            animations.append(animation(out, r, figures, limits))
-        sections.append(("Snapshots", "Each run at the study's snapshot times, coloured by each block's displacement "
-                         "relative to the ground (open view.pvsm in ParaView for the whole series).", None, snapshots))
-        sections.append(("Animations", f"Each run through its shaking ({ANIMATION_FRAMES} frames at most), coloured by "
-                         "displacement relative to the ground on one scale for the run (the 99th percentile of its "
-                         "standing stones' displacements), fallen stones red, seen from the side where more stones "
-                         "fell, beside the ground motion with the frame's time.",
-                         None, animations))
+def run_sections(out, study, figures):
+    """The seismic runs' table and figures, their snapshots and animations."""
+    runs = study["runs"]
+    if not runs:  # a study of frequencies alone has none
+        return []
+    run_rows = [[r["scenario"], r["settled"], fmt(r["shaking_time_s"], 2),
+                 "none" if r["first_opening_s"] == "" else fmt(r["first_opening_s"], 3),
+                 fmt(r["largest_crown_drop_m"], 1, 1000), r["fallen_stones"], r["collapse"],
+                 f"{r['joints_cracked']} / {r['joints']}", fmt(r["energy_balance_error_relative"], 3, 100),
+                 fmt(r["wall_s"], 0), study["study_says"].get(r["scenario"], "")]
+                for r in runs]
+    sections = [("Seismic runs",
+                 "Settled under gravity, then shaken. First opening: seconds of shaking until a joint first "
+                 "opened by more than 1 mm (or lost its bond). Crown drop: the largest downward displacement "
+                 "of the crown unit relative to the ground. Energy balance: the fraction of the energy "
+                 "exchanged (ground work, dashpots, friction, bonds) that the balance misses. Study says: what "
+                 "the published study reports of that run, where the study file gives it (the study's time axis "
+                 "runs 3.8 s behind the record: its 4.0 s is the record's 7.8 s, 3.8 s of shaking from 4.0 s).",
+                 (["scenario", "settled", "shaking [s]", "first opening [s]", "crown drop [mm]",
+                   "stones fallen", "collapse", "joints cracked", "energy balance [%]", "wall [s]", "study says"],
+                  run_rows),
+                 [ground_motion_figure(out, runs, figures), crown_figure(out, runs, figures),
+                  energy_figure(out, runs, figures)])]
+    snapshots, animations = [], []
+    for r in runs:
+        if not frames(out / "runs" / r["scenario"]):
+            continue
+        limits = model_limits(out, r)
+        limits = ([limits[0][0], limits[0][1], limits[0][2] - 1.0], limits[1])
+        for t in study["snapshot_times"]:
+            snapshots.append(snapshot_figure(out, r, t, figures, limits))
+        animations.append(animation(out, r, figures, limits))
+    sections.append(("Snapshots", "Each run at the study's snapshot times, coloured by each block's displacement "
+                     "relative to the ground (open view.pvsm in ParaView for the whole series).", None, snapshots))
+    sections.append(("Animations", f"Each run through its shaking ({ANIMATION_FRAMES} frames at most), coloured by "
+                     "displacement relative to the ground on one scale for the run (the 99th percentile of its "
+                     "standing stones' displacements), fallen stones red, seen from the side where more stones "
+                     "fell, beside the ground motion with the frame's time.",
+                     None, animations))
+    return sections
 
-    failed = [j for j in jobs if j["status"] == "failed"]
-    if failed:
-        sections.append(("Failed jobs", "", (["kind", "input", "error"],
-                                             [[j["kind"], j["input"], j["error"]] for j in failed]), []))
 
-    title = about.get("name", "Study")
-    md = [f"# {title}", "", f"Study file: `{about.get('study_file', '')}`. Made by `ishibashi study`; "
-          f"{len(runs)} runs, {len(frequencies)} frequency analyses.", ""]
+def write_report(out, study, sections):
+    """report.md (figures beside it in figures/) and report.html (figures embedded)."""
+    title = study["name"]
+    md = [f"# {title}", "", f"Study file: `{study['study_file']}`. Made by `ishibashi study`; "
+          f"{len(study['runs'])} runs, {len(study['frequencies'])} frequency analyses.", ""]
     page = [f"<!DOCTYPE html><html><head><meta charset='utf-8'><title>{html.escape(title)}</title>",
             "<style>body{font-family:sans-serif;max-width:1100px;margin:auto;padding:1em}"
             "table{border-collapse:collapse;font-size:90%}td,th{border:1px solid #999;padding:2px 6px}"
             "img{max-width:100%}</style></head><body>", f"<h1>{html.escape(title)}</h1>",
-            f"<p>Study file: <code>{html.escape(about.get('study_file', ''))}</code>.</p>"]
+            f"<p>Study file: <code>{html.escape(study['study_file'])}</code>.</p>"]
     for name, text, table, figs in sections:
         md += [f"## {name}", "", text, ""]
         page += [f"<h2>{html.escape(name)}</h2>", f"<p>{html.escape(text)}</p>"]
@@ -479,6 +492,21 @@ def main():
     page.append("</body></html>")
     (out / "report.md").write_text("\n".join(md) + "\n")
     (out / "report.html").write_text("\n".join(page) + "\n")
+
+
+def main():
+    if len(sys.argv) != 2:
+        sys.exit("usage: report.py STUDY_OUTPUT_FOLDER")
+    out = Path(sys.argv[1])
+    study = read_study(out)
+    figures = out / "figures"
+    figures.mkdir(exist_ok=True)
+    sections = frequency_sections(out, study, figures) + run_sections(out, study, figures)
+    failed = [j for j in study["jobs"] if j["status"] == "failed"]
+    if failed:
+        sections.append(("Failed jobs", "", (["kind", "input", "error"],
+                                             [[j["kind"], j["input"], j["error"]] for j in failed]), []))
+    write_report(out, study, sections)
     count = sum(1 for s in sections for f in s[3] if f is not None)
     print(f"report: {out / 'report.md'}, {out / 'report.html'}, {count} figures in {figures}")
 

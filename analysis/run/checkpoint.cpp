@@ -1,4 +1,4 @@
-#include "analysis/checkpoint.h"
+#include "analysis/run/checkpoint.h"
 
 #include <algorithm>
 

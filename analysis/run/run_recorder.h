@@ -8,7 +8,7 @@
 #include <string>
 #include <vector>
 
-#include "analysis/run_result.h"
+#include "analysis/run/run_result.h"
 #include "engine/joints.h"
 #include "engine/model.h"
 #include "engine/state.h"

@@ -1,4 +1,4 @@
-#include "analysis/fingerprint.h"
+#include "analysis/model/fingerprint.h"
 
 #include <fstream>
 #include <sstream>

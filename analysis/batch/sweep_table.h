@@ -6,7 +6,7 @@
 #include <string>
 #include <vector>
 
-#include "analysis/fragility.h"
+#include "analysis/batch/fragility.h"
 #include "io/sweep_file.h"
 
 namespace ishibashi {

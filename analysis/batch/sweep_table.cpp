@@ -1,5 +1,5 @@
 // sweep.csv, its rows and the curves made from them (sweep_table.h).
-#include "analysis/sweep_table.h"
+#include "analysis/batch/sweep_table.h"
 
 #include <algorithm>
 #include <fstream>
@@ -7,7 +7,7 @@
 #include <sstream>
 #include <stdexcept>
 
-#include "analysis/run_result.h"
+#include "analysis/run/run_result.h"
 #include "io/atomic_file.h"
 
 namespace ishibashi {

@@ -1,4 +1,4 @@
-#include "analysis/spectrum.h"
+#include "analysis/dynamics/spectrum.h"
 
 #include <unsupported/Eigen/FFT>
 

@@ -1,4 +1,4 @@
-#include "analysis/frequencies.h"
+#include "analysis/dynamics/frequencies.h"
 
 #include <algorithm>
 #include <cmath>
@@ -6,7 +6,7 @@
 #include <sstream>
 #include <string>
 
-#include "analysis/impulse.h"
+#include "analysis/dynamics/impulse.h"
 #include "engine/world.h"
 #include "geometry/bridge.h"
 #include "io/atomic_file.h"

@@ -1,0 +1,38 @@
+// What the study and a sweep share to run many analyses: the queue their workers take
+// jobs from, and the call of a report script (analysis/report/) on their output folder.
+#pragma once
+#include <filesystem>
+#include <functional>
+#include <mutex>
+#include <thread>
+#include <vector>
+
+namespace ishibashi {
+
+// Jobs (indices) taken one at a time by any number of threads, in the given order (the long
+// ones first), until the list ends or a stop is requested (stop_requested, seismic_run.h).
+class JobQueue {
+ public:
+  explicit JobQueue(std::vector<int> jobs) : jobs_(std::move(jobs)) {}
+  ~JobQueue() { join(); }
+
+  int take();  // the next job, or -1 when none is left or a stop was requested (thread-safe)
+  // job(i) for each job taken, on `threads` new threads (join() waits for them) or on this one.
+  void start(int threads, const std::function<void(int)>& job);
+  void work(const std::function<void(int)>& job);
+  void join();
+
+ private:
+  std::mutex lock_;  // outside any time step
+  std::vector<int> jobs_;
+  std::size_t next_ = 0;
+  std::vector<std::thread> threads_;
+};
+
+// Indices 0 .. count-1, for a queue of every job.
+std::vector<int> every_job(int count);
+
+// Runs analysis/report/<script> with Debian's python3 on `out`; true when it succeeded.
+bool run_report_script(const char* script, const std::filesystem::path& out);
+
+}  // namespace ishibashi
