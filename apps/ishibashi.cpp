@@ -16,14 +16,10 @@
 #include "engine/model.h"
 #include "engine/cores.h"
 
-int main(int argc, char** argv) {
-  CLI::App app{"ishibashi: 3-D distinct element analysis of masonry stone arch bridges"};
-  app.set_version_flag("--version", std::string("ishibashi ") + ISHIBASHI_VERSION);
-  app.require_subcommand(1);
-  int threads = 0;
-  app.add_option("--threads", threads, "OpenMP threads (default: OMP_NUM_THREADS, else every core this process may use, CPU quota included)")->check(CLI::NonNegativeNumber);
+namespace {
 
-  ishibashi::DemoOptions demo;
+// The `demo` command, its options read into `demo`.
+CLI::App* add_demo_command(CLI::App& app, ishibashi::DemoOptions& demo) {
   CLI::App* demo_cmd = app.add_subcommand("demo", "A masonry wall on a shaking or tilting base, written for ParaView");
   demo_cmd->add_option("--scene", demo.scene, "shake or tilt")->check(CLI::IsMember({"shake", "tilt"}));
   demo_cmd->add_option("--out", demo.out, "output folder (blocks.pvd and .vtu files)");
@@ -32,15 +28,21 @@ int main(int argc, char** argv) {
   demo_cmd->add_option("--dt", demo.dt_s, "time step, s")->check(CLI::PositiveNumber);
   demo_cmd->add_option("--courses", demo.courses, "courses of stones")->check(CLI::Range(1, 200));
   demo_cmd->add_option("--stones", demo.stones_per_course, "stones per course")->check(CLI::Range(2, 500));
+  return demo_cmd;
+}
 
-  ishibashi::BuildOptions build;
+// The `build` command, its options read into `build`.
+CLI::App* add_build_command(CLI::App& app, ishibashi::BuildOptions& build) {
   CLI::App* build_cmd = app.add_subcommand("build", "Generate a bridge from a model file, validate it, write it for ParaView");
   build_cmd->add_option("model_file", build.model_file, "model file (TOML), e.g. models/nishida_b.toml")->required();
   build_cmd->add_option("--out", build.out, "output folder for the .vtu");
   build_cmd->add_option("--export", build.export_file, "also write the blocks to this .off or .obj file");
   ishibashi::add_run_setting_flags(build_cmd, build.overrides, {"joint_rule", "subdivision", "shear_spring"});
+  return build_cmd;
+}
 
-  ishibashi::RunOptions run;
+// The `run` command, its options read into `run`.
+CLI::App* add_run_command(CLI::App& app, ishibashi::RunOptions& run) {
   CLI::App* run_cmd = app.add_subcommand("run", "Settle a bridge under gravity, then shake it with a recorded ground motion");
   CLI::Option* run_scenario_file =
       run_cmd->add_option("scenario", run.scenario, "scenario file (TOML), e.g. scenarios/nishida_a_kobe_dry.toml");
@@ -66,8 +68,11 @@ int main(int argc, char** argv) {
   run_cmd->callback([&] {
     if (run.scenario.empty() && run.resume.empty()) throw CLI::RequiredError("a scenario file or --resume DIR");
   });
+  return run_cmd;
+}
 
-  ishibashi::ModalOptions modal;
+// The `modal` command, its options read into `modal`.
+CLI::App* add_modal_command(CLI::App& app, ishibashi::ModalOptions& modal) {
   CLI::App* modal_cmd = app.add_subcommand("modal", "Natural frequencies and mode shapes (modal analysis, joints held linear)");
   modal_cmd->add_option("file", modal.file, "model or scenario file")->required();
   modal_cmd->add_option("--modes", modal.modes, "number of modes")->check(CLI::Range(1, 500));
@@ -80,8 +85,11 @@ int main(int argc, char** argv) {
       ->check(CLI::IsMember({"x", "y", "z"}));
   modal_cmd->add_option("--block", modal.block, "the monitored block (default: the unit on top of the crown)")
       ->check(CLI::NonNegativeNumber);
+  return modal_cmd;
+}
 
-  ishibashi::StudyCommandOptions study;
+// The `study` command, its options read into `study`.
+CLI::App* add_study_command(CLI::App& app, ishibashi::StudyCommandOptions& study) {
   CLI::App* study_cmd = app.add_subcommand(
       "study", "A whole study: natural frequencies of its models, its seismic runs, and a report with figures");
   study_cmd->add_option("file", study.file, "study file (TOML; default: the Nishida study, scenarios/nishida_study.toml)");
@@ -92,8 +100,11 @@ int main(int argc, char** argv) {
       ->check(CLI::Range(0, 1024));
   study_cmd->add_flag("--force", study.force, "rerun analyses whose outputs are current");
   study_cmd->add_flag("--no-report", study.no_report, "skip the report (needs python3 with matplotlib)");
+  return study_cmd;
+}
 
-  ishibashi::SweepCommandOptions sweep;
+// The `sweep` command, its options read into `sweep`.
+CLI::App* add_sweep_command(CLI::App& app, ishibashi::SweepCommandOptions& sweep) {
   CLI::App* sweep_cmd = app.add_subcommand(
       "sweep", "Every (record, intensity) run of a sweep file, then IDA and fragility curves (mpirun -np N for clusters)");
   sweep_cmd->add_option("file", sweep.file, "sweep file (TOML), e.g. scenarios/nishida_a_sweep.toml")->required();
@@ -102,6 +113,30 @@ int main(int argc, char** argv) {
       ->check(CLI::Range(1, 256));
   sweep_cmd->add_option("--threads-per-job", sweep.threads_per_job, "threads of each run (default: the node's cores shared)")
       ->check(CLI::Range(0, 1024));
+  return sweep_cmd;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  CLI::App app{"ishibashi: 3-D distinct element analysis of masonry stone arch bridges"};
+  app.set_version_flag("--version", std::string("ishibashi ") + ISHIBASHI_VERSION);
+  app.require_subcommand(1);
+  int threads = 0;
+  app.add_option("--threads", threads, "OpenMP threads (default: OMP_NUM_THREADS, else every core this process may use, CPU quota included)")->check(CLI::NonNegativeNumber);
+
+  ishibashi::DemoOptions demo;
+  CLI::App* demo_cmd = add_demo_command(app, demo);
+  ishibashi::BuildOptions build;
+  CLI::App* build_cmd = add_build_command(app, build);
+  ishibashi::RunOptions run;
+  CLI::App* run_cmd = add_run_command(app, run);
+  ishibashi::ModalOptions modal;
+  CLI::App* modal_cmd = add_modal_command(app, modal);
+  ishibashi::StudyCommandOptions study;
+  CLI::App* study_cmd = add_study_command(app, study);
+  ishibashi::SweepCommandOptions sweep;
+  CLI::App* sweep_cmd = add_sweep_command(app, sweep);
 
   CLI11_PARSE(app, argc, argv);
   ishibashi::use_threads(threads);  // demo, build, modal; a run, study or sweep decides its own from it

@@ -73,46 +73,27 @@ Vec3 newell_normal(const std::vector<Vec3>& v, const std::vector<int>& face) {
   return 0.5 * n;  // |n| = area
 }
 
-}  // namespace
+using Faces = std::vector<std::vector<int>>;
+using DirectedEdges = std::map<std::pair<int, int>, int>;  // (from, to) -> uses
 
-// One function: each check relies on the one before (a closed, consistently oriented shell
-// before face normals, normals before convexity and volume, the principal frame before the
-// tables), and every failure names the block and its position through the same `fail`.
-int ModelBuilder::add_block(const std::vector<Vec3>& vertices, const std::vector<std::vector<int>>& faces,
-                            int material, Motion motion, std::string name, BlockTag tag) {
-  Model& m = model_;
-  const int b = m.block_count;
-  std::ostringstream label;
-  label << "block " << b;
-  if (!name.empty()) label << " '" << name << "'";
-  auto fail = [&](const std::string& what) {
+// A block's failure: ModelError naming the block and where it is.
+struct BlockError {
+  std::string label;
+  const std::vector<Vec3>& vertices;
+  [[noreturn]] void operator()(const std::string& what) const {
     Vec3 mean = Vec3::Zero();
     for (const Vec3& v : vertices) mean += v;
     if (!vertices.empty()) mean /= static_cast<double>(vertices.size());
     std::ostringstream s;
-    s << label.str() << " (near x=" << mean.x() << " y=" << mean.y() << " z=" << mean.z() << " m): " << what;
+    s << label << " (near x=" << mean.x() << " y=" << mean.y() << " z=" << mean.z() << " m): " << what;
     throw ModelError(s.str());
-  };
+  }
+};
 
-  if (material < 0 || material >= static_cast<int>(m.materials.size()))
-    fail("material index " + std::to_string(material) + " is not defined");
-  if (vertices.size() < 4) fail("needs at least 4 vertices, has " + std::to_string(vertices.size()));
-  if (faces.size() < 4) fail("needs at least 4 faces, has " + std::to_string(faces.size()));
-  for (const Vec3& v : vertices)
-    if (!v.allFinite()) fail("a vertex coordinate is not a finite number");
-
-  double extent = 0.0;
-  for (const Vec3& v : vertices) extent = std::max(extent, (v - vertices[0]).norm());
-  if (extent <= 0.0) fail("all vertices coincide");
-  const double eps = 1e-7 * extent;
-
-  for (std::size_t i = 0; i < vertices.size(); ++i)
-    for (std::size_t j = i + 1; j < vertices.size(); ++j)
-      if ((vertices[i] - vertices[j]).norm() < eps)
-        fail("vertices " + std::to_string(i) + " and " + std::to_string(j) + " coincide");
-
-  // Closed and consistently oriented: every directed edge appears once, its reverse once.
-  std::map<std::pair<int, int>, int> directed;
+// Closed and consistently oriented: every directed edge appears once, its reverse once, and
+// the shell is one (V - E + F = 2). Returns the directed edges.
+DirectedEdges closed_shell_edges(const std::vector<Vec3>& vertices, const Faces& faces, const BlockError& fail) {
+  DirectedEdges directed;
   std::vector<int> used(vertices.size(), 0);
   for (std::size_t f = 0; f < faces.size(); ++f) {
     const auto& face = faces[f];
@@ -139,40 +120,37 @@ int ModelBuilder::add_block(const std::vector<Vec3>& vertices, const std::vector
   const long euler = static_cast<long>(vertices.size()) - static_cast<long>(directed.size() / 2) +
                      static_cast<long>(faces.size());
   if (euler != 2) fail("the surface is not a single closed shell (V - E + F = " + std::to_string(euler) + ", expected 2)");
+  return directed;
+}
 
-  // Planar, non-degenerate faces; convex solid.
-  std::vector<Vec3> normal(faces.size());
-  std::vector<double> offset(faces.size()), area(faces.size());
+// Each face's outward unit normal and plane offset (n . x); planar and non-degenerate
+// within eps (m) for a block of this extent (m).
+void face_planes(const std::vector<Vec3>& vertices, const Faces& faces, double eps, double extent, const BlockError& fail,
+                 std::vector<Vec3>& normal, std::vector<double>& offset) {
+  normal.resize(faces.size());
+  offset.resize(faces.size());
   for (std::size_t f = 0; f < faces.size(); ++f) {
     const Vec3 n = newell_normal(vertices, faces[f]);
-    area[f] = n.norm();
-    if (area[f] < eps * extent) fail("face " + std::to_string(f) + " is degenerate (zero area)");
-    normal[f] = n / area[f];
+    const double area = n.norm();
+    if (area < eps * extent) fail("face " + std::to_string(f) + " is degenerate (zero area)");
+    normal[f] = n / area;
     offset[f] = normal[f].dot(vertices[faces[f][0]]);
     for (int v : faces[f])
       if (std::abs(normal[f].dot(vertices[v]) - offset[f]) > 1e3 * eps)
         fail("face " + std::to_string(f) + " is not planar");
   }
-  const MassProperties mp = polyhedron_mass_properties(vertices, faces);
-  if (mp.volume_m3 <= 0.0)
-    fail(mp.volume_m3 < 0.0 ? "faces are inside out (they must be counter-clockwise seen from outside)"
-                            : "zero volume");
-  for (std::size_t f = 0; f < faces.size(); ++f)
-    for (std::size_t v = 0; v < vertices.size(); ++v)
-      if (normal[f].dot(vertices[v]) - offset[f] > 1e3 * eps)
-        fail("not convex: vertex " + std::to_string(v) + " lies outside the plane of face " + std::to_string(f));
+}
 
-  // Principal frame: eigenvectors of the inertia tensor, right-handed.
-  const Material& mat = m.materials[material];
-  const Mat3 inertia = mp.inertia_per_density * mat.density_kg_m3;
-  Eigen::SelfAdjointEigenSolver<Mat3> eig(inertia);
-  Mat3 axes = eig.eigenvectors();
-  if (axes.determinant() < 0) axes.col(2) = -axes.col(2);
-
+// The block's shape into the model's flat tables, in its principal frame (axes, about the
+// centroid): vertices, faces, edges and their distinct directions (parallel edges share
+// one, so a box has 3 and the separating-axis test needs 9 edge-edge axes, not 144).
+// Returns the bounding radius about the centroid, m.
+double append_shape(Model& m, const std::vector<Vec3>& vertices, const Faces& faces, const std::vector<Vec3>& normal,
+                    const DirectedEdges& directed, const Mat3& axes, const Vec3& centroid) {
   const int vbase = static_cast<int>(m.vertex_local.size());
   double radius = 0.0;
   for (const Vec3& v : vertices) {
-    m.vertex_local.push_back(axes.transpose() * (v - mp.centroid_m));
+    m.vertex_local.push_back(axes.transpose() * (v - centroid));
     radius = std::max(radius, m.vertex_local.back().norm());
   }
   for (std::size_t f = 0; f < faces.size(); ++f) {
@@ -182,8 +160,6 @@ int ModelBuilder::add_block(const std::vector<Vec3>& vertices, const std::vector
     m.face_normal_local.push_back(n);
     m.face_offset_local.push_back(n.dot(m.vertex_local[vbase + faces[f][0]]));
   }
-  // Undirected edges and their distinct directions (parallel edges share one direction,
-  // so a box has 3 directions and the separating-axis test needs 9 edge-edge axes, not 144).
   const int dbase = static_cast<int>(m.direction_local.size());
   for (const auto& [edge, count] : directed) {
     if (edge.first > edge.second) continue;
@@ -199,6 +175,59 @@ int ModelBuilder::add_block(const std::vector<Vec3>& vertices, const std::vector
     m.edge_vertex.push_back({u, w});
     m.edge_direction.push_back(found);
   }
+  return radius;
+}
+
+}  // namespace
+
+// Each check relies on the one before (a closed, consistently oriented shell before face
+// normals, normals before convexity and volume, the principal frame before the tables).
+int ModelBuilder::add_block(const std::vector<Vec3>& vertices, const std::vector<std::vector<int>>& faces,
+                            int material, Motion motion, std::string name, BlockTag tag) {
+  Model& m = model_;
+  const int b = m.block_count;
+  std::ostringstream label;
+  label << "block " << b;
+  if (!name.empty()) label << " '" << name << "'";
+  const BlockError fail{label.str(), vertices};
+
+  if (material < 0 || material >= static_cast<int>(m.materials.size()))
+    fail("material index " + std::to_string(material) + " is not defined");
+  if (vertices.size() < 4) fail("needs at least 4 vertices, has " + std::to_string(vertices.size()));
+  if (faces.size() < 4) fail("needs at least 4 faces, has " + std::to_string(faces.size()));
+  for (const Vec3& v : vertices)
+    if (!v.allFinite()) fail("a vertex coordinate is not a finite number");
+
+  double extent = 0.0;
+  for (const Vec3& v : vertices) extent = std::max(extent, (v - vertices[0]).norm());
+  if (extent <= 0.0) fail("all vertices coincide");
+  const double eps = 1e-7 * extent;
+
+  for (std::size_t i = 0; i < vertices.size(); ++i)
+    for (std::size_t j = i + 1; j < vertices.size(); ++j)
+      if ((vertices[i] - vertices[j]).norm() < eps)
+        fail("vertices " + std::to_string(i) + " and " + std::to_string(j) + " coincide");
+
+  const DirectedEdges directed = closed_shell_edges(vertices, faces, fail);
+  std::vector<Vec3> normal;
+  std::vector<double> offset;
+  face_planes(vertices, faces, eps, extent, fail, normal, offset);
+  const MassProperties mp = polyhedron_mass_properties(vertices, faces);
+  if (mp.volume_m3 <= 0.0)
+    fail(mp.volume_m3 < 0.0 ? "faces are inside out (they must be counter-clockwise seen from outside)"
+                            : "zero volume");
+  for (std::size_t f = 0; f < faces.size(); ++f)
+    for (std::size_t v = 0; v < vertices.size(); ++v)
+      if (normal[f].dot(vertices[v]) - offset[f] > 1e3 * eps)
+        fail("not convex: vertex " + std::to_string(v) + " lies outside the plane of face " + std::to_string(f));
+
+  // Principal frame: eigenvectors of the inertia tensor, right-handed.
+  const Material& mat = m.materials[material];
+  const Mat3 inertia = mp.inertia_per_density * mat.density_kg_m3;
+  Eigen::SelfAdjointEigenSolver<Mat3> eig(inertia);
+  Mat3 axes = eig.eigenvectors();
+  if (axes.determinant() < 0) axes.col(2) = -axes.col(2);
+  const double radius = append_shape(m, vertices, faces, normal, directed, axes, mp.centroid_m);
 
   m.block_name.push_back(name);
   m.block_tag.push_back(tag);

@@ -92,6 +92,37 @@ double shared_face_area(const Polyhedron& pa, const std::vector<int>& fa, const 
   return area;
 }
 
+// Why a block is not a sound convex polyhedron (closed, manifold, outward, no degenerate
+// face, its own convex hull); empty when it is, and then `volume` is its volume, m^3.
+std::string block_fault(const Polyhedron& p, double& volume) {
+  std::vector<Epick::Point_3> points;
+  for (const Vec3& v : p.vertices) points.emplace_back(v.x(), v.y(), v.z());
+  std::vector<std::vector<std::size_t>> faces;
+  for (const auto& f : p.faces) faces.emplace_back(f.begin(), f.end());
+  if (!PMP::is_polygon_soup_a_polygon_mesh(faces))
+    return "its faces do not form a manifold surface (an edge is shared by more than two faces, or faces disagree in orientation)";
+  Mesh mesh;
+  PMP::polygon_soup_to_polygon_mesh(points, faces, mesh);
+  if (!CGAL::is_closed(mesh)) return "the surface is open (a hole in it); a block must be a closed polyhedron";
+  PMP::triangulate_faces(mesh);
+  const double extent = CGAL::to_double(CGAL::sqrt(CGAL::squared_distance(points.front(), points.back()))) + 1e-300;
+  bool degenerate = false;
+  for (auto f : mesh.faces()) degenerate = degenerate || PMP::face_area(f, mesh) < 1e-12 * extent * extent;
+  if (degenerate) return "has a degenerate (zero-area) face";
+  volume = PMP::volume(mesh);
+  if (volume <= 0 || !PMP::is_outward_oriented(mesh))
+    return "faces are inside out (they must be counter-clockwise seen from outside)";
+  Mesh hull;
+  CGAL::convex_hull_3(points.begin(), points.end(), hull);
+  const double hull_volume = PMP::volume(hull);
+  if (hull_volume > volume * (1 + 1e-9) + 1e-12 * extent * extent * extent) {
+    std::ostringstream s;
+    s << "not convex (its volume " << volume << " m^3 is less than its convex hull's " << hull_volume << " m^3)";
+    return s.str();
+  }
+  return "";
+}
+
 }  // namespace
 
 ValidationReport validate_blocks(const std::vector<Polyhedron>& blocks, const std::vector<std::string>& names,
@@ -107,45 +138,13 @@ ValidationReport validate_blocks(const std::vector<Polyhedron>& blocks, const st
   std::vector<char> sound(blocks.size(), 0);
   std::vector<std::vector<Plane>> planes(blocks.size());
   for (std::size_t b = 0; b < blocks.size(); ++b) {
-    const Polyhedron& p = blocks[b];
-    std::vector<Epick::Point_3> points;
-    for (const Vec3& v : p.vertices) points.emplace_back(v.x(), v.y(), v.z());
-    std::vector<std::vector<std::size_t>> faces;
-    for (const auto& f : p.faces) faces.emplace_back(f.begin(), f.end());
-    if (!PMP::is_polygon_soup_a_polygon_mesh(faces)) {
-      r.errors.push_back(label(b) + ": its faces do not form a manifold surface (an edge is shared by more than two faces, or faces disagree in orientation)");
-      continue;
-    }
-    Mesh mesh;
-    PMP::polygon_soup_to_polygon_mesh(points, faces, mesh);
-    if (!CGAL::is_closed(mesh)) {
-      r.errors.push_back(label(b) + ": the surface is open (a hole in it); a block must be a closed polyhedron");
-      continue;
-    }
-    PMP::triangulate_faces(mesh);
-    const double extent = CGAL::to_double(CGAL::sqrt(CGAL::squared_distance(points.front(), points.back()))) + 1e-300;
-    bool degenerate = false;
-    for (auto f : mesh.faces()) degenerate = degenerate || PMP::face_area(f, mesh) < 1e-12 * extent * extent;
-    if (degenerate) {
-      r.errors.push_back(label(b) + ": has a degenerate (zero-area) face");
-      continue;
-    }
-    const double volume = PMP::volume(mesh);
-    if (volume <= 0 || !PMP::is_outward_oriented(mesh)) {
-      r.errors.push_back(label(b) + ": faces are inside out (they must be counter-clockwise seen from outside)");
-      continue;
-    }
-    Mesh hull;
-    CGAL::convex_hull_3(points.begin(), points.end(), hull);
-    const double hull_volume = PMP::volume(hull);
-    if (hull_volume > volume * (1 + 1e-9) + 1e-12 * extent * extent * extent) {
-      std::ostringstream s;
-      s << label(b) << ": not convex (its volume " << volume << " m^3 is less than its convex hull's " << hull_volume << " m^3)";
-      r.errors.push_back(s.str());
+    double volume = 0;
+    if (const std::string fault = block_fault(blocks[b], volume); !fault.empty()) {
+      r.errors.push_back(label(b) + ": " + fault);
       continue;
     }
     r.volume_m3 += volume;
-    planes[b] = planes_of(p);
+    planes[b] = planes_of(blocks[b]);
     sound[b] = 1;
   }
 

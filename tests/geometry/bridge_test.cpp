@@ -3,6 +3,10 @@
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <fstream>
+#include <string>
+
 #include "geometry/bridge.h"
 #include "geometry/validate.h"
 #include "io/model_file.h"
@@ -178,6 +182,25 @@ TEST(Bridge, ImpossibleParametersAreClearErrors) {
   s = BridgeSpec{};
   s.ground_margin_m = -1.0;
   EXPECT_THAT(error(s), HasSubstr("ground_margin_m must be >= 0"));
+}
+
+// The Python readers of the outputs (analysis/report/run_outputs.py, PART) name every part
+// number of the cell array "part" as the generator does, and no other.
+TEST(BridgeParts, PythonReadersKnowEveryPart) {
+  using ::testing::HasSubstr;
+  std::ifstream file(std::string(ISHIBASHI_SOURCE_DIR) + "/analysis/report/run_outputs.py");
+  std::string line;
+  while (std::getline(file, line) && line.rfind("PART = {", 0) != 0) {
+  }
+  ASSERT_EQ(line.rfind("PART = {", 0), 0u) << "no PART = {...} line";
+  int entries = 0;
+  for (int p = 0; p <= static_cast<int>(Part::imported); ++p) {
+    std::string name = part_name(static_cast<Part>(p));
+    std::replace(name.begin(), name.end(), ' ', '_');
+    EXPECT_THAT(line, HasSubstr("\"" + name + "\": " + std::to_string(p))) << name;
+    ++entries;
+  }
+  EXPECT_EQ(std::count(line.begin(), line.end(), ':'), entries) << line;
 }
 
 }  // namespace
