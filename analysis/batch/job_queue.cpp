@@ -1,9 +1,12 @@
 #include "analysis/batch/job_queue.h"
 
+#include <cstdio>
 #include <cstdlib>
 #include <numeric>
 
+#include "analysis/model/fingerprint.h"
 #include "analysis/run/seismic_run.h"
+#include "io/atomic_file.h"
 
 namespace ishibashi {
 
@@ -29,6 +32,22 @@ std::vector<int> every_job(int count) {
   std::vector<int> jobs(static_cast<std::size_t>(std::max(0, count)));
   std::iota(jobs.begin(), jobs.end(), 0);
   return jobs;
+}
+
+std::string inputs_key(const std::string& inputs) {
+  char hex[17];
+  std::snprintf(hex, sizeof hex, "%016llx",
+                static_cast<unsigned long long>(fnv1a(inputs, fnv1a(std::to_string(program_fingerprint())))));
+  return hex;
+}
+
+bool outputs_current(const std::filesystem::path& folder, const std::string& key) {
+  const std::filesystem::path stamp = folder / "inputs.key";
+  return std::filesystem::exists(stamp) && file_bytes(stamp) == key + "\n";
+}
+
+void stamp_outputs(const std::filesystem::path& folder, const std::string& key) {
+  write_text_atomically(folder / "inputs.key", key + "\n");
 }
 
 bool run_report_script(const char* script, const std::filesystem::path& out) {

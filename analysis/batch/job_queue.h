@@ -1,9 +1,11 @@
 // What the study and a sweep share to run many analyses: the queue their workers take
-// jobs from, and the call of a report script (analysis/report/) on their output folder.
+// jobs from, the test of whether a job's outputs are current, and the call of a report
+// script (analysis/report/) on their output folder.
 #pragma once
 #include <filesystem>
 #include <functional>
 #include <mutex>
+#include <string>
 #include <thread>
 #include <vector>
 
@@ -31,6 +33,14 @@ class JobQueue {
 
 // Indices 0 .. count-1, for a queue of every job.
 std::vector<int> every_job(int count);
+
+// A job's outputs are current when its folder holds the stamp of the same inputs key: the
+// program and everything the outputs depend on (inputs_key), written once the outputs are
+// complete (stamp_outputs, last), so that a job cut short or run by another program or on
+// other inputs runs again.
+std::string inputs_key(const std::string& inputs);  // 16 hex digits of the program's and the inputs' fingerprint
+bool outputs_current(const std::filesystem::path& folder, const std::string& key);
+void stamp_outputs(const std::filesystem::path& folder, const std::string& key);
 
 // Runs analysis/report/<script> with Debian's python3 on `out`; true when it succeeded.
 bool run_report_script(const char* script, const std::filesystem::path& out);

@@ -43,7 +43,7 @@ std::string job_name(const Job& job) {
 
 std::string job_key(const Job& job, const StudyFile& study) {
   std::ostringstream in;
-  in << program_fingerprint() << (job.kind == JobKind::run ? " run " : " frequencies ");
+  in << (job.kind == JobKind::run ? " run " : " frequencies ");
   if (job.kind == JobKind::run)  // the scenario, its model file and records
     in << scenario_fingerprint(*job.scenario) << " duration " << study.duration_s;
   else if (job.scenario)
@@ -52,9 +52,7 @@ std::string job_key(const Job& job, const StudyFile& study) {
     in << file_bytes(job.input);
   if (job.kind == JobKind::frequencies)
     in << " modes " << study.modes << " impulse " << study.impulse_s << " rule " << job.joint_rule;
-  char hex[17];
-  std::snprintf(hex, sizeof hex, "%016llx", static_cast<unsigned long long>(fnv1a(in.str())));
-  return hex;
+  return inputs_key(in.str());
 }
 
 // A CSV field in quotes, inner quotes doubled (RFC 4180, as Python's csv reads it).
@@ -64,10 +62,7 @@ std::string csv_quoted(const std::string& text) {
   return q + "\"";
 }
 
-bool is_current(const Job& job) {
-  return fs::exists(job.folder / "row.csv") && fs::exists(job.folder / "inputs.key") &&
-         file_bytes(job.folder / "inputs.key") == job.key + "\n";
-}
+bool is_current(const Job& job) { return fs::exists(job.folder / "row.csv") && outputs_current(job.folder, job.key); }
 
 // Which run, its result (run_result.h) and how it ran.
 const std::string kRunHeader = "scenario,model,mortar_pa," + result_csv_header() + ",dt_s,threads,monitored_block\n";
@@ -248,7 +243,7 @@ StudyOutcome run_study(const StudyFile& study, const StudyOptions& o) {
               ? seismic_job(job, study, threads, [&progress, i](double done) { progress.advanced(i, done); }, resumed)
               : frequency_job(job, study);
       write_text_atomically(job.folder / "row.csv", row);
-      write_text_atomically(job.folder / "inputs.key", job.key + "\n");  // last: the outputs are complete
+      stamp_outputs(job.folder, job.key);  // last: the outputs are complete
       job.status = "ran";
     } catch (const std::exception& e) {
       job.status = "failed";

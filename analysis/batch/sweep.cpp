@@ -8,6 +8,7 @@
 #include <cmath>
 #include <cstdlib>
 #include <fstream>
+#include <map>
 #include <mutex>
 #include <set>
 #include <sstream>
@@ -47,6 +48,29 @@ std::string host_name() {
   return name;
 }
 
+fs::path case_folder(const SweepFile& sweep, const Case& c, const fs::path& out) {
+  return out / "runs" / scenario_name(sweep, c.scenario) / (sweep.records[c.record].name + "_" + level_label(sweep.levels[c.level]));
+}
+
+// The inputs key of a case (job_queue.h): its scenario with its model file and records, the
+// sweep's record (files, window), the level and how it scales, the duration, and the
+// failure criteria its row applies.
+std::string case_key(const SweepFile& sweep, const Case& c) {
+  const SweepRecord& record = sweep.records[c.record];
+  const FailureCriteria& f = sweep.failure;
+  std::ostringstream in;
+  in.precision(17);
+  in << "sweep case " << scenario_fingerprint(sweep.scenarios[c.scenario]) << " level " << sweep.levels[c.level]
+     << (sweep.scale_to_pga ? " pga" : " factor") << " duration " << sweep.duration_s << " start " << record.motion.start_s
+     << " failure " << f.collapse << " " << f.crown_drop_m << " " << f.fallen_stones << " baseline "
+     << record.motion.baseline_correction;
+  for (const auto& component : record.motion.component)
+    if (component)
+      in << " " << fnv1a(file_bytes(component->file)) << " " << component->format << " " << static_cast<int>(component->unit)
+         << " " << component->dt_s << " " << component->scale;
+  return inputs_key(in.str());
+}
+
 // One run of the sweep; returns its row (with the newline).
 std::string run_case(const SweepFile& sweep, const Case& c, int threads, const fs::path& out) {
   const SweepRecord& record = sweep.records[c.record];
@@ -68,7 +92,7 @@ std::string run_case(const SweepFile& sweep, const Case& c, int threads, const f
   sc.ground_motion = motion;
 
   SeismicRunOptions options;
-  options.out = out / "runs" / scenario_name(sweep, c.scenario) / (record.name + "_" + level_label(level));
+  options.out = case_folder(sweep, c, out);
   fs::remove_all(options.out);  // a run that died half-way starts again
   SeismicRun run(sc, options);
   const SeismicRunResult r = run.run();
@@ -80,6 +104,7 @@ std::string run_case(const SweepFile& sweep, const Case& c, int threads, const f
   row.precision(9);
   row << c.key << "," << factor << "," << record_pga_g * factor << "," << (failed ? 1 : 0) << "," << result_csv_values(r) << ","
       << host_name() << "\n";
+  stamp_outputs(options.out, case_key(sweep, c));  // last: its outputs are complete
   return row.str();
 }
 
@@ -124,27 +149,33 @@ SweepOutcome serve_rank_zero(const SweepFile& sweep, const std::vector<Case>& ca
   return outcome;
 }
 
-// The cases not yet in sweep.csv (a sweep resumes where it stopped); rewrites the table
-// without a row a crash cut short. A table of other columns (another version's) is refused
-// rather than mixed with this one's rows.
-std::vector<int> cases_to_run(const fs::path& table, const std::vector<Case>& cases) {
+// The cases not yet in sweep.csv with current outputs (a sweep resumes where it stopped;
+// a case whose program or inputs changed runs again); rewrites the table without the rows
+// of other cases and a row a crash cut short. A table of other columns (another version's)
+// is refused rather than mixed with this one's rows.
+std::vector<int> cases_to_run(const SweepFile& sweep, const fs::path& out, const std::vector<Case>& cases) {
+  const fs::path table = out / "sweep.csv";
   std::string header;
   std::getline(std::ifstream(table), header);
   if (!header.empty() && header + "\n" != sweep_csv_header())
     throw InputError(table.string() + ": its columns are not this version's (\"" + header.substr(0, 40) +
                      "...\"); move it away, or give the sweep another --out");
-  std::vector<std::string> rows = finished_sweep_rows(table);
-  std::set<std::string> done;
-  for (const std::string& row : rows) {
-    const std::vector<std::string> f = row_fields(row);
-    if (f.size() >= 3) done.insert(f[0] + "," + f[1] + "," + f[2]);
-  }
+  std::map<std::string, int> case_of;  // "scenario,record,level" -> case
+  for (int i = 0; i < static_cast<int>(cases.size()); ++i) case_of[cases[i].key] = i;
+  std::set<int> done;
   std::string kept = sweep_csv_header();
-  for (const std::string& row : rows) kept += row;
+  for (const std::string& row : finished_sweep_rows(table)) {
+    const std::vector<std::string> f = row_fields(row);
+    const auto c = f.size() >= 3 ? case_of.find(f[0] + "," + f[1] + "," + f[2]) : case_of.end();
+    if (c == case_of.end() || !outputs_current(case_folder(sweep, cases[c->second], out), case_key(sweep, cases[c->second])))
+      continue;
+    done.insert(c->second);
+    kept += row;
+  }
   write_text_atomically(table, kept);
   std::vector<int> pending;
   for (int i = 0; i < static_cast<int>(cases.size()); ++i)
-    if (!done.count(cases[i].key)) pending.push_back(i);
+    if (!done.count(i)) pending.push_back(i);
   return pending;
 }
 
@@ -174,7 +205,7 @@ SweepOutcome run_sweep(const SweepFile& sweep, const SweepOptions& o, const MpiS
   // ---- rank 0 (or the only process): the queue, sweep.csv and the curves ----
   fs::create_directories(o.out);
   const fs::path table = o.out / "sweep.csv";
-  const std::vector<int> pending = cases_to_run(table, cases);
+  const std::vector<int> pending = cases_to_run(sweep, o.out, cases);
   outcome.kept = static_cast<int>(cases.size() - pending.size());
   event("sweep: " + std::to_string(cases.size()) + " runs (" + std::to_string(sweep.scenarios.size()) + " scenarios x " +
         std::to_string(sweep.records.size()) + " records x " +

@@ -1,6 +1,7 @@
 // `ishibashi sweep` end to end on model A with short records: the rows, the IDA and
 // fragility outputs; the same rows under `mpirun -np 2` as on one machine; a sweep killed
-// half-way resumes without redoing its finished runs; two variants (dry and with mortar)
+// half-way resumes without redoing its finished runs, and redoes them all once their
+// scenario changed; two variants (dry and with mortar)
 // compared on the same records.
 #include <gtest/gtest.h>
 
@@ -105,6 +106,14 @@ TEST(Sweep, KilledSweepResumesWithoutRedoingFinishedRuns) {
   ASSERT_EQ(status, 0) << resumed;
   EXPECT_NE(resumed.find(std::to_string(before) + " done before"), std::string::npos) << resumed;
   EXPECT_EQ(count_of(resumed, ": done (rank 0)"), static_cast<int>(4 - before)) << resumed;
+  EXPECT_EQ(rows(out).size(), 4u);
+
+  // Outputs of other inputs are not current: an edited scenario runs every case again.
+  std::ofstream(tmp_dir() / "ishibashi_sweep_dry.toml", std::ios::app) << "# edited\n";
+  const std::string again = run_command(sweep, &status);
+  ASSERT_EQ(status, 0) << again;
+  EXPECT_NE(again.find("0 done before"), std::string::npos) << again;
+  EXPECT_EQ(count_of(again, ": done (rank 0)"), 4) << again;
   EXPECT_EQ(rows(out).size(), 4u);
 }
 
