@@ -8,13 +8,13 @@
 #include "apps/build_command.h"
 #include "apps/demo.h"
 #include "apps/modal_command.h"
-#include "apps/run_setting_flags.h"
 #include "apps/run_command.h"
+#include "apps/run_setting_flags.h"
 #include "apps/study_command.h"
 #include "apps/sweep_command.h"
-#include "io/model_file.h"
-#include "engine/model.h"
 #include "engine/cores.h"
+#include "engine/model.h"
+#include "io/model_file.h"
 
 namespace {
 

@@ -2,8 +2,8 @@
 
 #include <cstdio>
 
-#include "analysis/run/seismic_run.h"
 #include "analysis/batch/study.h"
+#include "analysis/run/seismic_run.h"
 
 namespace ishibashi {
 

@@ -7,10 +7,10 @@
 #include <filesystem>
 #include <vector>
 
-#include "analysis/model/compile_model.h"
 #include "analysis/dynamics/modal.h"
 #include "analysis/dynamics/modal_energy.h"
 #include "analysis/dynamics/spectrum.h"
+#include "analysis/model/compile_model.h"
 
 namespace ishibashi {
 

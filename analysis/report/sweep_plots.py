@@ -6,7 +6,6 @@ curve; several scenarios, e.g. dry and with mortar, on one figure).
 
     /usr/bin/python3 analysis/report/sweep_plots.py OUT     (OUT: the sweep's output folder)
 """
-import csv
 import sys
 from pathlib import Path
 
@@ -15,22 +14,19 @@ import matplotlib
 matplotlib.use("Agg")  # headless
 import matplotlib.pyplot as plt  # noqa: E402
 
+from run_outputs import read_rows  # noqa: E402  (beside this file)
+
 STYLES = ["-", "--", ":", "-."]
-
-
-def rows(path):
-    with open(path, newline="") as f:
-        return list(csv.DictReader(f))
 
 
 def main():
     if len(sys.argv) != 2:
         sys.exit("usage: sweep_plots.py SWEEP_OUTPUT_FOLDER")
     out = Path(sys.argv[1])
-    runs = rows(out / "sweep.csv")
+    runs = read_rows(out / "sweep.csv")
     if not runs:
         sys.exit(f"sweep_plots.py: {out}/sweep.csv has no rows")
-    fits = rows(out / "fragility_fit.csv")
+    fits = read_rows(out / "fragility_fit.csv")
     scenarios = [f["scenario"] for f in fits]  # the sweep file's order
 
     fig, ax = plt.subplots(figsize=(7, 4.5))
@@ -53,8 +49,8 @@ def main():
     fig.savefig(out / "ida.png", dpi=110, bbox_inches="tight")
     plt.close(fig)
 
-    curve = rows(out / "fragility.csv")
-    compared = {c["scenario"]: c for c in rows(out / "comparison.csv")} if (out / "comparison.csv").exists() else {}
+    curve = read_rows(out / "fragility.csv")
+    compared = {c["scenario"]: c for c in read_rows(out / "comparison.csv")}
     fig, ax = plt.subplots(figsize=(7, 4.5))
     for k, fit in enumerate(fits):
         scenario = fit["scenario"]

@@ -7,9 +7,9 @@
 #include <fstream>
 #include <sstream>
 
-#include "analysis/run/checkpoint.h"
-#include "analysis/model/fingerprint.h"
 #include "analysis/model/compile_model.h"
+#include "analysis/model/fingerprint.h"
+#include "analysis/run/checkpoint.h"
 #include "analysis/run/run_recorder.h"
 #include "engine/cores.h"
 #include "geometry/bridge.h"
