@@ -3,6 +3,7 @@
 #include <chrono>
 #include <cstdio>
 
+#include "analysis/batch/job_queue.h"
 #include "analysis/dynamics/frequencies.h"
 #include "analysis/model/compile_model.h"
 
@@ -64,6 +65,9 @@ int run_modal(const ModalOptions& o) {
   }
   std::printf("wrote %s/modes.csv, modes_energy.csv and modes.vtu (point arrays mode_1 ...: warp by vector in ParaView)%s\n", out.c_str(),
               a.impulses.empty() ? "" : ", spectrum_*.csv and peaks.csv");
+  std::fflush(stdout);  // before the script's own lines
+  if (!run_report_script("mode_shapes.py", out, loaded.name + ", " + joint_rule_name(loaded.options.joint_rule) + " rule"))
+    std::printf("warning: mode_shapes.png not drawn (needs python3 with matplotlib and vtk: bash scripts/setup.sh)\n");
   return 0;
 }
 

@@ -54,6 +54,29 @@ void insert_block_cell(vtkUnstructuredGrid* grid, const Model& m, int b) {
   grid->InsertNextCell(VTK_POLYHEDRON, static_cast<vtkIdType>(ids.size()), ids.data(), m.face_count(b), face_stream.data());
 }
 
+// The generator's labels of every block as cell arrays (block_id, material, part, course,
+// fixed: 1 for a fixed or prescribed block), in the cells' order.
+void add_block_labels(vtkUnstructuredGrid* grid, const Model& m) {
+  vtkNew<vtkIntArray> block_id, material, part, course;
+  block_id->SetName("block_id");
+  material->SetName("material");
+  part->SetName("part");
+  course->SetName("course");
+  vtkNew<vtkUnsignedCharArray> fixed;
+  fixed->SetName("fixed");
+  for (int b = 0; b < m.block_count; ++b) {
+    block_id->InsertNextValue(b);
+    material->InsertNextValue(m.material[b]);
+    part->InsertNextValue(m.block_tag[b].part);
+    course->InsertNextValue(m.block_tag[b].course);
+    fixed->InsertNextValue(m.motion[b] == Motion::free ? 0 : 1);
+  }
+  for (vtkDataArray* a : {static_cast<vtkDataArray*>(block_id), static_cast<vtkDataArray*>(material),
+                          static_cast<vtkDataArray*>(part), static_cast<vtkDataArray*>(course),
+                          static_cast<vtkDataArray*>(fixed)})
+    grid->GetCellData()->AddArray(a);
+}
+
 }  // namespace
 
 void write_modes_vtu(const Model& m, const State& s, const Eigen::MatrixXd& shapes, const std::vector<int>& free_blocks,
@@ -88,6 +111,7 @@ void write_modes_vtu(const Model& m, const State& s, const Eigen::MatrixXd& shap
   }
   grid->SetPoints(points);
   for (auto& a : arrays) grid->GetPointData()->AddArray(a);
+  add_block_labels(grid, m);
   write_grid(grid, file);
 }
 
@@ -103,13 +127,7 @@ void write_blocks_vtu(const Model& m, const State& s, const std::filesystem::pat
   auto cell_angular = vector_array("angular_velocity", nb);
   auto cell_displacement = vector_array("displacement", nb);
   auto cell_relative = vector_array("displacement_relative_to_ground", nb);
-  vtkNew<vtkIntArray> block_id, material, part, course;
-  block_id->SetName("block_id");
-  material->SetName("material");
-  part->SetName("part");
-  course->SetName("course");
-  vtkNew<vtkUnsignedCharArray> fixed, fallen;
-  fixed->SetName("fixed");
+  vtkNew<vtkUnsignedCharArray> fallen;
   fallen->SetName("fallen");
 
   vtkNew<vtkUnstructuredGrid> grid;
@@ -127,11 +145,6 @@ void write_blocks_vtu(const Model& m, const State& s, const std::filesystem::pat
       point_displacement->SetTuple(v, d.data());
     }
     insert_block_cell(grid, m, b);
-    block_id->InsertNextValue(b);
-    material->InsertNextValue(m.material[b]);
-    part->InsertNextValue(m.block_tag[b].part);
-    course->InsertNextValue(m.block_tag[b].course);
-    fixed->InsertNextValue(m.motion[b] == Motion::free ? 0 : 1);
     fallen->InsertNextValue(is_fallen(m, s, b) ? 1 : 0);
     cell_velocity->SetTuple(b, s.velocity[b].data());
     cell_angular->SetTuple(b, s.angular_velocity[b].data());
@@ -143,11 +156,7 @@ void write_blocks_vtu(const Model& m, const State& s, const std::filesystem::pat
   grid->SetPoints(points);
   grid->GetPointData()->AddArray(point_velocity);
   grid->GetPointData()->AddArray(point_displacement);
-  grid->GetCellData()->AddArray(block_id);
-  grid->GetCellData()->AddArray(material);
-  grid->GetCellData()->AddArray(part);
-  grid->GetCellData()->AddArray(course);
-  grid->GetCellData()->AddArray(fixed);
+  add_block_labels(grid, m);
   grid->GetCellData()->AddArray(fallen);
   grid->GetCellData()->AddArray(cell_velocity);
   grid->GetCellData()->AddArray(cell_angular);

@@ -29,7 +29,8 @@ void write_blocks_vtu(const Model& model, const State& state, const std::filesys
 void write_contacts_vtu(const State& state, const std::filesystem::path& file);
 
 // The blocks with one point array per mode, mode_1, mode_2, ...: each vertex's
-// displacement in that mode (mass-normalised), for ParaView's Warp By Vector / animation.
+// displacement in that mode (mass-normalised), for ParaView's Warp By Vector / animation;
+// cell data: the blocks' labels (block_id, material, part, course, fixed), as blocks_*.vtu.
 void write_modes_vtu(const Model& model, const State& state, const Eigen::MatrixXd& shapes,
                      const std::vector<int>& free_blocks, const std::filesystem::path& file);
 

@@ -50,10 +50,15 @@ void stamp_outputs(const std::filesystem::path& folder, const std::string& key) 
   write_text_atomically(folder / "inputs.key", key + "\n");
 }
 
-bool run_report_script(const char* script, const std::filesystem::path& out) {
+bool run_report_script(const char* script, const std::filesystem::path& out, const std::string& title) {
   const std::string python = std::filesystem::exists("/usr/bin/python3") ? "/usr/bin/python3" : "python3";
-  const std::string command =
-      python + " " + ISHIBASHI_SOURCE_DIR "/analysis/report/" + script + " \"" + out.string() + "\"";
+  std::string command = python + " " + ISHIBASHI_SOURCE_DIR "/analysis/report/" + script + " \"" + out.string() + "\"";
+  if (!title.empty()) {
+    std::string quoted;  // inside double quotes, for the shell: without what it would expand
+    for (char c : title)
+      if (c != '"' && c != '\\' && c != '$' && c != '`') quoted += c;
+    command += " \"" + quoted + "\"";
+  }
   return std::system(command.c_str()) == 0;
 }
 

@@ -42,7 +42,8 @@ std::string inputs_key(const std::string& inputs);  // 16 hex digits of the prog
 bool outputs_current(const std::filesystem::path& folder, const std::string& key);
 void stamp_outputs(const std::filesystem::path& folder, const std::string& key);
 
-// Runs analysis/report/<script> with Debian's python3 on `out`; true when it succeeded.
-bool run_report_script(const char* script, const std::filesystem::path& out);
+// Runs analysis/report/<script> with Debian's python3 on `out` (and `title`, when given);
+// true when it succeeded.
+bool run_report_script(const char* script, const std::filesystem::path& out, const std::string& title = "");
 
 }  // namespace ishibashi

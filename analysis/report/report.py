@@ -24,7 +24,8 @@ matplotlib.use("Agg")  # headless: no display needed
 import matplotlib.pyplot as plt  # noqa: E402
 from mpl_toolkits.mplot3d.art3d import Poly3DCollection  # noqa: E402
 
-from run_outputs import PART, frames, read_rows, read_vtu  # noqa: E402  (beside this file)
+from mode_shapes import mode_shape_figure  # noqa: E402  (beside this file)
+from run_outputs import PART, frames, read_rows, read_vtu  # noqa: E402
 
 G = 9.80665  # m/s^2
 
@@ -410,6 +411,12 @@ def frequency_sections(out, study, figures):
                  (["model", "subdivision", "joint rule", "x modes [Hz]", "x impulse [Hz]", "x diff",
                    "y modes [Hz]", "y impulse [Hz]", "y diff", "z modes [Hz]", "z impulse [Hz]", "z diff"], freq_rows),
                  [spectra_figure(out, frequencies, figures)])]
+    shapes = [mode_shape_figure(out / "frequencies" / f.get("folder", f["file"]), f"{f['model']}, {f['joint_rule']} rule",
+                                figures / f"mode_shapes_{f.get('folder', f['file'])}.png") for f in frequencies]
+    sections.append(("Mode shapes", "The first mode along x, y and z of each analysis (the first with more than 5 % "
+                     "effective mass along it), deformed (coloured by the displacement's size, the largest drawn as a "
+                     "tenth of the model's size) over the undeformed blocks, from the front and from above.",
+                     None, shapes))
     against = study_frequency_rows(out, frequencies, study["study_hz"])
     if against:
         sections.append(("Natural frequencies against the study",
