@@ -20,7 +20,6 @@ namespace ishibashi {
 enum class MortarBonds : std::uint8_t { initial, settled };
 inline constexpr std::array<const char*, 2> kMortarBondsNames{"initial", "settled"};
 inline const auto& choice_names(MortarBonds) { return kMortarBondsNames; }
-inline const char* mortar_bonds_name(MortarBonds bonds) { return kMortarBondsNames[static_cast<int>(bonds)]; }
 
 struct RunSettings {
   double dt_s = 0.0;                // 0: a share of the stability limit (kStudyDtShare ... in seismic_run.h)
