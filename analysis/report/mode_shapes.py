@@ -21,7 +21,7 @@ import matplotlib.pyplot as plt  # noqa: E402
 from mpl_toolkits.mplot3d.art3d import Poly3DCollection  # noqa: E402
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
-from run_outputs import PART, read_rows, read_vtu  # noqa: E402
+from run_outputs import read_rows, read_vtu, surface  # noqa: E402
 
 EFFECTIVE_MASS_SHARE = 0.05  # a first mode along an axis carries more than this of the mass
 VIEWS = (("the front", 0, -90), ("above", 90, -90))  # (from where, elevation, azimuth), degrees
@@ -40,22 +40,12 @@ def first_modes(folder):
     return found
 
 
-def surface(grid, modes):
+def mode_surface(grid, modes):
     """The faces of the blocks other than the ground slab: each face's corners (m) and, per
     mode number, its corners' displacements; and the model's largest dimension (m)."""
     from vtkmodules.util.numpy_support import vtk_to_numpy
-    from vtkmodules.vtkFiltersGeometry import vtkDataSetSurfaceFilter
 
-    faces = vtkDataSetSurfaceFilter()
-    faces.SetInputData(grid)
-    faces.Update()
-    poly = faces.GetOutput()
-    points = vtk_to_numpy(poly.GetPoints().GetData())
-    offsets = vtk_to_numpy(poly.GetPolys().GetOffsetsArray())
-    connectivity = vtk_to_numpy(poly.GetPolys().GetConnectivityArray())
-    part = poly.GetCellData().GetArray("part")  # absent from modes.vtu of programs before 2026-11
-    kept = [i for i in range(len(offsets) - 1) if part is None or part.GetValue(i) != PART["ground"]]
-    corners = [connectivity[offsets[i]:offsets[i + 1]] for i in kept]
+    poly, points, _, corners = surface(grid)
     shapes = {k: vtk_to_numpy(poly.GetPointData().GetArray(f"mode_{k}")) for k in modes}
     used = points[sorted({int(c) for face in corners for c in face})] if corners else points
     size = float((used.max(axis=0) - used.min(axis=0)).max()) if len(used) else 1.0
@@ -68,7 +58,7 @@ def mode_shape_figure(folder, title, path=None):
     modes = first_modes(folder)
     if not modes or not (folder / "modes.vtu").exists():
         return None
-    faces, shapes, size = surface(read_vtu(folder / "modes.vtu"), [k for _, k, _ in modes])
+    faces, shapes, size = mode_surface(read_vtu(folder / "modes.vtu"), [k for _, k, _ in modes])
     fig = plt.figure(figsize=(4.2 * len(VIEWS), 2.8 * len(modes)))
     for row, (axis, k, hz) in enumerate(modes):
         moved = shapes[k]

@@ -25,7 +25,7 @@ import matplotlib.pyplot as plt  # noqa: E402
 from mpl_toolkits.mplot3d.art3d import Poly3DCollection  # noqa: E402
 
 from mode_shapes import mode_shape_figure  # noqa: E402  (beside this file)
-from run_outputs import PART, frames, read_rows, read_vtu  # noqa: E402
+from run_outputs import frames, read_rows, read_vtu, surface  # noqa: E402
 
 G = 9.80665  # m/s^2
 
@@ -173,22 +173,13 @@ def block_faces(vtu):
     displacement relative to the ground (m), whether its block has fallen, and how many
     stones have."""
     from vtkmodules.util.numpy_support import vtk_to_numpy
-    from vtkmodules.vtkFiltersGeometry import vtkDataSetSurfaceFilter
 
     grid = read_vtu(vtu)
     if grid.GetNumberOfCells() == 0:
         raise RuntimeError(f"{vtu}: VTK read no blocks")
-    surface = vtkDataSetSurfaceFilter()
-    surface.SetInputData(grid)
-    surface.Update()
-    poly = surface.GetOutput()
-    points = vtk_to_numpy(poly.GetPoints().GetData())
-    offsets = vtk_to_numpy(poly.GetPolys().GetOffsetsArray())
-    connectivity = vtk_to_numpy(poly.GetPolys().GetConnectivityArray())
+    poly, points, keep, corners = surface(grid)
     moved = vtk_to_numpy(poly.GetCellData().GetArray("displacement_relative_to_ground"))
-    part = vtk_to_numpy(poly.GetCellData().GetArray("part"))
-    keep = [i for i in range(len(offsets) - 1) if part[i] != PART["ground"]]
-    faces = [points[connectivity[offsets[i]:offsets[i + 1]]] for i in keep]
+    faces = [points[c] for c in corners]
     moved = [math.sqrt(float(moved[i] @ moved[i])) for i in keep]
     fallen = vtk_to_numpy(poly.GetCellData().GetArray("fallen"))
     stones = int(vtk_to_numpy(grid.GetCellData().GetArray("fallen")).sum())

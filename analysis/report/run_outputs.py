@@ -81,3 +81,22 @@ def point_array(grid, name):
     """A point array of a grid as numpy (contacts: joint_cracked, normal_stress_pa, ...)."""
     from vtkmodules.util.numpy_support import vtk_to_numpy
     return vtk_to_numpy(grid.GetPointData().GetArray(name))
+
+
+def surface(grid):
+    """A grid's block faces as VTK's surface filter gives them: the polydata (its cell data
+    is the blocks', per face), its points as numpy (m), and each face's corner indices,
+    the ground slab's faces left out."""
+    from vtkmodules.util.numpy_support import vtk_to_numpy
+    from vtkmodules.vtkFiltersGeometry import vtkDataSetSurfaceFilter
+
+    faces = vtkDataSetSurfaceFilter()
+    faces.SetInputData(grid)
+    faces.Update()
+    poly = faces.GetOutput()
+    points = vtk_to_numpy(poly.GetPoints().GetData())
+    offsets = vtk_to_numpy(poly.GetPolys().GetOffsetsArray())
+    connectivity = vtk_to_numpy(poly.GetPolys().GetConnectivityArray())
+    part = poly.GetCellData().GetArray("part")  # absent from modes.vtu of programs before 2026-11
+    kept = [i for i in range(len(offsets) - 1) if part is None or part.GetValue(i) != PART["ground"]]
+    return poly, points, kept, [connectivity[offsets[i]:offsets[i + 1]] for i in kept]
