@@ -28,8 +28,8 @@ int run_modal(const ModalOptions& o) {
   const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 
   std::printf("%s: %zu free blocks, %zu sub-contacts (subdivision %d, joint rule %s, shear spring %s), joints held linear\n",
-              loaded.name.c_str(), r.free_blocks.size(), a.sub_contacts, loaded.options.subdivision,
-              joint_rule_name(loaded.options.joint_rule), shear_spring_name(loaded.options.shear_spring));
+              loaded.name.c_str(), r.free_blocks.size(), a.sub_contacts, loaded.options().subdivision,
+              joint_rule_name(loaded.options().joint_rule), shear_spring_name(loaded.options().shear_spring));
   std::printf("mode  frequency (Hz)  effective mass x / y / z (of %.1f t)  dominant\n", r.total_mass_kg / 1000);
   for (std::size_t k = 0; k < r.frequency_hz.size(); ++k) {
     const Vec3& e = r.effective_mass_ratio[k];
@@ -66,7 +66,7 @@ int run_modal(const ModalOptions& o) {
   std::printf("wrote %s/modes.csv, modes_energy.csv and modes.vtu (point arrays mode_1 ...: warp by vector in ParaView)%s\n", out.c_str(),
               a.impulses.empty() ? "" : ", spectrum_*.csv and peaks.csv");
   std::fflush(stdout);  // before the script's own lines
-  if (!run_report_script("mode_shapes.py", out, loaded.name + ", " + joint_rule_name(loaded.options.joint_rule) + " rule"))
+  if (!run_report_script("mode_shapes.py", out, loaded.name + ", " + joint_rule_name(loaded.options().joint_rule) + " rule"))
     std::printf("warning: mode_shapes.png not drawn (needs python3 with matplotlib and vtk: bash scripts/setup.sh)\n");
   return 0;
 }

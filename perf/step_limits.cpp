@@ -26,7 +26,7 @@ double quantile(const std::vector<double>& sorted, double q) {
 
 void report(const char* file) {
   const LoadedModel loaded = load_model_or_scenario(file);
-  ModelOptions options = loaded.options;
+  ModelOptions options = loaded.options();
   options.drive_fixed_blocks = true;  // as a seismic run builds it
   const World world(loaded.build(options), 1e-9);
   const Model& m = world.model();

@@ -136,7 +136,7 @@ std::string frequency_job(const Job& job, const StudyFile& study) {
   std::ostringstream row;
   row.precision(9);
   row << kFrequencyHeader << "\"" << loaded.name << "\"," << job.input.stem().string() << ","
-      << job.folder.filename().string() << "," << loaded.options.subdivision << "," << joint_rule_name(loaded.options.joint_rule) << "," << a.sub_contacts;
+      << job.folder.filename().string() << "," << loaded.options().subdivision << "," << joint_rule_name(loaded.options().joint_rule) << "," << a.sub_contacts;
   for (double f : a.first_mode_hz) row << "," << f;
   // The first clear peak of each step read along itself at the crown unit, then of the x
   // and y steps read in z at the face unit beside it.

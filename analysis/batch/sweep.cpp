@@ -62,8 +62,7 @@ std::string case_key(const SweepFile& sweep, const Case& c) {
   in.precision(17);
   in << "sweep case " << scenario_fingerprint(sweep.scenarios[c.scenario]) << " level " << sweep.levels[c.level]
      << (sweep.scale_to_pga ? " pga" : " factor") << " duration " << sweep.duration_s << " start " << record.motion.start_s
-     << " failure " << f.collapse << " " << f.crown_drop_m << " " << f.fallen_stones << " baseline "
-     << record.motion.baseline_correction;
+     << " failure " << f.collapse << " " << f.crown_drop_m << " " << f.fallen_stones;  // baseline: the scenario's
   for (const auto& component : record.motion.component)
     if (component)
       in << " " << fnv1a(file_bytes(component->file)) << " " << component->format << " " << static_cast<int>(component->unit)
@@ -80,16 +79,15 @@ std::string run_case(const SweepFile& sweep, const Case& c, int threads, const f
   overrides.set(&RunSettings::threads, threads).set(&RunSettings::start_s, record.motion.start_s);
   if (sweep.duration_s >= 0) overrides.set(&RunSettings::duration_s, sweep.duration_s);
   apply_overrides(sc.settings, overrides);
-  GroundMotionSpec motion = record.motion;  // the record's components and window at this level
-  motion.duration_s = sc.settings.duration_s;
-  motion.baseline_correction = sc.ground_motion.baseline_correction;
-  const double record_pga_g = horizontal_pga_m_s2(motion) / kG;
+  const bool baseline_correction = sc.ground_motion.baseline_correction;
+  sc.ground_motion = record.motion;  // the record's components; its window is the settings'
+  sc.ground_motion.baseline_correction = baseline_correction;
+  const double record_pga_g = horizontal_pga_m_s2(sc.motion()) / kG;
   if (sweep.scale_to_pga && !(record_pga_g > 0))
     throw InputError(sweep.file.string() + ": record '" + record.name + "' has no horizontal acceleration to scale to a PGA");
   const double factor = sweep.scale_to_pga ? level / record_pga_g : level;
-  for (auto& component : motion.component)
+  for (auto& component : sc.ground_motion.component)
     if (component) component->scale *= factor;
-  sc.ground_motion = motion;
 
   SeismicRunOptions options;
   options.out = case_folder(sweep, c, out);

@@ -60,7 +60,7 @@ FrequencyAnalysis analyse_frequencies(const LoadedModel& loaded, const Frequency
 
   std::vector<ImpulseSpec> specs = o.impulses;
   if (specs.empty()) specs = study_impulses();
-  ModelOptions linear_options = loaded.options;
+  ModelOptions linear_options = loaded.options();
   linear_options.linear_joints = true;
   const Model linear = loaded.build(linear_options);
   // The step: frequencies within 0.2 % ((omega dt)^2 / 24) up to the highest mode computed,

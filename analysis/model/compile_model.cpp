@@ -83,8 +83,7 @@ Model load_model(const ModelFile& file, const std::filesystem::path& path, const
 Model LoadedModel::build(const ModelOptions& with) const { return build_model(compiled.builder, with, file); }
 
 LoadedModel load_scenario_model(const Scenario& sc, const RunOverrides& overrides) {
-  const ModelOptions options = frequency_options(sc.settings, overrides);
-  LoadedModel loaded{sc.model.name, sc.file, options, compile_model(sc.model, sc.model_file, options)};
+  LoadedModel loaded{sc.model.name, sc.file, compile_model(sc.model, sc.model_file, frequency_options(sc.settings, overrides))};
   require_valid(loaded.compiled, sc.model_file);
   return loaded;
 }
@@ -92,8 +91,7 @@ LoadedModel load_scenario_model(const Scenario& sc, const RunOverrides& override
 LoadedModel load_model_or_scenario(const std::filesystem::path& file, const RunOverrides& overrides) {
   if (is_scenario_file(file)) return load_scenario_model(read_scenario(file), overrides);
   const ModelFile model = read_model_file(file);
-  const ModelOptions options = frequency_options(RunSettings{}, overrides);
-  LoadedModel loaded{model.name, file, options, compile_model(model, file, options)};
+  LoadedModel loaded{model.name, file, compile_model(model, file, frequency_options(RunSettings{}, overrides))};
   require_valid(loaded.compiled, file);
   return loaded;
 }

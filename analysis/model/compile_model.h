@@ -37,9 +37,9 @@ Model load_model(const ModelFile& file, const std::filesystem::path& path, const
 struct LoadedModel {
   std::string name;
   std::filesystem::path file;
-  ModelOptions options;
   CompiledModel compiled;
   const Model& model() const { return compiled.model; }
+  const ModelOptions& options() const { return compiled.model.options; }
   Model build(const ModelOptions& with) const;  // the same blocks with other options
 };
 LoadedModel load_model_or_scenario(const std::filesystem::path& file, const RunOverrides& overrides = {});

@@ -65,9 +65,9 @@ SeismicRun::SeismicRun(const Scenario& scenario, SeismicRunOptions options)
   const RunSettings& settings = scenario_.settings;
   // Threads of this run: the calling thread's OpenMP teams (a study runs several at once).
   use_threads(settings.threads);
-  ModelOptions model_options = ishibashi::model_options(settings);
-  model_options.drive_fixed_blocks = true;  // the fixed blocks move with the ground (kinematic drive)
-  const Model model = load_model(scenario_.model, scenario_.model_file, model_options);
+  ModelOptions model_wanted = model_options(settings);
+  model_wanted.drive_fixed_blocks = true;  // the fixed blocks move with the ground (kinematic drive)
+  const Model model = load_model(scenario_.model, scenario_.model_file, model_wanted);
   limit_s_ = World(model, 1e-9).critical_time_step_s(&limiting_block_);
   const double share = settings.damping == Damping::capped     ? kCappedDtShare
                        : settings.damping == Damping::implicit ? kImplicitDtShare
