@@ -47,7 +47,12 @@ CLI::App* add_run_command(CLI::App& app, ishibashi::RunOptions& run) {
   CLI::Option* run_scenario_file =
       run_cmd->add_option("scenario", run.scenario, "scenario file (TOML), e.g. scenarios/nishida_a_kobe_dry.toml");
   run_cmd->add_option("--out", run.out, "output folder (default: out/<scenario name>)");
-  run_cmd->add_flag("--profile", run.profile, "print the time spent in each stage of the step");
+  run_cmd->add_flag("--profile", run.profile,
+                    "print the time spent in each stage of the step, and how the threads spent it (working, waiting, imbalance)");
+  run_cmd->add_option("--trace", run.trace,
+                      "write a timeline of the steps --trace-steps in FILE (Chrome trace-event JSON: Perfetto, chrome://tracing)");
+  run_cmd->add_option("--trace-steps", run.trace_steps, "FROM:TO, the steps traced, counted from the run's start")
+      ->capture_default_str();
   run_cmd->add_flag("--quiet", run.quiet, "no progress bar");
   const std::vector<CLI::Option*> run_settings = ishibashi::add_run_setting_flags(run_cmd, run.overrides);
   run_cmd->add_option("--dt-factor", run.dt_factor, "multiplies the time step (0.5 halves it: convergence studies)")

@@ -4,11 +4,52 @@
 #include <chrono>
 #include <cstdio>
 #include <string>
+#include <tuple>
+#include <utility>
 
 #include "analysis/run/seismic_run.h"
 #include "engine/cores.h"
+#include "io/chrome_trace.h"
+#include "io/input_error.h"
 
 namespace ishibashi {
+namespace {
+
+// "FROM:TO" (steps FROM to TO - 1).
+std::pair<long, long> parse_step_range(const std::string& text) {
+  long from = 0, to = 0;
+  char colon = 0, extra = 0;
+  if (std::sscanf(text.c_str(), "%ld %c %ld %c", &from, &colon, &to, &extra) != 3 || colon != ':' || from < 0 || to <= from)
+    throw InputError("--trace-steps " + text + ": expected FROM:TO, two step numbers with 0 <= FROM < TO (e.g. 1000:1100)");
+  return {from, to};
+}
+
+// Per stage: its wall time and share, and how the team's threads spent it: working
+// (claiming and running chunks), waiting (at the loops' ends, or while the calling thread
+// runs a serial part), and the busiest thread's work against the mean.
+void print_profile(const World& world, long steps) {
+  const Profile& p = world.state().profile;
+  const double total = p.wall_s();
+  std::printf("stage          seconds   share   work µs/step   working  waiting   serial  imbalance\n");
+  for (int k = 0; k < kStageCount; ++k) {
+    const StageTime& t = p.stages[k];
+    if (t.wall_s == 0) continue;
+    std::printf("%-13s %8.2f %6.1f %%   %12.1f  %6.1f %%  %5.1f %%  %5.1f %%  %9.2f\n", kStageNames[k], t.wall_s,
+                100 * t.wall_s / total, 1e6 * t.work_s / steps, 100 * t.work_s / t.team_s, 100 * t.wait_s() / t.team_s,
+                100 * t.serial_s / t.wall_s, t.imbalance());
+  }
+  std::printf("steps %ld, broadphase rebuilds %ld, contact regroups %ld, %.1f steps/s, mean team %.2f of %d threads\n", steps,
+              p.broadphase_rebuilds, p.contact_regroups, steps / total, double(p.thread_steps) / steps,
+              world.thread_tuner().max_threads());
+  std::printf("  work: thread-seconds claiming and running the stage's chunks, and its serial parts (growing with the\n"
+              "  threads: they slow each other through memory); waiting: the rest of the team's time in the stage; serial:\n"
+              "  share of the stage one thread runs alone; imbalance: the busiest thread's chunks against the mean\n");
+  if (world.model().options.damping == Damping::implicit)
+    std::printf("implicit dashpots: %.2f conjugate-gradient iterations per step, %ld steps stopped unconverged\n",
+                double(p.damping_iterations) / steps, p.damping_unconverged);
+}
+
+}  // namespace
 
 int run_scenario(const RunOptions& o) {
   SeismicRunOptions options;
@@ -17,6 +58,8 @@ int run_scenario(const RunOptions& o) {
   options.adaptive_threads = !o.fixed_threads;
   options.checkpoint_every_s = o.checkpoint_every_s;
   options.checkpoint_wall_s = o.checkpoint_wall_s;
+  options.time_threads = o.profile;
+  if (!o.trace.empty()) std::tie(options.trace_first_step, options.trace_last_step) = parse_step_range(o.trace_steps);
   options.on_warning = [](const std::string& text) { std::fprintf(stderr, "\n  warning: %s\n", text.c_str()); };
   const auto shake0 = std::chrono::steady_clock::now();
   if (!o.quiet)
@@ -64,22 +107,13 @@ int run_scenario(const RunOptions& o) {
   if (const long unconverged = run.world().state().profile.damping_unconverged; unconverged > 0)
     std::printf("warning: in %ld steps the implicit dashpots' solve stopped at its iteration limit before its tolerance; "
                 "a smaller dt (--dt) makes it converge\n", unconverged);
-  if (o.profile) {
-    const Profile& p = run.world().state().profile;
-    const double total =
-        p.pose_s + p.broadphase_s + p.narrowphase_s + p.contact_law_s + p.gather_s + p.integrate_s + p.damping_caps_s +
-        p.damping_solve_s;
-    std::printf("stage         seconds   share\n");
-    for (const auto& [name, t] : {std::pair{"pose", p.pose_s}, {"broadphase", p.broadphase_s}, {"narrowphase", p.narrowphase_s},
-                                  {"contact law", p.contact_law_s}, {"gather", p.gather_s}, {"integrate", p.integrate_s},
-                                  {"damping caps", p.damping_caps_s}, {"damping solve", p.damping_solve_s}})
-      std::printf("%-12s %8.2f  %5.1f %%\n", name, t, 100 * t / total);
-    std::printf("steps %ld, broadphase rebuilds %ld, contact regroups %ld, %.1f steps/s, mean team %.2f of %d threads\n",
-                r.steps, p.broadphase_rebuilds, p.contact_regroups, r.steps / total, double(p.thread_steps) / r.steps,
-                run.world().thread_tuner().max_threads());
-    if (sc.settings.damping == Damping::implicit)
-      std::printf("implicit dashpots: %.2f conjugate-gradient iterations per step, %ld steps stopped unconverged\n",
-                  double(p.damping_iterations) / r.steps, p.damping_unconverged);
+  if (o.profile) print_profile(run.world(), r.steps);
+  if (!o.trace.empty()) {
+    const StageTrace& trace = run.world().trace();
+    write_chrome_trace(trace, sc.model.name + " (" + sc.file.filename().string() + ")", o.trace);
+    const long traced = std::count_if(trace.slices.begin(), trace.slices.end(), [](const TraceSlice& t) { return t.stage < 0; });
+    std::printf("trace of %ld steps (%ld:%ld asked) in %s: open it in https://ui.perfetto.dev or chrome://tracing\n", traced,
+                trace.first_step, trace.last_step, o.trace.c_str());
   }
   std::printf("outputs in %s: blocks.pvd, contacts.pvd, view.pvsm (ParaView: File > Load State, files searched in its "
               "folder), history.csv, summary.json\n", options.out.c_str());

@@ -11,7 +11,9 @@ namespace ishibashi {
 struct RunOptions {
   std::filesystem::path scenario;
   std::filesystem::path out;  // empty: out/<scenario name>
-  bool profile = false;       // print the per-stage time table at the end
+  bool profile = false;       // print the per-stage time table at the end (threads' work, waiting, imbalance)
+  std::filesystem::path trace;     // non-empty: a Chrome trace-event timeline of trace_steps here
+  std::string trace_steps = "1000:1100";  // FROM:TO, steps counted from the run's start
   bool quiet = false;         // no progress bar
   RunOverrides overrides;     // settings replacing the scenario's (--dt, --duration, ...; a resume: --threads)
   double dt_factor = 1;       // multiplies the time step (0.5: half of it, for convergence studies)

@@ -8,6 +8,7 @@
 
 #include "engine/math.h"
 #include "engine/model.h"
+#include "engine/profile.h"
 
 namespace ishibashi {
 
@@ -140,16 +141,6 @@ struct Energy {
   }
 };
 
-struct Profile {  // seconds spent in each stage since the start
-  double pose_s = 0, broadphase_s = 0, narrowphase_s = 0, contact_law_s = 0, gather_s = 0, integrate_s = 0;
-  double damping_caps_s = 0;  // Damping::capped only
-  double damping_solve_s = 0;  // Damping::implicit only
-  long damping_iterations = 0;   // conjugate-gradient iterations, summed over the steps
-  long damping_unconverged = 0;  // steps whose solve stopped at kDampingSolveMaxIterations
-  long broadphase_rebuilds = 0;
-  long contact_regroups = 0;  // steps whose sub-contact arrays were regrouped (a count changed)
-  long thread_steps = 0;      // sum over steps of the team size (/ steps: the mean team)
-};
 
 // Implicit dashpots (implicit_damping.cpp).
 // A symmetric 6x6 matrix as its lower triangle, row-major: (i, j), j <= i, at i (i + 1) / 2 + j.

@@ -1,7 +1,6 @@
 #include "engine/team.h"
 
 #include <algorithm>
-#include <chrono>
 
 namespace ishibashi {
 namespace {
@@ -32,10 +31,14 @@ bool spin_until(Ready&& ready) {
   }
 }
 
-// The fields of the loop word (Team::loop_).
-std::uint32_t generation_of(std::uint64_t loop) { return static_cast<std::uint32_t>(loop >> 32); }
-int count_of(std::uint64_t loop) { return static_cast<int>(loop >> 20 & 0xFFF); }
-int next_of(std::uint64_t loop) { return static_cast<int>(loop & 0xFFFFF); }
+// The fields of a claim word (Slot::range) and of the loop's shape word (Team::shape_).
+std::uint32_t generation_of(std::uint64_t word) { return static_cast<std::uint32_t>(word >> 32); }
+int taken_of(std::uint64_t range) { return static_cast<int>(range & 0xFFFFFFFF); }
+int threads_of(std::uint64_t shape) { return static_cast<int>(shape >> 16 & 0xFFFF); }
+int count_of(std::uint64_t shape) { return static_cast<int>(shape & 0xFFFF); }
+
+// Range r of a loop of `count` chunks on `threads` threads: chunks [begin, end).
+int range_begin(int r, int count, int threads) { return static_cast<int>(std::int64_t{count} * r / threads); }
 
 }  // namespace
 
@@ -53,9 +56,16 @@ Team::~Team() {
   for (std::thread& w : workers_) w.join();
 }
 
+void Team::clear_times(int threads) {
+  for (int i = 0; i < std::min(threads, kMaxThreads); ++i) slots_[i].time = ThreadTime{};
+}
+
 void Team::run(int threads, int chunk_count, ChunkFn chunk, const void* context) {
+  threads = std::min(threads, kMaxThreads);
   if (threads <= 1 || chunk_count <= 1 || chunk_count > kMaxChunks || inside_loop) {
+    const double begin = timing_ && !inside_loop ? now_s() : 0;
     for (int k = 0; k < chunk_count; ++k) chunk(context, k);
+    if (timing_ && !inside_loop && chunk_count > 0) note_time(0, begin, true);
     return;
   }
   const int workers = threads - 1;
@@ -66,17 +76,24 @@ void Team::run(int threads, int chunk_count, ChunkFn chunk, const void* context)
     active_workers_.notify_all();
   }
 
+  ++generation_;
+  for (int r = 0; r < threads; ++r) slots_[r].range.store(std::uint64_t{generation_} << 32, std::memory_order_relaxed);
   chunk_.store(chunk);
   context_.store(context);
   done_.store(0);
-  ++generation_;
-  loop_.store(std::uint64_t{generation_} << 32 | std::uint64_t(chunk_count) << 20);
+  shape_.store(std::uint64_t{generation_} << 32 | std::uint64_t(threads) << 16 | std::uint64_t(chunk_count));
   posted_.store(generation_);
   if (sleepers_.load() > 0) posted_.notify_all();
 
   inside_loop = true;
-  run_chunks();
+  run_chunks(0, generation_);
   inside_loop = false;
+  const double wait_begin = timing_ ? now_s() : 0;
+  wait_for_chunks(chunk_count);
+  if (timing_) slots_[0].time.wait_s += now_s() - wait_begin;
+}
+
+void Team::wait_for_chunks(int chunk_count) {
   // Only chunks other threads have claimed and not finished are left: wait for them.
   const auto all_done = [&] { return done_.load(std::memory_order_acquire) == chunk_count; };
   if (spin_until(all_done)) return;
@@ -85,30 +102,48 @@ void Team::run(int threads, int chunk_count, ChunkFn chunk, const void* context)
   caller_asleep_.store(false);
 }
 
-std::uint32_t Team::run_chunks() {
-  int done = 0;
+int Team::claim(int r, std::uint32_t generation, int chunk_count, int threads) {
+  std::atomic<std::uint64_t>& range = slots_[r].range;
+  const int size = range_begin(r + 1, chunk_count, threads) - range_begin(r, chunk_count, threads);
+  std::uint64_t seen = range.load(std::memory_order_relaxed);
   for (;;) {
-    // Guided claims: a share of what is left, so that few claims cross between cores and
-    // the last chunks still spread over the team.
-    const std::uint64_t seen = loop_.load(std::memory_order_relaxed);
-    const int left = std::max(0, count_of(seen) - next_of(seen));
-    const int batch = std::max(1, left / (active_workers_.load(std::memory_order_relaxed) + 1));
-    const std::uint64_t loop = loop_.fetch_add(batch);
-    const int k = next_of(loop), count = count_of(loop);
-    if (k >= count) {
-      if (done > 0) {  // once per thread and loop: the counter's cache line moves little
-        done_.fetch_add(done);
-        if (caller_asleep_.load()) done_.notify_one();
-      }
-      return generation_of(loop);
-    }
-    // The loop cannot be replaced before these chunks are counted done, so these are its own.
-    const ChunkFn chunk = chunk_.load();
-    const void* context = context_.load();
-    const int end = std::min(k + batch, count);
-    for (int j = k; j < end; ++j) chunk(context, j);
-    done += end - k;
+    if (generation_of(seen) != generation || taken_of(seen) >= size) return -1;
+    if (range.compare_exchange_weak(seen, seen + 1)) return range_begin(r, chunk_count, threads) + taken_of(seen);
   }
+}
+
+int Team::run_chunks(int me, std::uint32_t generation) {
+  const std::uint64_t shape = shape_.load();
+  if (generation_of(shape) != generation) return 0;  // a newer loop is posted: this one is done
+  const int threads = threads_of(shape), count = count_of(shape);
+  const ChunkFn chunk = chunk_.load();
+  const void* context = context_.load();
+  const double begin = timing_ ? now_s() : 0;
+  int ran = 0, reported = 0;
+  // Its own range first, then the others' in turn from the next thread's.
+  for (int step = 0; step < threads; ++step) {
+    const int r = (me + step) % threads;
+    for (int k; (k = claim(r, generation, count, threads)) >= 0; ++ran) chunk(context, k);
+    if (ran > reported) {
+      if (timing_) note_time(me, begin, reported == 0);  // before done_: the caller reads it after
+      const int total = done_.fetch_add(ran - reported) + ran - reported;
+      if (caller_asleep_.load()) done_.notify_one();
+      reported = ran;
+      if (total == count) break;
+    } else if (step == 0 && done_.load() == count) {
+      break;  // nothing of its own left and every chunk done: no need to read the others' claims
+    }
+  }
+  return ran;
+}
+
+void Team::note_time(int me, double begin_s, bool first_report) {
+  ThreadTime& t = slots_[me].time;
+  const double end = now_s();
+  const double from = first_report ? begin_s : t.end_s;  // a later report extends the loop's share
+  if (first_report && t.loops++ == 0) t.begin_s = begin_s;
+  t.busy_s += end - from;
+  t.end_s = end;
 }
 
 bool Team::wait_for_loop(int index, std::uint32_t seen) {
@@ -119,8 +154,8 @@ bool Team::wait_for_loop(int index, std::uint32_t seen) {
       active_workers_.wait(active);
       continue;
     }
-    // posted_ (stored just after loop_) has a line of its own: the spinning does not slow
-    // the claims of a loop still running on the others.
+    // posted_ has a line of its own: the spinning does not slow the claims of a loop still
+    // running on the others.
     const auto posted = [&] { return stop_.load() || posted_.load() != seen; };
     if (spin_until(posted)) return !stop_.load();
     // Sleep. The caller stores posted_ before it reads sleepers_, this thread counts
@@ -135,7 +170,10 @@ bool Team::wait_for_loop(int index, std::uint32_t seen) {
 void Team::worker_loop(int index) {
   inside_loop = true;
   std::uint32_t seen = 0;
-  while (wait_for_loop(index, seen)) seen = run_chunks();
+  while (wait_for_loop(index, seen)) {
+    seen = posted_.load();
+    run_chunks(index + 1, seen);
+  }
 }
 
 }  // namespace ishibashi

@@ -1,11 +1,13 @@
 #include "engine/world.h"
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <sstream>
 
 #include "engine/parallel.h"
 #include "engine/pipeline.h"
+#include "engine/team.h"
 
 namespace ishibashi {
 namespace {
@@ -51,55 +53,89 @@ double World::critical_time_step_s(int* block) const {
   return stability_limit_s(model_, state_, /*with_damping=*/explicit_dashpots, block);
 }
 
+// Runs one stage of step `step`, timing it into the profile: its wall time always, and
+// with the team's timing on each thread's share (and the trace's slices in traced steps).
+template <class Fn>
+auto World::timed(Stage stage, Fn&& fn) {
+  Team& team = Team::of_this_thread();
+  const int threads = tuner_.threads();
+  if (team.timing()) team.clear_times(threads);
+  const double begin = team.now_s();
+  struct Finish {
+    World& world;
+    Team& team;
+    Stage stage;
+    int threads;
+    double begin;
+    ~Finish() { world.note_stage(team, stage, threads, begin); }
+  } finish{*this, team, stage, threads, begin};
+  return fn();
+}
+
+void World::note_stage(const Team& team, Stage stage, int threads, double begin_s) {
+  const double end = team.now_s();
+  StageTime& t = state_.profile[stage];
+  t.wall_s += end - begin_s;
+  if (!team.timing()) return;
+  double work = 0, slowest = 0;
+  const bool traced = trace_.covers(state_.step);
+  for (int i = 0; i < threads; ++i) {
+    const ThreadTime& th = team.time_of(i);
+    work += th.busy_s;
+    slowest = std::max(slowest, th.busy_s);
+    // The caller's slice is the whole stage (serial parts too), a worker's its loops' span.
+    if (traced && (i == 0 || th.loops > 0))
+      trace_.add({state_.step, i == 0 ? begin_s : th.begin_s, i == 0 ? end : th.end_s, th.busy_s,
+                  static_cast<std::int16_t>(i), static_cast<std::int16_t>(stage)});
+  }
+  // The caller's time neither in chunks nor waiting for the team's: serial work.
+  const ThreadTime& caller = team.time_of(0);
+  const double serial = std::max(0.0, end - begin_s - caller.busy_s - caller.wait_s);
+  t.team_s += (end - begin_s) * threads;
+  t.serial_s += serial;
+  t.work_s += work + serial;
+  t.mean_s += work / threads;
+  t.slowest_s += slowest;
+}
+
+void World::set_thread_timing(bool on) { state_.profile.threads_timed = on; }
+
+void World::trace_steps(long first_step, long last_step) {
+  set_thread_timing(true);
+  trace_.first_step = first_step;
+  trace_.last_step = last_step;
+  // Room for every stage and the step on each thread, so the buffer never grows in a step.
+  trace_.slices.clear();
+  trace_.slices.reserve(std::max(0L, last_step - first_step) * (kStageCount + 1) * tuner_.max_threads());
+}
+
 void World::step() {
   const Model& m = model_;
   State& s = state_;
   Profile& p = s.profile;
   const ScopedTeamSize team(tuner_.threads());
   const auto step0 = Clock::now();
+  Team::of_this_thread().set_timing(p.threads_timed);  // the team of the thread stepping now
+  const double step_begin = Team::of_this_thread().now_s();
 
-  auto t0 = step0;
-  update_pose(m, s);
-  p.pose_s += seconds_since(t0);
-
-  t0 = Clock::now();
-  const bool rebuilt = update_pairs(m, s);
-  if (rebuilt) ++p.broadphase_rebuilds;
-  p.broadphase_s += seconds_since(t0);
-
-  t0 = Clock::now();
-  update_contacts(m, s, /*first_detection=*/false, dt_s_);
-  p.narrowphase_s += seconds_since(t0);
-
-  // Caps follow the blocks' joints as they change, checked when the pair list is rebuilt
-  // (a block moved half the margin): between rebuilds a block's joints barely change.
-  if (rebuilt && m.options.damping == Damping::capped) {
-    t0 = Clock::now();
-    update_damping_caps(m, s, dt_s_);
-    p.damping_caps_s += seconds_since(t0);
+  timed(Stage::pose, [&] { update_pose(m, s); });
+  if (timed(Stage::broadphase, [&] { return update_pairs(m, s); })) {
+    ++p.broadphase_rebuilds;
+    // Caps follow the blocks' joints as they change, checked when the pair list is rebuilt
+    // (a block moved half the margin): between rebuilds a block's joints barely change.
+    if (m.options.damping == Damping::capped) timed(Stage::damping_caps, [&] { update_damping_caps(m, s, dt_s_); });
   }
-
-  t0 = Clock::now();
-  const double elastic = apply_contact_law(m, s, dt_s_);
-  p.contact_law_s += seconds_since(t0);
-
-  t0 = Clock::now();
-  const double prescribed_power = gather_forces(m, s);
-  p.gather_s += seconds_since(t0);
-
+  timed(Stage::narrowphase, [&] { update_contacts(m, s, /*first_detection=*/false, dt_s_); });
+  const double elastic = timed(Stage::contact_law, [&] { return apply_contact_law(m, s, dt_s_); });
+  const double prescribed_power = timed(Stage::gather, [&] { return gather_forces(m, s); });
   if (m.options.damping == Damping::implicit) {
-    t0 = Clock::now();
-    const DampingSolve solve = solve_implicit_damping(m, s, dt_s_);
+    const DampingSolve solve = timed(Stage::damping_solve, [&] { return solve_implicit_damping(m, s, dt_s_); });
     s.energy.damping_j -= solve.work_j;
     s.energy.prescribed_work_j += solve.prescribed_power_w * dt_s_;
     p.damping_iterations += solve.iterations;
     if (!solve.converged) ++p.damping_unconverged;
-    p.damping_solve_s += seconds_since(t0);
   }
-
-  t0 = Clock::now();
-  const BlockEnergy before = integrate(m, s, dt_s_);
-  p.integrate_s += seconds_since(t0);
+  const BlockEnergy before = timed(Stage::integrate, [&] { return integrate(m, s, dt_s_); });
 
   // Energy at this step, i.e. of the pose and the velocities integrate started from. v
   // was last updated between the previous pose and this one, so the potential is
@@ -121,6 +157,7 @@ void World::step() {
   e.prescribed_work_j += prescribed_power * dt_s_;
   e.left_model_j += before.left_model_j;
 
+  if (trace_.covers(s.step)) trace_.add({s.step, step_begin, Team::of_this_thread().now_s(), 0, 0, -1});
   s.time_s += dt_s_;
   ++s.step;
   p.thread_steps += tuner_.threads();

@@ -10,6 +10,8 @@
 
 namespace ishibashi {
 
+class Team;
+
 class World {
  public:
   // Detects the joints originally in contact (these may carry a bond), then checks the
@@ -45,11 +47,24 @@ class World {
   void set_adaptive_threads(bool adaptive) { tuner_.set_adaptive(adaptive); }
   const ThreadTuner& thread_tuner() const { return tuner_; }
 
+  // Times each thread's share of every stage into State::profile (work, waiting,
+  // imbalance); off by default (two clock reads per thread and loop).
+  void set_thread_timing(bool on);
+  // Keeps a timeline of steps [first_step, last_step): one slice per thread and stage, and
+  // the step on the calling thread's track (turns the thread timing on).
+  void trace_steps(long first_step, long last_step);
+  const StageTrace& trace() const { return trace_; }
+
  private:
   const Model model_;  // built once with its options (ModelBuilder::build), never edited
   State state_;
   double dt_s_;
   ThreadTuner tuner_;
+  StageTrace trace_;
+
+  template <class Fn>
+  auto timed(Stage stage, Fn&& fn);
+  void note_stage(const Team& team, Stage stage, int threads, double begin_s);
 };
 
 }  // namespace ishibashi

@@ -55,11 +55,12 @@ int main(int argc, char** argv) {
     const Profile& p = s.profile;
     const double rate = steps / seconds;
     if (threads == 1) one_thread = rate;
+    const auto spent = [&](Stage stage) { return p[stage].wall_s - before[stage].wall_s; };
     const double mean_team = double(p.thread_steps - before.thread_steps) / steps;
     std::printf("%.2f,%d,%zu,%zu,%ld,%.3f,%.1f,%.1f,%.3f,%.3f,%.3f,%.3f,%.3f,%.3f,%ld,%ld\n", mean_team, model.block_count,
                 s.pairs.size(), s.contacts.size(), steps, seconds, rate, 1e9 * seconds / (steps * double(s.contacts.size())),
-                p.pose_s - before.pose_s, p.broadphase_s - before.broadphase_s, p.narrowphase_s - before.narrowphase_s,
-                p.contact_law_s - before.contact_law_s, p.gather_s - before.gather_s, p.integrate_s - before.integrate_s,
+                spent(Stage::pose), spent(Stage::broadphase), spent(Stage::narrowphase), spent(Stage::contact_law),
+                spent(Stage::gather), spent(Stage::integrate),
                 p.broadphase_rebuilds - before.broadphase_rebuilds, p.contact_regroups - before.contact_regroups);
     if (threads > 1 && !one_row) std::printf("# speed-up %d threads / 1 thread: %.2f\n", threads, rate / one_thread);
   }

@@ -173,6 +173,19 @@ void RunRecorder::write_summary(const RunDescription& run, const SeismicRunResul
   j["mortar_fracture_j_m2"] = {run.mortar_fracture_j_m2[0], run.mortar_fracture_j_m2[1]};
   j["threads"] = run.threads;
   j["mean_team_size"] = s.step > 0 ? double(s.profile.thread_steps) / s.step : 0.0;
+  // Where the steps' time went (settling included): run --profile's table.
+  Json& stages = j["stages"];
+  for (int k = 0; k < kStageCount; ++k) {
+    const StageTime& t = s.profile.stages[k];
+    if (t.wall_s == 0) continue;
+    Json& stage = stages[kStageNames[k]];
+    stage["wall_s"] = t.wall_s;
+    if (!s.profile.threads_timed) continue;
+    stage["work_s"] = t.work_s;
+    stage["wait_s"] = t.wait_s();
+    stage["serial_s"] = t.serial_s;
+    stage["imbalance"] = t.imbalance();
+  }
   Json& settings = j["settings"];
   for_each_run_setting([&](const SettingInfo& info, auto member) { settings[info.key] = setting_value(run.settings.*member); });
   write_text_atomically(out_ / "summary.json", j.dump(2) + "\n");

@@ -77,6 +77,9 @@ SeismicRun::SeismicRun(const Scenario& scenario, SeismicRunOptions options)
   ground_ = prepare_ground_motion(scenario_.motion(), dt_);
   world_ = std::make_unique<World>(model, dt_);
   world_->set_adaptive_threads(options_.adaptive_threads);
+  world_->set_thread_timing(options_.time_threads);
+  if (options_.trace_last_step > options_.trace_first_step)
+    world_->trace_steps(options_.trace_first_step, options_.trace_last_step);
   const Model& m = world_->model();
   monitors_ = scenario_.monitor_blocks;
   if (monitors_.empty() && crown_unit(m) >= 0) monitors_.push_back(crown_unit(m));

@@ -41,6 +41,11 @@ struct SeismicRunOptions {
   // signal writes one too, when either is set.
   double checkpoint_every_s = 0;
   double checkpoint_wall_s = 0;
+  // Time each thread's share of every stage (run --profile: work, waiting, imbalance), and
+  // keep a timeline of steps [trace_first_step, trace_last_step) (run --trace), counted
+  // from the run's start, settling included.
+  bool time_threads = false;
+  long trace_first_step = 0, trace_last_step = 0;
   // Called after every output frame of the shaking with the fraction done (0..1).
   std::function<void(double fraction_done)> on_frame;
   // Warnings worth a user's attention (a block that left the model).

@@ -1,0 +1,70 @@
+// Where a step's time goes: per stage, the wall time and how the team's threads spent it
+// (run --profile), and optionally a timeline of chosen steps (run --trace).
+#pragma once
+#include <array>
+#include <cstdint>
+#include <vector>
+
+namespace ishibashi {
+
+// The stages of World::step in the order it calls them.
+enum class Stage : std::uint8_t { pose, broadphase, narrowphase, damping_caps, contact_law, gather, damping_solve, integrate };
+constexpr int kStageCount = 8;
+constexpr std::array<const char*, kStageCount> kStageNames = {
+    "pose", "broadphase", "narrowphase", "damping caps", "contact law", "gather", "damping solve", "integrate"};
+
+// One stage's time, summed over the steps. The thread times (Team::set_timing) are
+// measured only while a run profiles or traces; wall_s always.
+struct StageTime {
+  double wall_s = 0;     // on the calling thread, serial parts included
+  double team_s = 0;     // wall_s times the team size: the thread-seconds the stage held
+  double work_s = 0;     // thread-seconds claiming and running chunks, and the caller's serial parts
+  double serial_s = 0;   // the caller's serial parts (the rest of the team waits through them)
+  double mean_s = 0;     // sum over calls of work / team size
+  double slowest_s = 0;  // sum over calls of the busiest thread's work
+  // Threads' time waiting (at the loops' ends, or while the caller runs serial parts).
+  double wait_s() const { return team_s - work_s; }
+  // The busiest thread against the mean: 1 when the chunks spread evenly.
+  double imbalance() const { return mean_s > 0 ? slowest_s / mean_s : 1.0; }
+};
+
+// One thread's part of one stage of one step, seconds on the team's clock (Team::now_s).
+struct TraceSlice {
+  long step = 0;
+  double begin_s = 0, end_s = 0, busy_s = 0;
+  std::int16_t thread = 0;
+  std::int16_t stage = -1;  // -1: the whole step (caller's track)
+};
+
+// The slices of steps [first_step, last_step), kept in a buffer sized before the run.
+struct StageTrace {
+  long first_step = 0, last_step = 0;
+  std::vector<TraceSlice> slices;
+  bool covers(long step) const { return step >= first_step && step < last_step; }
+  // A slice if the buffer has room (it never grows inside a step); false when full.
+  bool add(const TraceSlice& slice) {
+    if (slices.size() == slices.capacity()) return false;
+    slices.push_back(slice);
+    return true;
+  }
+};
+
+struct Profile {
+  std::array<StageTime, kStageCount> stages{};
+  bool threads_timed = false;   // team_s, work_s, mean_s and slowest_s measured
+  long damping_iterations = 0;   // conjugate-gradient iterations, summed over the steps
+  long damping_unconverged = 0;  // steps whose solve stopped at kDampingSolveMaxIterations
+  long broadphase_rebuilds = 0;
+  long contact_regroups = 0;  // steps whose sub-contact arrays were regrouped (a count changed)
+  long thread_steps = 0;      // sum over steps of the team size (/ steps: the mean team)
+
+  StageTime& operator[](Stage s) { return stages[static_cast<int>(s)]; }
+  const StageTime& operator[](Stage s) const { return stages[static_cast<int>(s)]; }
+  double wall_s() const {
+    double total = 0;
+    for (const StageTime& s : stages) total += s.wall_s;
+    return total;
+  }
+};
+
+}  // namespace ishibashi
