@@ -131,7 +131,7 @@ bool update_pairs(const Model& m, State& s) {
   s.position_at_rebuild = s.position;
   s.pairs_valid = true;
   s.pairs_changed = true;
-  s.gather_index_valid = false;
+  s.pair_index_valid = false;
   return true;
 }
 

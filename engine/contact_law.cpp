@@ -85,13 +85,14 @@ std::uint8_t soften_bond(const PairLaw& law, const SpringConstants& k, double ar
 double apply_contact_law(const Model& m, State& s, double dt) {
   SubContacts& c = s.contacts;
   const std::ptrdiff_t np = static_cast<std::ptrdiff_t>(s.pairs.size());
+  if (!s.pair_index_valid) update_pair_index(m, s);  // its chunks (the narrowphase's)
   s.pair_force_n.resize(np);
   s.pair_moment_nm.resize(2 * np);
   const bool implicit_dashpots = m.options.damping == Damping::implicit;
-  std::array<EnergyParts, kReductionChunks> parts{};
+  std::array<EnergyParts, kStageChunks> parts{};
   // Pair by pair: what the sub-contacts of a pair share (blocks, velocities, law) is
   // loaded once, and their resultant is summed here so that the gather works on pairs.
-  parallel_chunks(np, kReductionChunks, [&](std::ptrdiff_t begin, std::ptrdiff_t end, int k) {
+  parallel_ranges(s.pair_chunk_begin.data(), kStageChunks, [&](std::ptrdiff_t begin, std::ptrdiff_t end, int k) {
     EnergyParts e;
     for (std::ptrdiff_t pi = begin; pi < end; ++pi) {
       const Pair& pair = s.pairs[pi];

@@ -3,15 +3,15 @@
 // block (no atomics, and the summation order, hence the result, is the same for any
 // thread count).
 #include <array>
+#include <cstdint>
 
 #include "engine/parallel.h"
 #include "engine/pipeline.h"
 
 namespace ishibashi {
-namespace {
 
-// Counting sort of (pair, side) entries by block; entry 2p is side a, 2p+1 side b.
-void build_gather_index(const Model& m, State& s) {
+void update_pair_index(const Model& m, State& s) {
+  // Counting sort of (pair, side) entries by block; entry 2p is side a, 2p+1 side b.
   const int nb = m.block_count;
   const int np = static_cast<int>(s.pairs.size());
   s.block_pair_begin.assign(nb + 1, 0);
@@ -26,17 +26,24 @@ void build_gather_index(const Model& m, State& s) {
     s.block_pair[s.block_pair_cursor[s.pairs[p].a]++] = 2 * p;
     s.block_pair[s.block_pair_cursor[s.pairs[p].b]++] = 2 * p + 1;
   }
-  s.gather_index_valid = true;
+  // Pairs are sorted by a: chunk k of the pair loops starts at the first pair whose a is in
+  // chunk k of the block loops, so a thread's range of pairs is that of its blocks.
+  s.pair_chunk_begin.resize(kStageChunks + 1);
+  int p = 0;
+  for (int k = 0; k <= kStageChunks; ++k) {
+    const int first_block = static_cast<int>(std::int64_t{nb} * k / kStageChunks);
+    while (p < np && s.pairs[p].a < first_block) ++p;
+    s.pair_chunk_begin[k] = k == kStageChunks ? np : p;
+  }
+  s.pair_index_valid = true;
 }
-
-}  // namespace
 
 double gather_forces(const Model& m, State& s) {
   const int nb = m.block_count;
-  if (!s.gather_index_valid) build_gather_index(m, s);  // only when the pair list changed
+  if (!s.pair_index_valid) update_pair_index(m, s);  // only when the pair list changed
 
-  std::array<double, kReductionChunks> parts{};
-  parallel_chunks(nb, kReductionChunks, [&](std::ptrdiff_t begin, std::ptrdiff_t end, int k) {
+  std::array<double, kStageChunks> parts{};
+  parallel_chunks(nb, kStageChunks, [&](std::ptrdiff_t begin, std::ptrdiff_t end, int k) {
     double power = 0.0;
     for (std::ptrdiff_t b = begin; b < end; ++b) {
       Vec3 f = Vec3::Zero(), t = Vec3::Zero();

@@ -21,11 +21,10 @@ enum class Layout : std::uint8_t { unchanged = 0, same = 1, regroup = 2 };
 // Every pair: searched, and its manifold rebuilt into its chunk's buffer (with history),
 // or its sub-contacts updated in place. Returns how the sub-contact layout changed.
 Layout build_manifolds(const Model& m, State& s, bool first_detection, double dt_s) {
-  const int np = static_cast<int>(s.pairs.size());
-  const int chunks = kBufferChunks;
+  const int chunks = kStageChunks;
   s.chunk_contacts.resize(chunks);
   s.chunk_regroup.assign(chunks, 0);
-  parallel_chunks(np, chunks, [&](std::ptrdiff_t begin, std::ptrdiff_t end, int k) {
+  parallel_ranges(s.pair_chunk_begin.data(), chunks, [&](std::ptrdiff_t begin, std::ptrdiff_t end, int k) {
     SubContacts& out = s.chunk_contacts[k];
     out.clear();
     thread_local Manifold manifold;  // one per thread, reused
@@ -54,8 +53,7 @@ Layout build_manifolds(const Model& m, State& s, bool first_detection, double dt
 
 // Same layout: rebuilt pairs overwrite their own ranges.
 void overwrite_rebuilt(State& s) {
-  const int np = static_cast<int>(s.pairs.size());
-  parallel_chunks(np, kBufferChunks, [&](std::ptrdiff_t begin, std::ptrdiff_t end, int k) {
+  parallel_ranges(s.pair_chunk_begin.data(), kStageChunks, [&](std::ptrdiff_t begin, std::ptrdiff_t end, int k) {
     for (std::ptrdiff_t pi = begin; pi < end; ++pi) {
       const Pair& pair = s.pairs[pi];
       if (pair.rebuilt_count > 0)
@@ -69,7 +67,7 @@ void overwrite_rebuilt(State& s) {
 // current arrays, which it then replaces.
 void regroup(State& s) {
   const int np = static_cast<int>(s.pairs.size());
-  const int chunks = kBufferChunks;
+  const int chunks = kStageChunks;
   ++s.profile.contact_regroups;
   s.pair_scratch_begin.resize(np);
   int total = 0;
@@ -79,7 +77,7 @@ void regroup(State& s) {
     total += pair.rebuilt_count >= 0 ? pair.rebuilt_count : pair.sub_count;
   }
   s.next_contacts.resize(total);
-  parallel_chunks(np, chunks, [&](std::ptrdiff_t begin, std::ptrdiff_t end, int k) {
+  parallel_ranges(s.pair_chunk_begin.data(), chunks, [&](std::ptrdiff_t begin, std::ptrdiff_t end, int k) {
     // Runs of pairs that kept their sub-contacts are contiguous in both layouts: one
     // copy per run, not one per pair (a regroup typically changes a handful of pairs).
     int run_from = 0, run_to = 0, run_count = 0;
@@ -108,6 +106,7 @@ void regroup(State& s) {
 }  // namespace
 
 void update_contacts(const Model& m, State& s, bool first_detection, double dt_s) {
+  if (!s.pair_index_valid) update_pair_index(m, s);  // the pair list changed: its chunks
   switch (build_manifolds(m, s, first_detection, dt_s)) {
     case Layout::unchanged: return;  // every pair updated in place (or still apart)
     case Layout::same: return overwrite_rebuilt(s);

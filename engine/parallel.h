@@ -39,6 +39,13 @@ constexpr int kReductionChunks = 64;
 // sub-contacts): a fixed count, so the buffers keep their capacity whatever the team size.
 constexpr int kBufferChunks = 64;
 
+// Chunks of the step's long loops (pose, narrowphase, contact law, gather): on 16 threads
+// 16 chunks each, so a thread that ends its range early (its chunks were cheaper) takes
+// work in pieces of 1/256 of the stage; with 64 such a piece was a fifth of a 16-thread
+// stage and the team waited for it (model F: 20 % of the contact law's team time). The
+// contact law's and gather's per-chunk energy sums are added in chunk order as before.
+constexpr int kStageChunks = 256;
+
 // Below this many items (blocks or pairs) a loop runs on the calling thread: waking a
 // team costs more than a tiny scene's whole step.
 constexpr std::ptrdiff_t kMinParallelItems = 128;
@@ -57,10 +64,22 @@ void parallel_chunks(std::ptrdiff_t n, int chunk_count, Fn&& fn) {
       threads, chunk_count, [](const void* c, int k) noexcept { (*static_cast<const Chunk*>(c))(k); }, &chunk);
 }
 
+// Calls fn(begin, end, chunk) for the chunks [bounds[k], bounds[k + 1]), k < chunk_count
+// (bounds non-decreasing, chunk_count + 1 of them): chunks of uneven length, fixed by the
+// data alone (State::pair_chunk_begin), never by the number of threads.
+template <class Fn>
+void parallel_ranges(const int* bounds, int chunk_count, Fn&& fn) {
+  const auto chunk = [&](int k) { fn(std::ptrdiff_t{bounds[k]}, std::ptrdiff_t{bounds[k + 1]}, k); };
+  const int threads = bounds[chunk_count] - bounds[0] >= kMinParallelItems ? thread_count() : 1;
+  using Chunk = decltype(chunk);
+  Team::of_this_thread().run(
+      threads, chunk_count, [](const void* c, int k) noexcept { (*static_cast<const Chunk*>(c))(k); }, &chunk);
+}
+
 // Calls fn(i) for i in [0, n), spread over the threads.
 template <class Fn>
 void parallel_for(std::ptrdiff_t n, Fn&& fn) {
-  parallel_chunks(n, kBufferChunks, [&](std::ptrdiff_t begin, std::ptrdiff_t end, int) {
+  parallel_chunks(n, kStageChunks, [&](std::ptrdiff_t begin, std::ptrdiff_t end, int) {
     for (std::ptrdiff_t i = begin; i < end; ++i) fn(i);
   });
 }

@@ -57,6 +57,10 @@ std::vector<BlockLimit> block_stability_limits(const Model& model, const State& 
 // kDampingCapMargin (model.h) of its limit; 1 where the materials' h already does.
 void update_damping_caps(const Model& model, State& state, double dt_s);
 
+// gather.cpp: the indices that follow the pair list (State::pair_index_valid): each
+// block's pairs for the gather, and the pair loops' chunks (State::pair_chunk_begin).
+void update_pair_index(const Model& model, State& state);
+
 // gather.cpp: resultant force and torque on each block, race-free (block -> contacts index).
 // Returns the power that prescribed blocks put into the system (W).
 double gather_forces(const Model& model, State& state);

@@ -195,10 +195,14 @@ struct State {
   std::vector<Vec3> pair_force_n;        // (np) resultant force of a pair's sub-contacts on b
   std::vector<Vec3> pair_moment_nm;      // (2 np) moment of the pair's forces on a about a's
                                          // centroid (2p), and on b about b's (2p + 1)
-  std::vector<int> block_pair_begin;     // (nb+1) gather index, rebuilt with the pair list:
-  std::vector<int> block_pair;           // entry 2 p is side a of pair p, 2 p + 1 side b
-  std::vector<int> block_pair_cursor;
-  bool gather_index_valid = false;
+  // Indices that follow the pair list (update_pair_index, when it changed):
+  std::vector<int> block_pair_begin;     // (nb+1) gather index: block b's entries are
+  std::vector<int> block_pair;           // block_pair[block_pair_begin[b] ..]; entry 2 p is
+  std::vector<int> block_pair_cursor;    // side a of pair p, 2 p + 1 side b
+  std::vector<int> pair_chunk_begin;     // (kStageChunks + 1) the pair loops' chunk k: pairs
+                                         // [k] .. [k + 1], those whose block a lies in the
+                                         // block loops' chunk k
+  bool pair_index_valid = false;
   std::vector<double> damping_scale;     // (nb) factor on the dashpots of a block's sub-contacts
                                          // (a pair takes the smaller): 1 unless
                                          // Damping::capped caps them

@@ -34,7 +34,7 @@ void write_state(CheckpointWriter& out, const State& s) { visit_state(out, s); }
 
 void read_state(CheckpointReader& in, State& s) {
   visit_state(in, s);
-  s.gather_index_valid = false;  // the gather index follows the restored pair list
+  s.pair_index_valid = false;  // the pair indices follow the restored pair list
 }
 
 }  // namespace ishibashi
