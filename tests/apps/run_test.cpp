@@ -10,8 +10,10 @@
 #include <cmath>
 #include <cstdlib>
 #include <fstream>
+#include <nlohmann/json.hpp>
 #include <sstream>
 
+#include "command_line.h"
 #include "io/vtk_input.h"
 
 namespace ishibashi {
@@ -168,6 +170,35 @@ TEST(Run, InterruptedRunLeavesValidFiles) {
   std::stringstream text;
   text << summary.rdbuf();
   EXPECT_NE(text.str().find("\"interrupted\": true"), std::string::npos) << text.str();
+}
+
+// run --profile prints each stage's split of the team's time; --trace writes the steps
+// asked for as a Chrome trace; a step range that is not FROM:TO is refused before the run.
+TEST(Run, ProfileTableAndTraceOfAShortRun) {
+  const auto out = std::filesystem::temp_directory_path() / "ishibashi_run_trace";
+  std::filesystem::remove_all(out);
+  const auto trace = out.string() + ".json";
+  int status = 0;
+  const std::string output = test::run_command(std::string(ISHIBASHI_BINARY) + " run --quiet " + short_scenario(0.05).string() +
+                                                   " --threads 2 --profile --trace " + trace + " --trace-steps 10:15 --out " +
+                                                   out.string(), &status);
+  ASSERT_EQ(status, 0) << output;
+  EXPECT_NE(output.find("working  waiting   serial  imbalance"), std::string::npos) << output;
+  for (const char* stage : {"\npose ", "\nnarrowphase ", "\ncontact law ", "\ngather ", "\nintegrate "})
+    EXPECT_NE(output.find(stage), std::string::npos) << stage;
+  EXPECT_NE(output.find("trace of 5 steps (10:15 asked)"), std::string::npos) << output;
+  const nlohmann::json doc = nlohmann::json::parse(std::ifstream(trace));
+  int steps = 0;
+  for (const auto& e : doc["traceEvents"]) steps += e.value("cat", "") == "step";
+  EXPECT_EQ(steps, 5);
+  const nlohmann::json summary = nlohmann::json::parse(std::ifstream(out / "summary.json"));
+  EXPECT_GE(summary["stages"]["contact law"]["imbalance"].get<double>(), 1.0);
+
+  const std::string refused = test::run_command(std::string(ISHIBASHI_BINARY) + " run --quiet " + short_scenario(0.05).string() +
+                                                    " --trace " + trace + " --trace-steps 15:10 --out " + out.string(), &status);
+  EXPECT_NE(status, 0);
+  EXPECT_NE(refused.find("--trace-steps 15:10: expected FROM:TO"), std::string::npos) << refused;
+  std::filesystem::remove(trace);
 }
 
 }  // namespace
