@@ -1,7 +1,6 @@
 #include "engine/world.h"
 
 #include <algorithm>
-#include <chrono>
 #include <cmath>
 #include <sstream>
 
@@ -10,12 +9,6 @@
 #include "engine/team.h"
 
 namespace ishibashi {
-namespace {
-
-using Clock = std::chrono::steady_clock;
-double seconds_since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
-
-}  // namespace
 
 World::World(Model model, double dt_s)
     : model_(std::move(model)), state_(make_initial_state(model_)), dt_s_(dt_s), tuner_(thread_count()) {
@@ -53,7 +46,7 @@ double World::critical_time_step_s(int* block) const {
   return stability_limit_s(model_, state_, /*with_damping=*/explicit_dashpots, block);
 }
 
-// Runs one stage of step `step`, timing it into the profile: its wall time always, and
+// Runs one stage of the step, timing it into the profile: its wall time always, and
 // with the team's timing on each thread's share (and the trace's slices in traced steps).
 template <class Fn>
 auto World::timed(Stage stage, Fn&& fn) {
@@ -114,18 +107,17 @@ void World::step() {
   State& s = state_;
   Profile& p = s.profile;
   const ScopedTeamSize team(tuner_.threads());
-  const auto step0 = Clock::now();
-  Team::of_this_thread().set_timing(p.threads_timed);  // the team of the thread stepping now
-  const double step_begin = Team::of_this_thread().now_s();
+  Team& team_of_thread = Team::of_this_thread();
+  team_of_thread.set_timing(p.threads_timed);  // the team of the thread stepping now
+  const double step_begin = team_of_thread.now_s();
 
   timed(Stage::pose, [&] { update_pose(m, s); });
-  if (timed(Stage::broadphase, [&] { return update_pairs(m, s); })) {
-    ++p.broadphase_rebuilds;
-    // Caps follow the blocks' joints as they change, checked when the pair list is rebuilt
-    // (a block moved half the margin): between rebuilds a block's joints barely change.
-    if (m.options.damping == Damping::capped) timed(Stage::damping_caps, [&] { update_damping_caps(m, s, dt_s_); });
-  }
+  const bool rebuilt = timed(Stage::broadphase, [&] { return update_pairs(m, s); });
+  if (rebuilt) ++p.broadphase_rebuilds;
   timed(Stage::narrowphase, [&] { update_contacts(m, s, /*first_detection=*/false, dt_s_); });
+  // Caps follow the blocks' joints as they change, checked when the pair list is rebuilt
+  // (a block moved half the margin): between rebuilds a block's joints barely change.
+  if (rebuilt && m.options.damping == Damping::capped) timed(Stage::damping_caps, [&] { update_damping_caps(m, s, dt_s_); });
   const double elastic = timed(Stage::contact_law, [&] { return apply_contact_law(m, s, dt_s_); });
   const double prescribed_power = timed(Stage::gather, [&] { return gather_forces(m, s); });
   if (m.options.damping == Damping::implicit) {
@@ -157,11 +149,12 @@ void World::step() {
   e.prescribed_work_j += prescribed_power * dt_s_;
   e.left_model_j += before.left_model_j;
 
-  if (trace_.covers(s.step)) trace_.add({s.step, step_begin, Team::of_this_thread().now_s(), 0, 0, -1});
+  const double step_end = team_of_thread.now_s();
+  if (trace_.covers(s.step)) trace_.add({s.step, step_begin, step_end, 0, 0, -1});
   s.time_s += dt_s_;
   ++s.step;
   p.thread_steps += tuner_.threads();
-  tuner_.record(seconds_since(step0));
+  tuner_.record(step_end - step_begin);
 }
 
 int World::form_bonds() { return ishibashi::form_bonds(model_, state_); }
