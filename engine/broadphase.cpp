@@ -1,4 +1,5 @@
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdint>
 
@@ -41,10 +42,15 @@ std::vector<Pair> brute_force_pairs(const Model& m, const State& s) {
 bool update_pairs(const Model& m, State& s) {
   const int nb = m.block_count;
   if (s.pairs_valid) {
+    // On the team: alone, the calling thread's check was 2 % of model F's step on 16 threads.
     const double limit2 = 0.25 * m.margin_m * m.margin_m;
-    bool moved = false;
-    for (int b = 0; b < nb && !moved; ++b) moved = (s.position[b] - s.position_at_rebuild[b]).squaredNorm() > limit2;
-    if (!moved) return false;
+    std::array<std::uint8_t, kStageChunks> moved{};
+    parallel_chunks(nb, kStageChunks, [&](std::ptrdiff_t begin, std::ptrdiff_t end, int k) {
+      bool any = false;  // written once: the chunks' flags share cache lines
+      for (std::ptrdiff_t b = begin; b < end && !any; ++b) any = (s.position[b] - s.position_at_rebuild[b]).squaredNorm() > limit2;
+      moved[k] = any;
+    });
+    if (std::none_of(moved.begin(), moved.end(), [](std::uint8_t x) { return x != 0; })) return false;
   }
 
   // Hashed uniform grid: one bucket per occupied cell (collisions only add candidates),
