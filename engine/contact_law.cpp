@@ -92,7 +92,7 @@ double apply_contact_law(const Model& m, State& s, double dt) {
   std::array<EnergyParts, kStageChunks> parts{};
   // Pair by pair: what the sub-contacts of a pair share (blocks, velocities, law) is
   // loaded once, and their resultant is summed here so that the gather works on pairs.
-  parallel_ranges(s.pair_chunk_begin.data(), kStageChunks, [&](std::ptrdiff_t begin, std::ptrdiff_t end, int k) {
+  parallel_ranges(s.pair_chunk_begin.data(), static_cast<int>(s.pair_chunk_begin.size()) - 1, [&](std::ptrdiff_t begin, std::ptrdiff_t end, int k) {
     EnergyParts e;
     for (std::ptrdiff_t pi = begin; pi < end; ++pi) {
       const Pair& pair = s.pairs[pi];

@@ -28,12 +28,13 @@ void update_pair_index(const Model& m, State& s) {
   }
   // Pairs are sorted by a: chunk k of the pair loops starts at the first pair whose a is in
   // chunk k of the block loops, so a thread's range of pairs is that of its blocks.
-  s.pair_chunk_begin.resize(kStageChunks + 1);
+  const int chunks = stage_chunks(nb);
+  s.pair_chunk_begin.resize(chunks + 1);
   int p = 0;
-  for (int k = 0; k <= kStageChunks; ++k) {
-    const int first_block = static_cast<int>(std::int64_t{nb} * k / kStageChunks);
+  for (int k = 0; k <= chunks; ++k) {
+    const int first_block = static_cast<int>(std::int64_t{nb} * k / chunks);
     while (p < np && s.pairs[p].a < first_block) ++p;
-    s.pair_chunk_begin[k] = k == kStageChunks ? np : p;
+    s.pair_chunk_begin[k] = k == chunks ? np : p;
   }
   s.pair_index_valid = true;
 }
@@ -43,7 +44,7 @@ double gather_forces(const Model& m, State& s) {
   if (!s.pair_index_valid) update_pair_index(m, s);  // only when the pair list changed
 
   std::array<double, kStageChunks> parts{};
-  parallel_chunks(nb, kStageChunks, [&](std::ptrdiff_t begin, std::ptrdiff_t end, int k) {
+  parallel_chunks(nb, stage_chunks(nb), [&](std::ptrdiff_t begin, std::ptrdiff_t end, int k) {
     double power = 0.0;
     for (std::ptrdiff_t b = begin; b < end; ++b) {
       Vec3 f = Vec3::Zero(), t = Vec3::Zero();

@@ -21,7 +21,7 @@ enum class Layout : std::uint8_t { unchanged = 0, same = 1, regroup = 2 };
 // Every pair: searched, and its manifold rebuilt into its chunk's buffer (with history),
 // or its sub-contacts updated in place. Returns how the sub-contact layout changed.
 Layout build_manifolds(const Model& m, State& s, bool first_detection, double dt_s) {
-  const int chunks = kStageChunks;
+  const int chunks = static_cast<int>(s.pair_chunk_begin.size()) - 1;
   s.chunk_contacts.resize(chunks);
   s.chunk_regroup.assign(chunks, 0);
   parallel_ranges(s.pair_chunk_begin.data(), chunks, [&](std::ptrdiff_t begin, std::ptrdiff_t end, int k) {
@@ -53,7 +53,7 @@ Layout build_manifolds(const Model& m, State& s, bool first_detection, double dt
 
 // Same layout: rebuilt pairs overwrite their own ranges.
 void overwrite_rebuilt(State& s) {
-  parallel_ranges(s.pair_chunk_begin.data(), kStageChunks, [&](std::ptrdiff_t begin, std::ptrdiff_t end, int k) {
+  parallel_ranges(s.pair_chunk_begin.data(), static_cast<int>(s.pair_chunk_begin.size()) - 1, [&](std::ptrdiff_t begin, std::ptrdiff_t end, int k) {
     for (std::ptrdiff_t pi = begin; pi < end; ++pi) {
       const Pair& pair = s.pairs[pi];
       if (pair.rebuilt_count > 0)
@@ -67,7 +67,7 @@ void overwrite_rebuilt(State& s) {
 // current arrays, which it then replaces.
 void regroup(State& s) {
   const int np = static_cast<int>(s.pairs.size());
-  const int chunks = kStageChunks;
+  const int chunks = static_cast<int>(s.pair_chunk_begin.size()) - 1;
   ++s.profile.contact_regroups;
   s.pair_scratch_begin.resize(np);
   int total = 0;

@@ -39,12 +39,19 @@ constexpr int kReductionChunks = 64;
 // sub-contacts): a fixed count, so the buffers keep their capacity whatever the team size.
 constexpr int kBufferChunks = 64;
 
-// Chunks of the step's long loops (pose, narrowphase, contact law, gather): on 16 threads
-// 16 chunks each, so a thread that ends its range early (its chunks were cheaper) takes
-// work in pieces of 1/256 of the stage; with 64 such a piece was a fifth of a 16-thread
-// stage and the team waited for it (model F: 20 % of the contact law's team time). The
-// contact law's and gather's per-chunk energy sums are added in chunk order as before.
+// Chunks of the step's long loops over blocks (pose, broadphase check, gather) and, by
+// their first block, pairs (narrowphase, contact law): one per kStageChunkBlocks blocks,
+// at most kStageChunks. Model F (2,003 blocks) gets 250: on 16 threads about 16 each, so a
+// thread that ends its range early takes work in pieces of 1/250 of the stage (with 64
+// such a piece was a fifth of a 16-thread stage and the team waited for it: 20 % of the
+// contact law's team time); model A (166 blocks) 20, so that claiming a chunk stays
+// cheap against running it. Fixed by the model, never by the threads; the contact law's
+// and gather's per-chunk energy sums are added in chunk order.
 constexpr int kStageChunks = 256;
+constexpr int kStageChunkBlocks = 8;
+inline int stage_chunks(std::ptrdiff_t blocks) {
+  return static_cast<int>(std::clamp<std::ptrdiff_t>(blocks / kStageChunkBlocks, 1, kStageChunks));
+}
 
 // Below this many items (blocks or pairs) a loop runs on the calling thread: waking a
 // team costs more than a tiny scene's whole step.
@@ -76,10 +83,10 @@ void parallel_ranges(const int* bounds, int chunk_count, Fn&& fn) {
       threads, chunk_count, [](const void* c, int k) noexcept { (*static_cast<const Chunk*>(c))(k); }, &chunk);
 }
 
-// Calls fn(i) for i in [0, n), spread over the threads.
+// Calls fn(i) for i in [0, n) (blocks), spread over the threads.
 template <class Fn>
 void parallel_for(std::ptrdiff_t n, Fn&& fn) {
-  parallel_chunks(n, kStageChunks, [&](std::ptrdiff_t begin, std::ptrdiff_t end, int) {
+  parallel_chunks(n, stage_chunks(n), [&](std::ptrdiff_t begin, std::ptrdiff_t end, int) {
     for (std::ptrdiff_t i = begin; i < end; ++i) fn(i);
   });
 }

@@ -199,7 +199,7 @@ struct State {
   std::vector<int> block_pair_begin;     // (nb+1) gather index: block b's entries are
   std::vector<int> block_pair;           // block_pair[block_pair_begin[b] ..]; entry 2 p is
   std::vector<int> block_pair_cursor;    // side a of pair p, 2 p + 1 side b
-  std::vector<int> pair_chunk_begin;     // (kStageChunks + 1) the pair loops' chunk k: pairs
+  std::vector<int> pair_chunk_begin;     // (stage_chunks + 1) the pair loops' chunk k: pairs
                                          // [k] .. [k + 1], those whose block a lies in the
                                          // block loops' chunk k
   bool pair_index_valid = false;
