@@ -57,18 +57,23 @@ inline int stage_chunks(std::ptrdiff_t blocks) {
 // team costs more than a tiny scene's whole step.
 constexpr std::ptrdiff_t kMinParallelItems = 128;
 
+// Runs chunk(k), k < chunk_count, on the caller's team, or on the calling thread alone
+// when the loop covers fewer than kMinParallelItems items.
+template <class Chunk>
+void run_on_team(std::ptrdiff_t items, int chunk_count, const Chunk& chunk) {
+  const int threads = items >= kMinParallelItems ? thread_count() : 1;
+  // noexcept: an exception in a chunk ends the program, as one escaping an OpenMP loop
+  // does (the other threads may still be running chunks that use this frame).
+  Team::of_this_thread().run(
+      threads, chunk_count, [](const void* c, int k) noexcept { (*static_cast<const Chunk*>(c))(k); }, &chunk);
+}
+
 // Calls fn(begin, end, chunk) for `chunk_count` contiguous chunks covering [0, n), chunk k
 // before chunk k+1 in index order. The chunking depends on chunk_count only, never on
 // the number of threads, so per-chunk results can be combined deterministically.
 template <class Fn>
 void parallel_chunks(std::ptrdiff_t n, int chunk_count, Fn&& fn) {
-  const auto chunk = [&](int k) { fn(n * k / chunk_count, n * (k + 1) / chunk_count, k); };
-  const int threads = n >= kMinParallelItems ? thread_count() : 1;
-  using Chunk = decltype(chunk);
-  // noexcept: an exception in a chunk ends the program, as one escaping an OpenMP loop
-  // does (the other threads may still be running chunks that use this frame).
-  Team::of_this_thread().run(
-      threads, chunk_count, [](const void* c, int k) noexcept { (*static_cast<const Chunk*>(c))(k); }, &chunk);
+  run_on_team(n, chunk_count, [&](int k) { fn(n * k / chunk_count, n * (k + 1) / chunk_count, k); });
 }
 
 // Calls fn(begin, end, chunk) for the chunks [bounds[k], bounds[k + 1]), k < chunk_count
@@ -76,11 +81,8 @@ void parallel_chunks(std::ptrdiff_t n, int chunk_count, Fn&& fn) {
 // data alone (State::pair_chunk_begin), never by the number of threads.
 template <class Fn>
 void parallel_ranges(const int* bounds, int chunk_count, Fn&& fn) {
-  const auto chunk = [&](int k) { fn(std::ptrdiff_t{bounds[k]}, std::ptrdiff_t{bounds[k + 1]}, k); };
-  const int threads = bounds[chunk_count] - bounds[0] >= kMinParallelItems ? thread_count() : 1;
-  using Chunk = decltype(chunk);
-  Team::of_this_thread().run(
-      threads, chunk_count, [](const void* c, int k) noexcept { (*static_cast<const Chunk*>(c))(k); }, &chunk);
+  run_on_team(bounds[chunk_count] - bounds[0], chunk_count,
+              [&](int k) { fn(std::ptrdiff_t{bounds[k]}, std::ptrdiff_t{bounds[k + 1]}, k); });
 }
 
 // Calls fn(i) for i in [0, n) (blocks), spread over the threads.
