@@ -15,6 +15,8 @@
 #   PresetHashes.* (the twelve presets, a minute in Release): the program path of SeismicRun.
 #   BondBending.BondedWall* (1-4 min each): the pillar tests' code on a wall of 24 stones.
 #   Run.ShortSeismicRun* stays: the program's whole run path, VTK output included.
+#   Run.ProfileTableAndTrace* (40 s): the same run path with --profile and --trace, whose
+#   engine and writer code ChromeTrace.* runs under the sanitizers.
 set -euo pipefail
 root=$(cd "$(dirname "$0")/.." && pwd)
 bash "$root/scripts/setup.sh"
@@ -27,4 +29,4 @@ cmake --build "$build" --target engine_tests io_tests analysis_tests replay_corp
 export ASAN_OPTIONS=detect_leaks=1:abort_on_error=1
 export UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1:suppressions=$root/scripts/ubsan.supp
 cd "$build" && ctest --output-on-failure --timeout 600 -j 2 \
-  -E 'PresetHashes\.|ArchRing\..*Stands|Impact\.EdgeAndCornerDrops|Impact\.RandomDrops|LimitState\.|Presets\..*nishida_[b-f]|SeismicRun\.|Study\.(QuickStudy|Interrupted)|Sweep\.|Checkpoint\.|Determinism\..*OneToFourThreads|BondBending\.BondedWall'
+  -E 'PresetHashes\.|ArchRing\..*Stands|Impact\.EdgeAndCornerDrops|Impact\.RandomDrops|LimitState\.|Presets\..*nishida_[b-f]|SeismicRun\.|Study\.(QuickStudy|Interrupted)|Sweep\.|Checkpoint\.|Determinism\..*OneToFourThreads|BondBending\.BondedWall|Run\.ProfileTableAndTrace'
