@@ -51,7 +51,7 @@ double World::critical_time_step_s(int* block) const {
 template <class Fn>
 auto World::timed(Stage stage, Fn&& fn) {
   Team& team = Team::of_this_thread();
-  const int threads = tuner_.threads();
+  const int threads = std::min(tuner_.threads(), Team::kMaxThreads);  // the team's largest size
   if (team.timing()) team.clear_times(threads);
   const double begin = team.now_s();
   struct Finish {
