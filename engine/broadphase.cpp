@@ -43,11 +43,12 @@ bool update_pairs(const Model& m, State& s) {
   const int nb = m.block_count;
   if (s.pairs_valid) {
     // On the team for large models (alone, the calling thread's check was 2 % of model F's
-    // step on 16 threads); below 1,000 blocks the check (3 ns a block) costs less than
+    // step on 16 threads); below kTeamCheckBlocks the check (3 ns a block) costs less than
     // posting a loop.
+    constexpr int kTeamCheckBlocks = 1000;
     const double limit2 = 0.25 * m.margin_m * m.margin_m;
     std::array<std::uint8_t, kStageChunks> moved{};
-    parallel_chunks(nb, nb >= 1000 ? stage_chunks(nb) : 1, [&](std::ptrdiff_t begin, std::ptrdiff_t end, int k) {
+    parallel_chunks(nb, nb >= kTeamCheckBlocks ? stage_chunks(nb) : 1, [&](std::ptrdiff_t begin, std::ptrdiff_t end, int k) {
       bool any = false;  // written once: the chunks' flags share cache lines
       for (std::ptrdiff_t b = begin; b < end && !any; ++b) any = (s.position[b] - s.position_at_rebuild[b]).squaredNorm() > limit2;
       moved[k] = any;

@@ -85,7 +85,6 @@ std::uint8_t soften_bond(const PairLaw& law, const SpringConstants& k, double ar
 double apply_contact_law(const Model& m, State& s, double dt) {
   SubContacts& c = s.contacts;
   const std::ptrdiff_t np = static_cast<std::ptrdiff_t>(s.pairs.size());
-  if (!s.pair_index_valid) update_pair_index(m, s);  // its chunks (the narrowphase's)
   s.pair_force_n.resize(np);
   s.pair_moment_nm.resize(2 * np);
   const bool implicit_dashpots = m.options.damping == Damping::implicit;

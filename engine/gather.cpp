@@ -41,7 +41,6 @@ void update_pair_index(const Model& m, State& s) {
 
 double gather_forces(const Model& m, State& s) {
   const int nb = m.block_count;
-  if (!s.pair_index_valid) update_pair_index(m, s);  // only when the pair list changed
 
   std::array<double, kStageChunks> parts{};
   parallel_chunks(nb, stage_chunks(nb), [&](std::ptrdiff_t begin, std::ptrdiff_t end, int k) {

@@ -59,6 +59,8 @@ void update_damping_caps(const Model& model, State& state, double dt_s);
 
 // gather.cpp: the indices that follow the pair list (State::pair_index_valid): each
 // block's pairs for the gather, and the pair loops' chunks (State::pair_chunk_begin).
+// update_contacts rebuilds them when the pair list changed; the contact law, the gather
+// and the implicit dashpots that follow it in a step read them.
 void update_pair_index(const Model& model, State& state);
 
 // gather.cpp: resultant force and torque on each block, race-free (block -> contacts index).

@@ -102,13 +102,12 @@ void Team::wait_for_chunks(int chunk_count) {
   caller_asleep_.store(false);
 }
 
-int Team::claim(int r, std::uint32_t generation, int chunk_count, int threads) {
+int Team::claim(int r, std::uint32_t generation, int size) {
   std::atomic<std::uint64_t>& range = slots_[r].range;
-  const int size = range_begin(r + 1, chunk_count, threads) - range_begin(r, chunk_count, threads);
   std::uint64_t seen = range.load(std::memory_order_relaxed);
   for (;;) {
     if (generation_of(seen) != generation || taken_of(seen) >= size) return -1;
-    if (range.compare_exchange_weak(seen, seen + 1)) return range_begin(r, chunk_count, threads) + taken_of(seen);
+    if (range.compare_exchange_weak(seen, seen + 1)) return taken_of(seen);
   }
 }
 
@@ -123,7 +122,8 @@ int Team::run_chunks(int me, std::uint32_t generation) {
   // Its own range first, then the others' in turn from the next thread's.
   for (int step = 0; step < threads; ++step) {
     const int r = (me + step) % threads;
-    for (int k; (k = claim(r, generation, count, threads)) >= 0; ++ran) chunk(context, k);
+    const int begin_r = range_begin(r, count, threads), size = range_begin(r + 1, count, threads) - begin_r;
+    for (int k; (k = claim(r, generation, size)) >= 0; ++ran) chunk(context, begin_r + k);
     if (ran > reported) {
       if (timing_) note_time(me, begin, reported == 0);  // before done_: the caller reads it after
       const int total = done_.fetch_add(ran - reported) + ran - reported;

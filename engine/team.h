@@ -70,8 +70,9 @@ class Team {
   // Claims and runs chunks of loop `generation` as thread `me`: its own range, then the
   // others'. Returns how many it ran.
   int run_chunks(int me, std::uint32_t generation);
-  // Claims the next chunk of range r of loop `generation`; -1 when none is left.
-  int claim(int r, std::uint32_t generation, int chunk_count, int threads);
+  // Claims the next of the `size` chunks of range r of loop `generation`: its index in the
+  // range, -1 when none is left.
+  int claim(int r, std::uint32_t generation, int size);
   // The caller, after its own chunks: until every chunk of the posted loop is done.
   void wait_for_chunks(int chunk_count);
   // Notes thread me's share of the loop that it began at begin_s, as of now.
