@@ -35,18 +35,6 @@ Vec6 mass_times(const Model& m, const State& s, std::ptrdiff_t b, const Vec6& x)
   return y;
 }
 
-Vec6 times(const Sym6& k, const Vec6& x) {
-  double y[6];
-#pragma GCC unroll 6
-  for (int i = 0; i < 6; ++i) {
-    double sum = 0;
-#pragma GCC unroll 6
-    for (int j = 0; j < 6; ++j) sum += k.v[kSymIndex[i][j]] * x[j];
-    y[i] = sum;
-  }
-  return Vec6(y[0], y[1], y[2], y[3], y[4], y[5]);
-}
-
 Mat6 full(const Sym6& k) {
   Mat6 f;
   int at = 0;
@@ -55,67 +43,90 @@ Mat6 full(const Sym6& k) {
   return f;
 }
 
-// Resultants of the dashpot forces of the pair in slot k at block velocities x (nb, world
-// frame): the force on b (N) and the moments on a about x_a and on b about x_b (N m).
-struct PairResultant {
-  Vec3 force, moment_a, moment_b;
-};
-// Inlined into both passes that call it (GCC would not): 7 % of the solve on model F.
-inline __attribute__((always_inline)) PairResultant pair_dashpots(const ImplicitDamping& w, const std::vector<Vec6>& x,
-                                                                  std::ptrdiff_t k) {
-  const int a = w.blocks[k][0], b = w.blocks[k][1];
-  const Vec3& d = w.lever[k];
-  Vec6 relative;  // v0 = v_b + w_b x (x_a - x_b) - v_a, w = w_b - w_a
-  relative << linear(x[b]) - linear(x[a]) - angular(x[b]).cross(d), angular(x[b]) - angular(x[a]);
-  const Vec6 f = -times(w.pair_matrix[k], relative);
-  return {linear(f), -angular(f), angular(f) - d.cross(linear(f))};
-}
-
-// Every pair's dashpot resultants at x, in State's pair arrays (pairs without
-// sub-contacts keep the zeros the contact law wrote). With `assemble`, the pair matrices
-// are first summed from the sub-contacts' dashpots as the contact law left them this
-// step: none where a sub-contact is open, no shear one where it slides and no normal one
-// where a softening bond is held at its tensile strength (MODEL.md section 3).
-void dashpot_resultants(State& s, const std::vector<Vec6>& x, bool assemble = false) {
-  ImplicitDamping& w = s.implicit;
-  parallel_chunks(static_cast<std::ptrdiff_t>(w.pairs.size()), kReductionChunks, [&](std::ptrdiff_t begin, std::ptrdiff_t end, int) {
-    for (std::ptrdiff_t k = begin; k < end; ++k) {
-      const int pi = w.pairs[k];
-      if (assemble) {
-        const SubContacts& c = s.contacts;
-        const Pair& pair = s.pairs[pi];
-        PairDampingSum sum;
-        for (int i = pair.sub_begin; i < pair.sub_begin + pair.sub_count; ++i) {
-          const std::uint8_t flags = c.flags[i];
-          if (flags & SubContactFlag::open) continue;
-          const double cn = (flags & SubContactFlag::pulling) ? 0.0 : c.normal_damping_n_s_m[i];
-          const double cs = (flags & SubContactFlag::sliding) ? 0.0 : c.shear_damping_n_s_m[i];
-          sum.add(cn, cs, c.point[i] - s.position[pair.a]);
-        }
-        w.pair_matrix[k] = sum.matrix(c.normal[pair.sub_begin]);
-        w.blocks[k] = {pair.a, pair.b};
-        w.lever[k] = s.position[pair.b] - s.position[pair.a];
-      }
-      const PairResultant r = pair_dashpots(w, x, k);
-      s.pair_force_n[pi] = r.force;
-      s.pair_moment_nm[2 * pi] = r.moment_a;
-      s.pair_moment_nm[2 * pi + 1] = r.moment_b;
-    }
-  });
-}
-
-// The gathered dashpot force and moment on block b from the pair arrays (N, N m).
-Vec6 gathered(const State& s, std::ptrdiff_t b) {
-  Vec6 f = Vec6::Zero();
-  for (int q = s.block_pair_begin[b]; q < s.block_pair_begin[b + 1]; ++q) {
-    const int entry = s.block_pair[q];  // 2p: b is the pair's a, 2p + 1: its b
-    if (entry & 1)
-      f.head<3>() += s.pair_force_n[entry >> 1];
-    else
-      f.head<3>() -= s.pair_force_n[entry >> 1];
-    f.tail<3>() += s.pair_moment_nm[entry];
+// The dashpot resultants of pair p at block velocities x (nb, world frame), into r.
+// Written on plain doubles: on Eigen's 3- and 6-vectors GCC moved halves of SSE registers
+// through the stack, and the loads that followed waited on the stores (a third of the
+// pass). The operations and their order are those of the vector form. The pass streams
+// the pair matrices from memory on a large model (model F: 2.7 MB), so nothing else is
+// stored per pair: the lever d = x_b - x_a comes from the blocks' positions.
+inline __attribute__((always_inline)) void resultant_at(const State& s, const std::vector<Vec6>& x, std::ptrdiff_t p,
+                                                        ImplicitDamping::Resultant& r) {
+  const int a = s.implicit.blocks[p][0], b = s.implicit.blocks[p][1];
+  const double* xa = x[a].data();
+  const double* xb = x[b].data();
+  const Vec3 d = s.position[b] - s.position[a];
+  const double d0 = d[0], d1 = d[1], d2 = d[2];
+  // v0 = v_b - v_a - w_b x d (the velocity of the point of b at x_a less v_a), w = w_b - w_a
+  const double u[6] = {(xb[0] - xa[0]) - (xb[4] * d2 - xb[5] * d1), (xb[1] - xa[1]) - (xb[5] * d0 - xb[3] * d2),
+                       (xb[2] - xa[2]) - (xb[3] * d1 - xb[4] * d0), xb[3] - xa[3],
+                       xb[4] - xa[4],                               xb[5] - xa[5]};
+  const Sym6& k = s.implicit.pair_matrix[p];
+  double f[6];  // -K u: the force on b and its moment about x_a
+#pragma GCC unroll 6
+  for (int i = 0; i < 6; ++i) {
+    double sum = 0;
+#pragma GCC unroll 6
+    for (int j = 0; j < 6; ++j) sum += k.v[kSymIndex[i][j]] * u[j];
+    f[i] = -sum;
   }
-  return f;
+  r.force = Vec3(f[0], f[1], f[2]);
+  r.moment_a = Vec3(-f[3], -f[4], -f[5]);
+  r.moment_b = Vec3(f[3] - (d1 * f[2] - d2 * f[1]), f[4] - (d2 * f[0] - d0 * f[2]), f[5] - (d0 * f[1] - d1 * f[0]));
+}
+
+// Every pair's dashpot resultants at x (the product's pass over the pairs), in the pair
+// loops' chunks: a thread's pairs are those of its blocks. With `assemble`, the pair
+// matrices are first summed from the sub-contacts' dashpots as the contact law left them
+// this step: none where a sub-contact is open, no shear one where it slides and no normal
+// one where a softening bond is held at its tensile strength (MODEL.md section 3); a pair
+// without sub-contacts is marked (blocks -1) and has no resultant.
+void pair_resultants(State& s, const std::vector<Vec6>& x, bool assemble = false) {
+  ImplicitDamping& w = s.implicit;
+  parallel_ranges(s.pair_chunk_begin.data(), static_cast<int>(s.pair_chunk_begin.size()) - 1,
+                  [&](std::ptrdiff_t begin, std::ptrdiff_t end, int) {
+                    for (std::ptrdiff_t p = begin; p < end; ++p) {
+                      if (assemble) {
+                        const Pair& pair = s.pairs[p];
+                        if (pair.sub_count == 0) {
+                          w.blocks[p] = {-1, -1};
+                          continue;
+                        }
+                        const SubContacts& c = s.contacts;
+                        PairDampingSum sum;
+                        for (int i = pair.sub_begin; i < pair.sub_begin + pair.sub_count; ++i) {
+                          const std::uint8_t flags = c.flags[i];
+                          if (flags & SubContactFlag::open) continue;
+                          const double cn = (flags & SubContactFlag::pulling) ? 0.0 : c.normal_damping_n_s_m[i];
+                          const double cs = (flags & SubContactFlag::sliding) ? 0.0 : c.shear_damping_n_s_m[i];
+                          sum.add(cn, cs, c.point[i] - s.position[pair.a]);
+                        }
+                        w.pair_matrix[p] = sum.matrix(c.normal[pair.sub_begin]);
+                        w.blocks[p] = {pair.a, pair.b};
+                      }
+                      if (w.blocks[p][0] >= 0) resultant_at(s, x, p, w.resultant[p]);
+                    }
+                  });
+}
+
+// The gathered dashpot force and moment on block b from the pairs' resultants (N, N m).
+// Pairs without sub-contacts are skipped (a third of model F's): their zeros would
+// change no bit of the sums, which start at +0. The sums are plain doubles, kept in
+// registers (a Vec6 was stored back at every entry).
+Vec6 gathered(const State& s, std::ptrdiff_t b) {
+  double f[6] = {0, 0, 0, 0, 0, 0};
+  for (int q = s.block_pair_begin[b]; q < s.block_pair_begin[b + 1]; ++q) {
+    const int entry = s.block_pair[q], p = entry >> 1;  // 2p: b is the pair's a, 2p + 1: its b
+    if (s.implicit.blocks[p][0] < 0) continue;
+    const ImplicitDamping::Resultant& r = s.implicit.resultant[p];
+    const Vec3& moment = (entry & 1) ? r.moment_b : r.moment_a;
+    if (entry & 1) {
+      f[0] += r.force[0], f[1] += r.force[1], f[2] += r.force[2];
+    } else {
+      f[0] -= r.force[0], f[1] -= r.force[1], f[2] -= r.force[2];
+    }
+    f[3] += moment[0], f[4] += moment[1], f[5] += moment[2];
+  }
+  return Vec6(f[0], f[1], f[2], f[3], f[4], f[5]);
 }
 
 // Block b's diagonal block of M + dt C, inverted. Its pairs' matrices: as they are where b
@@ -124,15 +135,14 @@ Vec6 gathered(const State& s, std::ptrdiff_t b) {
 Mat6 diagonal_inverse(const Model& m, const State& s, std::ptrdiff_t b, double dt) {
   Mat6 d = Mat6::Zero();
   for (int q = s.block_pair_begin[b]; q < s.block_pair_begin[b + 1]; ++q) {
-    const int entry = s.block_pair[q];
-    const int slot = s.implicit.slot[entry >> 1];
-    if (slot < 0) continue;
-    const Mat6 k = full(s.implicit.pair_matrix[slot]);
+    const int entry = s.block_pair[q], p = entry >> 1;
+    if (s.implicit.blocks[p][0] < 0) continue;
+    const Mat6 k = full(s.implicit.pair_matrix[p]);
     if (!(entry & 1)) {
       d += k;
       continue;
     }
-    const Vec3& dv = s.implicit.lever[slot];
+    const Vec3 dv = s.position[b] - s.position[s.implicit.blocks[p][0]];
     Mat3 dx;  // [d]x
     dx << 0, -dv.z(), dv.y(), dv.z(), 0, -dv.x(), -dv.y(), dv.x(), 0;
     const Mat3 k11 = k.topLeftCorner<3, 3>(), k12 = k.topRightCorner<3, 3>(), k22 = k.bottomRightCorner<3, 3>();
@@ -193,7 +203,7 @@ double first_residual(const Model& m, State& s, double dt, bool refresh, double*
       w.product[b] = v;
     }
   });
-  dashpot_resultants(s, w.product, /*assemble=*/true);
+  pair_resultants(s, w.product, /*assemble=*/true);
   const double rz = for_solved_blocks(m, s, [&](std::ptrdiff_t b) {
     if (refresh) w.diagonal[b] = diagonal_inverse(m, s, b, dt);
     w.product[b] = dt * gathered(s, b);  // the dashpots' impulse at the first guess
@@ -214,7 +224,7 @@ int conjugate_gradients(const Model& m, State& s, double dt, double rz, double t
   while (rz > target && iterations < kDampingSolveMaxIterations) {
     ++iterations;
     // product = (M + dt C) p, p zero where not solved.
-    dashpot_resultants(s, w.direction);
+    pair_resultants(s, w.direction);
     const double pap = for_solved_blocks(m, s, [&](std::ptrdiff_t b) {
       w.product[b] = mass_times(m, s, b, w.direction[b]) - dt * gathered(s, b);
       return w.direction[b].dot(w.product[b]);
@@ -258,10 +268,10 @@ void book(const Model& m, State& s, double dt, DampingSolve& result) {
     if (m.motion[b] != Motion::prescribed) continue;
     Vec6 f = Vec6::Zero();
     for (int q = s.block_pair_begin[b]; q < s.block_pair_begin[b + 1]; ++q) {
-      const int entry = s.block_pair[q];
-      const int slot = w.slot[entry >> 1];
-      if (slot < 0) continue;
-      const PairResultant r = pair_dashpots(w, w.velocity, slot);
+      const int entry = s.block_pair[q], p = entry >> 1;
+      if (w.blocks[p][0] < 0) continue;
+      ImplicitDamping::Resultant r;
+      resultant_at(s, w.velocity, p, r);
       f.head<3>() += (entry & 1) ? r.force : Vec3(-r.force);
       f.tail<3>() += (entry & 1) ? r.moment_b : r.moment_a;
     }
@@ -276,15 +286,10 @@ void book(const Model& m, State& s, double dt, DampingSolve& result) {
 DampingSolve solve_implicit_damping(const Model& m, State& s, double dt) {
   const int nb = m.block_count;
   ImplicitDamping& w = s.implicit;
-  w.pairs.clear();
-  w.slot.resize(s.pairs.size());
-  for (std::size_t pi = 0; pi < s.pairs.size(); ++pi) {
-    w.slot[pi] = s.pairs[pi].sub_count > 0 ? static_cast<int>(w.pairs.size()) : -1;
-    if (s.pairs[pi].sub_count > 0) w.pairs.push_back(static_cast<int>(pi));
-  }
-  w.blocks.resize(w.pairs.size());
-  w.lever.resize(w.pairs.size());
-  w.pair_matrix.resize(w.pairs.size());
+  const std::size_t np = s.pairs.size();
+  w.blocks.resize(np);
+  w.pair_matrix.resize(np);
+  w.resultant.resize(np);
   w.velocity.resize(nb);
   w.delta.resize(nb, Vec6::Zero());  // a block's entry is kept from step to step
   w.residual.resize(nb);

@@ -32,11 +32,9 @@ class PairDampingSum {
 
   // K for the pair's normal n (unit), written straight into its lower triangle.
   Sym6 matrix(const Vec3& n) const {
-    Mat3 cross_n;  // [n]x
-    cross_n << 0, -n.z(), n.y(), n.z(), 0, -n.x(), -n.y(), n.x(), 0;
-    const Mat3 bend = cross_n * normal_.second_moment() * cross_n.transpose();
-    const Mat3 shear_second = shear_.second_moment();
-    const double trace = shear_second.trace();
+    const Mat3 bend = cross_square(n, normal_.second);  // [n]x Q1 [n]x^T
+    const double* q = shear_.second;                    // Q of cs (lower triangle)
+    const double trace = q[0] + (q[2] + q[5]);  // Eigen's trace() order (bit for bit with it)
     const Vec3 p1n = normal_.first.cross(n);
     Mat3 lever_cross;  // [sum cs r]x
     const Vec3& l = shear_.first;
@@ -48,7 +46,7 @@ class PairDampingSum {
       for (int j = 0; j <= i; ++j) {
         const double diagonal = i == j ? 1.0 : 0.0;
         k.v[kSymIndex[i][j]] = normal_.sum * n[i] * n[j] + diagonal * shear_.sum;
-        k.v[kSymIndex[3 + i][3 + j]] = bend(i, j) + diagonal * trace - shear_second(i, j);
+        k.v[kSymIndex[3 + i][3 + j]] = bend(i, j) + diagonal * trace - q[kSym3[i][j]];
       }
 #pragma GCC unroll 3
       for (int j = 0; j < 3; ++j) k.v[kSymIndex[3 + i][j]] = p1n[i] * n[j] + lever_cross(i, j);
@@ -73,12 +71,31 @@ class PairDampingSum {
       second[4] += cr.z() * r.y();
       second[5] += cr.z() * r.z();
     }
-    Mat3 second_moment() const {
-      Mat3 q;
-      q << second[0], second[1], second[3], second[1], second[2], second[4], second[3], second[4], second[5];
-      return q;
-    }
   };
+  // Where (i, j) of a symmetric 3x3 sits in Moments::second.
+  static constexpr int kSym3[3][3] = {{0, 1, 3}, {1, 2, 4}, {3, 4, 5}};
+  // [n]x Q [n]x^T for Q symmetric (lower triangle q), lower triangle: ([n]x Q) first, then
+  // times [n]x^T, each entry summed in the order of the full 3x3 products without their
+  // terms in [n]x's zero diagonal (a third of the work).
+  static Mat3 cross_square(const Vec3& n, const double* q) {
+    const double nx = n.x(), ny = n.y(), nz = n.z();
+    double t[3][3];  // [n]x Q
+#pragma GCC unroll 3
+    for (int j = 0; j < 3; ++j) {
+      const double q0 = q[kSym3[0][j]], q1 = q[kSym3[1][j]], q2 = q[kSym3[2][j]];
+      t[0][j] = -nz * q1 + ny * q2;
+      t[1][j] = nz * q0 + -nx * q2;
+      t[2][j] = -ny * q0 + nx * q1;
+    }
+    Mat3 b;
+#pragma GCC unroll 3
+    for (int i = 0; i < 3; ++i) {
+      b(i, 0) = t[i][1] * -nz + t[i][2] * ny;
+      b(i, 1) = t[i][0] * nz + t[i][2] * -nx;
+      b(i, 2) = t[i][0] * -ny + t[i][1] * nx;
+    }
+    return b;
+  }
   Moments normal_, shear_;
 };
 

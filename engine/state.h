@@ -149,13 +149,15 @@ struct Sym6 {
 };
 // Work vectors, world frame.
 struct ImplicitDamping {
-  // The pairs with sub-contacts this step, in pair order, by slot k (compact: each pass of
-  // the solve streams these arrays rather than State::pairs).
-  std::vector<int> pairs;              // (slots) index into State::pairs
-  std::vector<int> slot;               // (np) a pair's slot, -1 without sub-contacts
-  std::vector<std::array<int, 2>> blocks;  // (slots) the pair's blocks a, b
-  std::vector<Vec3> lever;             // (slots) x_b - x_a, m
-  std::vector<Sym6> pair_matrix;       // (slots) each pair's dashpots this step (pair_damping.h)
+  // Per pair (np), from the sub-contacts' dashpots as the contact law left them this step
+  // (pair_damping.h); blocks {-1, -1} where the pair has no sub-contacts (its resultant
+  // stays zero and the solve's pair passes skip it).
+  struct Resultant {
+    Vec3 force, moment_a, moment_b;  // on b (N); on a about x_a and on b about x_b (N m)
+  };
+  std::vector<std::array<int, 2>> blocks;  // (np) the pair's blocks a, b
+  std::vector<Sym6> pair_matrix;       // (np) the pair's dashpots this step
+  std::vector<Resultant> resultant;    // (np) dashpot resultants of the last product
   std::vector<Vec6> velocity;          // (nb) v* (without dashpots); prescribed: theirs
   std::vector<Vec6> delta;             // (nb) v_new - v*; last step's is the solve's first guess
   std::vector<Vec6> residual, preconditioned, direction, product;  // (nb) conjugate gradients

@@ -33,6 +33,25 @@ World& wall() {
   return *world;
 }
 
+// The same wall with the study's h = 1 dashpots integrated implicitly (Damping::implicit)
+// at 4e-5 s, shaken sideways so that its joints move.
+World& implicit_wall() {
+  static World* world = [] {
+    WallSpec spec;
+    spec.courses = 10;
+    spec.stones_per_course = 20;
+    spec.leaves = 2;
+    spec.base_motion = Motion::fixed;
+    spec.stone = nishida_stone();
+    Model model = make_wall_model(spec);
+    model.options.damping = Damping::implicit;
+    auto* w = new World(std::move(model), 4e-5);
+    w->run(20);
+    return w;
+  }();
+  return *world;
+}
+
 // Makes every pair redo its axis search and clipping on the next narrowphase, as after
 // a large relative motion: its remembered relative pose is turned half a turn.
 void forget_search(State& s) {
@@ -161,6 +180,26 @@ void BM_ContactLaw(benchmark::State& st) {
   st.SetItemsProcessed(st.iterations() * w.state().contacts.size());
 }
 BENCHMARK(BM_ContactLaw);
+
+// One solve of the implicit dashpots from the same state and first guess each time, at a
+// step that refreshes the preconditioner (Arg 1, one in kPreconditionerRefreshSteps) or not.
+void BM_ImplicitDampingSolve(benchmark::State& st) {
+  World& w = implicit_wall();
+  State& s = w.state();
+  s.step = kPreconditionerRefreshSteps * 1000 + (st.range(0) ? 0 : 1);
+  const std::vector<Vec3> force = s.force, torque = s.torque;
+  const std::vector<Vec6> first_guess = s.implicit.delta;
+  double iterations = 0;
+  for (auto _ : st) {
+    s.force = force;
+    s.torque = torque;
+    s.implicit.delta = first_guess;
+    iterations += solve_implicit_damping(w.model(), s, 4e-5).iterations;
+  }
+  st.counters["iterations"] = iterations / static_cast<double>(st.iterations());
+  st.SetItemsProcessed(st.iterations() * static_cast<std::int64_t>(s.pairs.size()));
+}
+BENCHMARK(BM_ImplicitDampingSolve)->Arg(0)->Arg(1);
 
 void BM_Gather(benchmark::State& st) {
   World& w = wall();
