@@ -43,18 +43,15 @@ Mat6 full(const Sym6& k) {
   return f;
 }
 
-// The dashpot resultants of pair p at block velocities x (nb, world frame), into r.
+// The dashpot resultants of pair p at its blocks' velocities xa, xb (world frame), into r.
 // Written on plain doubles: on Eigen's 3- and 6-vectors GCC moved halves of SSE registers
 // through the stack, and the loads that followed waited on the stores (a third of the
 // pass). The operations and their order are those of the vector form. The pass streams
 // the pair matrices from memory on a large model (model F: 2.7 MB), so nothing else is
 // stored per pair: the lever d = x_b - x_a comes from the blocks' positions.
-inline __attribute__((always_inline)) void resultant_at(const State& s, const std::vector<Vec6>& x, std::ptrdiff_t p,
+inline __attribute__((always_inline)) void resultant_at(const State& s, const double* xa, const double* xb, std::ptrdiff_t p,
                                                         ImplicitDamping::Resultant& r) {
-  const int a = s.implicit.blocks[p][0], b = s.implicit.blocks[p][1];
-  const double* xa = x[a].data();
-  const double* xb = x[b].data();
-  const Vec3 d = s.position[b] - s.position[a];
+  const Vec3 d = s.position[s.implicit.blocks[p][1]] - s.position[s.implicit.blocks[p][0]];
   const double d0 = d[0], d1 = d[1], d2 = d[2];
   // v0 = v_b - v_a - w_b x d (the velocity of the point of b at x_a less v_a), w = w_b - w_a
   const double u[6] = {(xb[0] - xa[0]) - (xb[4] * d2 - xb[5] * d1), (xb[1] - xa[1]) - (xb[5] * d0 - xb[3] * d2),
@@ -103,7 +100,29 @@ void pair_resultants(State& s, const std::vector<Vec6>& x, bool assemble = false
                         w.pair_matrix[p] = sum.matrix(c.normal[pair.sub_begin]);
                         w.blocks[p] = {pair.a, pair.b};
                       }
-                      if (w.blocks[p][0] >= 0) resultant_at(s, x, p, w.resultant[p]);
+                      const auto [a, b] = w.blocks[p];
+                      if (a >= 0) resultant_at(s, x[a].data(), x[b].data(), p, w.resultant[p]);
+                    }
+                  });
+}
+
+// The same at the next search direction z + beta p (CG's direction update, done here on
+// the fly for each pair's two blocks, and stored by the block pass that follows: one
+// pass over the blocks less per iteration). z and p are zero where not solved.
+void pair_resultants_at_next_direction(State& s, double beta) {
+  ImplicitDamping& w = s.implicit;
+  parallel_ranges(s.pair_chunk_begin.data(), static_cast<int>(s.pair_chunk_begin.size()) - 1,
+                  [&](std::ptrdiff_t begin, std::ptrdiff_t end, int) {
+                    for (std::ptrdiff_t p = begin; p < end; ++p) {
+                      const auto [a, b] = w.blocks[p];
+                      if (a < 0) continue;
+                      const double *za = w.preconditioned[a].data(), *pa = w.direction[a].data();
+                      const double *zb = w.preconditioned[b].data(), *pb = w.direction[b].data();
+                      const double xa[6] = {za[0] + beta * pa[0], za[1] + beta * pa[1], za[2] + beta * pa[2],
+                                            za[3] + beta * pa[3], za[4] + beta * pa[4], za[5] + beta * pa[5]};
+                      const double xb[6] = {zb[0] + beta * pb[0], zb[1] + beta * pb[1], zb[2] + beta * pb[2],
+                                            zb[3] + beta * pb[3], zb[4] + beta * pb[4], zb[5] + beta * pb[5]};
+                      resultant_at(s, xa, xb, p, w.resultant[p]);
                     }
                   });
 }
@@ -159,19 +178,30 @@ Mat6 diagonal_inverse(const Model& m, const State& s, std::ptrdiff_t b, double d
   return d.llt().solve(Mat6::Identity());
 }
 
-// fn(b) on every solved block, in fixed chunks; returns the sum of its values in chunk order.
-template <class Fn>
-double for_solved_blocks(const Model& m, const State& s, Fn&& fn) {
-  std::array<double, kReductionChunks> parts{};
+// fn(b) on every solved block, in fixed chunks; returns the sums of its N values, each
+// in block order within a chunk and over the chunks in chunk order.
+template <int N, class Fn>
+std::array<double, N> sums_over_solved_blocks(const Model& m, const State& s, Fn&& fn) {
+  std::array<std::array<double, N>, kReductionChunks> parts{};
   parallel_chunks(m.block_count, kReductionChunks, [&](std::ptrdiff_t begin, std::ptrdiff_t end, int k) {
-    double sum = 0;
+    std::array<double, N> sum{};
     for (std::ptrdiff_t b = begin; b < end; ++b)
-      if (solved(m, s, b)) sum += fn(b);
+      if (solved(m, s, b)) {
+        const std::array<double, N> value = fn(b);
+        for (int i = 0; i < N; ++i) sum[i] += value[i];
+      }
     parts[k] = sum;
   });
-  double total = 0;
-  for (double p : parts) total += p;
+  std::array<double, N> total{};
+  for (const std::array<double, N>& p : parts)
+    for (int i = 0; i < N; ++i) total[i] += p[i];
   return total;
+}
+
+// The same for one value.
+template <class Fn>
+double for_solved_blocks(const Model& m, const State& s, Fn&& fn) {
+  return sums_over_solved_blocks<1>(m, s, [&](std::ptrdiff_t b) { return std::array<double, 1>{fn(b)}; })[0];
 }
 
 // The velocities v* integrate() gives without the dashpots (prescribed blocks keep theirs,
@@ -204,14 +234,14 @@ double first_residual(const Model& m, State& s, double dt, bool refresh, double*
     }
   });
   pair_resultants(s, w.product, /*assemble=*/true);
-  const double rz = for_solved_blocks(m, s, [&](std::ptrdiff_t b) {
+  const auto [rz, impulse2] = sums_over_solved_blocks<2>(m, s, [&](std::ptrdiff_t b) {
     if (refresh) w.diagonal[b] = diagonal_inverse(m, s, b, dt);
     w.product[b] = dt * gathered(s, b);  // the dashpots' impulse at the first guess
     w.residual[b] = w.product[b] - mass_times(m, s, b, x[b]);
     w.preconditioned[b] = w.direction[b] = w.diagonal[b] * w.residual[b];
-    return w.residual[b].dot(w.preconditioned[b]);
+    return std::array<double, 2>{w.residual[b].dot(w.preconditioned[b]), w.product[b].dot(w.diagonal[b] * w.product[b])};
   });
-  *scale2 = for_solved_blocks(m, s, [&](std::ptrdiff_t b) { return w.product[b].dot(w.diagonal[b] * w.product[b]); });
+  *scale2 = impulse2;
   return rz;
 }
 
@@ -221,11 +251,17 @@ double first_residual(const Model& m, State& s, double dt, bool refresh, double*
 int conjugate_gradients(const Model& m, State& s, double dt, double rz, double target, bool* converged) {
   ImplicitDamping& w = s.implicit;
   int iterations = 0;
+  double beta = 0;  // the first direction is z itself (first_residual)
   while (rz > target && iterations < kDampingSolveMaxIterations) {
-    ++iterations;
-    // product = (M + dt C) p, p zero where not solved.
-    pair_resultants(s, w.direction);
+    // product = (M + dt C) p, p zero where not solved; p = z + beta p from the second
+    // iteration on, computed by the pair pass for its blocks and stored by the block pass.
+    const bool update = iterations++ > 0;
+    if (update)
+      pair_resultants_at_next_direction(s, beta);
+    else
+      pair_resultants(s, w.direction);
     const double pap = for_solved_blocks(m, s, [&](std::ptrdiff_t b) {
+      if (update) w.direction[b] = w.preconditioned[b] + beta * w.direction[b];
       w.product[b] = mass_times(m, s, b, w.direction[b]) - dt * gathered(s, b);
       return w.direction[b].dot(w.product[b]);
     });
@@ -237,12 +273,8 @@ int conjugate_gradients(const Model& m, State& s, double dt, double rz, double t
       w.preconditioned[b] = w.diagonal[b] * w.residual[b];
       return w.residual[b].dot(w.preconditioned[b]);
     });
-    const double beta = rz_new / rz;
+    beta = rz_new / rz;
     rz = rz_new;
-    for_solved_blocks(m, s, [&](std::ptrdiff_t b) {
-      w.direction[b] = w.preconditioned[b] + beta * w.direction[b];
-      return 0.0;
-    });
   }
   *converged = rz <= target;
   return iterations;
@@ -271,7 +303,7 @@ void book(const Model& m, State& s, double dt, DampingSolve& result) {
       const int entry = s.block_pair[q], p = entry >> 1;
       if (w.blocks[p][0] < 0) continue;
       ImplicitDamping::Resultant r;
-      resultant_at(s, w.velocity, p, r);
+      resultant_at(s, w.velocity[w.blocks[p][0]].data(), w.velocity[w.blocks[p][1]].data(), p, r);
       f.head<3>() += (entry & 1) ? r.force : Vec3(-r.force);
       f.tail<3>() += (entry & 1) ? r.moment_b : r.moment_a;
     }
@@ -293,7 +325,7 @@ DampingSolve solve_implicit_damping(const Model& m, State& s, double dt) {
   w.velocity.resize(nb);
   w.delta.resize(nb, Vec6::Zero());  // a block's entry is kept from step to step
   w.residual.resize(nb);
-  w.preconditioned.resize(nb);
+  w.preconditioned.assign(nb, Vec6::Zero());  // zero where not solved: the products read it
   w.direction.assign(nb, Vec6::Zero());  // zero where not solved: the products read it
   w.product.resize(nb);
   const bool fresh = w.diagonal.size() != static_cast<std::size_t>(nb);  // none yet, nor from a checkpoint
