@@ -63,8 +63,18 @@ CLI::App* add_run_command(CLI::App& app, ishibashi::RunOptions& run) {
       ->check(CLI::NonNegativeNumber);
   run_cmd->add_option("--checkpoint-wall", run.checkpoint_wall_s, "write a checkpoint every this many wall-clock seconds")
       ->check(CLI::NonNegativeNumber);
+  CLI::Option* members = run_cmd->add_option("--members", run.members,
+                                             "run an ensemble of N members (replacing the scenario's [ensemble] members): each "
+                                             "free stone's pose drawn within the construction tolerance, outputs in "
+                                             "OUT/member_NNN, probabilities in OUT/ensemble.json")
+                             ->check(CLI::Range(1, 100000));
+  run_cmd->add_option("--seed", run.seed, "the ensemble's seed, replacing the scenario's (member i draws from seed and i)")
+      ->check(CLI::NonNegativeNumber);
+  run_cmd->add_option("--jobs", run.jobs, "ensemble members run at once (each on cores / jobs threads)")
+      ->check(CLI::Range(1, 256));
   CLI::Option* resume = run_cmd->add_option(
       "--resume", run.resume, "continue the run in this output folder from its checkpoint (bit-identical to an unbroken run)");
+  resume->excludes(members);
   resume->excludes(run_scenario_file);
   // A resumed run is the run it was: of its settings only the threads may change.
   for (CLI::Option* setting : run_settings)

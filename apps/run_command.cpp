@@ -7,6 +7,7 @@
 #include <tuple>
 #include <utility>
 
+#include "analysis/run/ensemble.h"
 #include "analysis/run/seismic_run.h"
 #include "engine/cores.h"
 #include "io/chrome_trace.h"
@@ -51,7 +52,38 @@ void print_profile(const World& world, long steps) {
 
 }  // namespace
 
+// An ensemble of the scenario (ensemble.h): its members, then the probabilities.
+int run_ensemble_of(const RunOptions& o) {
+  Scenario sc = read_scenario(o.scenario);
+  apply_overrides(sc.settings, o.overrides);
+  EnsembleOptions options;
+  options.out = o.out.empty() ? std::filesystem::path("out") / o.scenario.stem() : o.out;
+  options.members = o.members;
+  options.seed = o.seed;
+  options.jobs = o.jobs;
+  options.threads_per_member = sc.settings.threads;
+  if (o.checkpoint_wall_s > 0) options.checkpoint_wall_s = o.checkpoint_wall_s;
+  options.on_event = [&](const std::string& text) {
+    if (!o.quiet) std::printf("%s\n", text.c_str()), std::fflush(stdout);
+  };
+  stop_runs_on_interrupt();
+  const EnsembleOutcome r = run_ensemble(sc, options);
+  std::printf("ensemble: %d members, %d ran, %d were current, %d interrupted, %d failed\n", r.members, r.ran, r.current,
+              r.interrupted, r.failed);
+  auto share = [&](int hits) {
+    const std::array<double, 2> ci = wilson_interval(hits, r.finished);
+    char text[96];
+    std::snprintf(text, sizeof text, "%d of %d (95 %% interval %.2f-%.2f)", hits, r.finished, ci[0], ci[1]);
+    return std::string(text);
+  };
+  std::printf("  collapse: %s\n  any stone fell: %s\n  a ring stone fell: %s\n", share(r.collapses).c_str(),
+              share(r.stones_fell).c_str(), share(r.ring_stones_fell).c_str());
+  std::printf("outputs in %s: member_NNN/ (each member's run), ensemble.csv, ensemble.json\n", options.out.c_str());
+  return r.interrupted > 0 ? 130 : r.failed > 0 ? 1 : 0;
+}
+
 int run_scenario(const RunOptions& o) {
+  if (o.resume.empty() && (o.members > 0 || read_scenario(o.scenario).ensemble.members > 0)) return run_ensemble_of(o);
   SeismicRunOptions options;
   options.out = !o.resume.empty() ? o.resume : o.out.empty() ? std::filesystem::path("out") / o.scenario.stem() : o.out;
   options.dt_factor = o.dt_factor;

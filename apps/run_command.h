@@ -21,6 +21,9 @@ struct RunOptions {
   double checkpoint_every_s = 0;   // > 0: a checkpoint every this many simulated seconds
   double checkpoint_wall_s = 0;    // > 0: a checkpoint every this many wall-clock seconds
   std::filesystem::path resume;    // continue the run in this folder from its checkpoint
+  int members = 0;                 // > 0: an ensemble of this many members (else the scenario's [ensemble] members)
+  long seed = -1;                  // >= 0: the ensemble's seed, replacing the scenario's
+  int jobs = 1;                    // ensemble members at once
 };
 
 // Returns the exit code: 0 done, 130 interrupted (outputs valid up to that moment, and

@@ -36,7 +36,7 @@ bool is_scenario_file(const std::filesystem::path& file) {
 }
 
 Scenario read_scenario(const std::filesystem::path& file) {
-  const toml::table root = parse_toml_file(file, {"model", "run", "ground_motion", "monitor"});
+  const toml::table root = parse_toml_file(file, {"model", "run", "ground_motion", "monitor", "ensemble"});
   Scenario sc;
   sc.file = file;
   const std::filesystem::path base = std::filesystem::absolute(file).parent_path();
@@ -73,6 +73,17 @@ Scenario read_scenario(const std::filesystem::path& file) {
   TableReader monitor(file, root, "monitor");
   monitor.integers("blocks", sc.monitor_blocks);
   monitor.finish();
+
+  TableReader ensemble(file, root, "ensemble");
+  EnsembleSpec& e = sc.ensemble;
+  ensemble.integer_in("members", e.members, 0, 100000);
+  int seed = static_cast<int>(e.seed);
+  ensemble.integer_at_least("seed", seed, 0);
+  e.seed = seed;
+  ensemble.number_in("position_tolerance_m", e.position_tolerance_m, 0.0, 0.05);
+  ensemble.range("friction_angle_deg", e.friction_angle_deg, 1.0, 60.0);
+  ensemble.range("amplitude", e.amplitude, 0.0, 10.0);
+  ensemble.finish();
   return sc;
 }
 

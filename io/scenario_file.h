@@ -1,6 +1,7 @@
 // Scenario files (TOML): which model, which ground motion, how to run and what to
 // record. Paths are relative to the scenario file. Errors name the file, line and key.
 #pragma once
+#include <array>
 #include <filesystem>
 #include <string>
 #include <vector>
@@ -11,6 +12,22 @@
 
 namespace ishibashi {
 
+// [ensemble]: an ensemble of runs of one scenario, members that differ by what a real
+// bridge is uncertain about (analysis/run/ensemble.h draws them).
+struct EnsembleSpec {
+  int members = 0;                 // 0: a single run of the scenario as written
+  long seed = 1;                   // member i draws from (seed, i): the same members every time
+  // Construction tolerance, drawn before settling: each free stone cut up to this much
+  // smaller and placed within it, where it overlaps no neighbour (perturb_model in
+  // analysis/run/ensemble.h). 0.1 mm: small against real masonry's millimetres, so that the
+  // loosened joints settle the ring by little (a ring of 20 voussoirs shortens by about
+  // 2 mm at most), yet each member's stones bear on different corners.
+  double position_tolerance_m = 1e-4;
+  std::array<double, 2> friction_angle_deg{0, 0};  // drawn uniformly in [lo, hi]; 0, 0: the materials'
+  std::array<double, 2> amplitude{1, 1};           // the record's scale, drawn uniformly in [lo, hi]
+  bool varies_friction() const { return friction_angle_deg[1] > 0; }
+};
+
 struct Scenario {
   std::filesystem::path file;          // the scenario file itself
   std::filesystem::path model_file;    // [model] file
@@ -18,6 +35,7 @@ struct Scenario {
   RunSettings settings;                // [run], [model] mortar_bonds, [ground_motion] start_s (run_settings.h)
   GroundMotionSpec ground_motion;      // [ground_motion] x, y, z = { file, format, scale, unit, dt_s }, baseline_correction
   std::vector<int> monitor_blocks;     // [monitor] blocks; empty: the unit on top of the crown
+  EnsembleSpec ensemble;               // [ensemble] members, seed, position_tolerance_m, friction_angle_deg, amplitude
 
   // The ground motion to run: the records over the settings' window.
   GroundMotionSpec motion() const {

@@ -3,6 +3,7 @@
 #pragma once
 #include <toml++/toml.h>
 
+#include <array>
 #include <climits>
 #include <filesystem>
 #include <set>
@@ -102,6 +103,18 @@ class TableReader {
         if (!e.as_integer()) fail(e, std::string("'") + key + "' must hold integers");
         out.push_back(static_cast<int>(e.as_integer()->get()));
       }
+    }
+  }
+  // [lo, hi]: two numbers, lo <= hi, both within [min, max]; replaces `out` when present.
+  void range(const char* key, std::array<double, 2>& out, double min, double max) {
+    if (const toml::node* n = find(key)) {
+      const toml::array* a = n->as_array();
+      std::ostringstream expected;
+      expected << "'" << key << "' must be [lo, hi], two numbers with " << min << " <= lo <= hi <= " << max;
+      if (!a || a->size() != 2) fail(*n, expected.str());
+      const auto lo = (*a)[0].value<double>(), hi = (*a)[1].value<double>();
+      if (!lo || !hi || *lo < min || *hi > max || *lo > *hi) fail(*n, expected.str());
+      out = {*lo, *hi};
     }
   }
   // An array of numbers >= 0 (e.g. times in seconds); replaces `out` when present.

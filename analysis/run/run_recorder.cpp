@@ -186,6 +186,14 @@ void RunRecorder::write_summary(const RunDescription& run, const SeismicRunResul
     stage["serial_s"] = t.serial_s;
     stage["imbalance"] = t.imbalance();
   }
+  if (run.member.index >= 0) {
+    Json& member = j["member"];
+    member["index"] = run.member.index;
+    member["seed"] = run.member.spec.seed;
+    member["position_tolerance_m"] = run.member.spec.position_tolerance_m;
+    member["amplitude"] = run.member.draw.amplitude;
+    member["friction_angle_deg"] = run.member.draw.friction_angle_deg > 0 ? Json(run.member.draw.friction_angle_deg) : Json();
+  }
   Json& settings = j["settings"];
   for_each_run_setting([&](const SettingInfo& info, auto member) { settings[info.key] = setting_value(run.settings.*member); });
   write_text_atomically(out_ / "summary.json", j.dump(2) + "\n");

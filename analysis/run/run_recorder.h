@@ -8,6 +8,7 @@
 #include <string>
 #include <vector>
 
+#include "analysis/run/ensemble.h"
 #include "analysis/run/run_result.h"
 #include "engine/joints.h"
 #include "engine/model.h"
@@ -35,6 +36,11 @@ struct RunDescription {
   double mortar_pa = 0;                             // f_t = c of the stone joints; 0: dry
   double mortar_fracture_j_m2[2] = {0, 0};          // G_f^I, G_f^II; 0, 0: a brittle bond
   RunSettings settings;                             // as the run was asked for ("settings" in summary.json)
+  struct Member {                                   // an ensemble's member ("member" in summary.json)
+    int index = -1;
+    MemberDraw draw;
+    EnsembleSpec spec;
+  } member;
 };
 
 class RunRecorder {

@@ -10,6 +10,7 @@
 #include "analysis/model/compile_model.h"
 #include "analysis/model/fingerprint.h"
 #include "analysis/run/checkpoint.h"
+#include "analysis/run/ensemble.h"
 #include "analysis/run/run_recorder.h"
 #include "engine/cores.h"
 #include "geometry/bridge.h"
@@ -23,7 +24,7 @@ extern "C" void on_interrupt(int) { stop_flag = 1; }
 
 using Clock = std::chrono::steady_clock;
 
-constexpr char kCheckpointMagic[] = "ishibashi checkpoint 9\n";
+constexpr char kCheckpointMagic[] = "ishibashi checkpoint 10\n";
 
 // What the checkpoint's run was: the program, the input files and the run's settings
 // (command-line overrides included, dt_s the step it used), so that a resume rebuilds the same run.
@@ -31,12 +32,14 @@ struct CheckpointHeader {
   std::uint64_t program = 0, inputs = 0;
   std::string scenario_file;
   RunSettings settings;
+  int member = -1;  // of the scenario's ensemble
 };
 
 template <class Archive, class H>
 void visit_header(Archive& a, H& h) {
   a.field(h.program), a.field(h.inputs), a.field(h.scenario_file);
   for_each_run_setting([&](const SettingInfo&, auto member) { a.field(h.settings.*member); });
+  a.field(h.member);
 }
 
 CheckpointHeader read_header(CheckpointReader& in, const std::filesystem::path& file) {
@@ -67,14 +70,21 @@ SeismicRun::SeismicRun(const Scenario& scenario, SeismicRunOptions options)
   use_threads(settings.threads);
   ModelOptions model_wanted = model_options(settings);
   model_wanted.drive_fixed_blocks = true;  // the fixed blocks move with the ground (kinematic drive)
-  const Model model = load_model(scenario_.model, scenario_.model_file, model_wanted);
+  Model model = load_model(scenario_.model, scenario_.model_file, model_wanted);
+  GroundMotionSpec motion = scenario_.motion();
+  if (options_.member >= 0) {
+    const MemberDraw draw = draw_member(scenario_.ensemble, options_.member);
+    perturb_model(model, scenario_.ensemble, draw);
+    for (auto& component : motion.component)
+      if (component) component->scale *= draw.amplitude;
+  }
   limit_s_ = World(model, 1e-9).critical_time_step_s(&limiting_block_);
   const double share = settings.damping == Damping::capped     ? kCappedDtShare
                        : settings.damping == Damping::implicit ? kImplicitDtShare
                                                                : kStudyDtShare;
   dt_ = (settings.dt_s > 0 ? settings.dt_s : share * limit_s_) * options_.dt_factor;
   steps_per_frame_ = std::max(1L, std::lround(settings.output_interval_s / dt_));
-  ground_ = prepare_ground_motion(scenario_.motion(), dt_);
+  ground_ = prepare_ground_motion(motion, dt_);
   world_ = std::make_unique<World>(model, dt_);
   world_->set_adaptive_threads(options_.adaptive_threads);
   world_->set_thread_timing(options_.time_threads);
@@ -115,6 +125,7 @@ std::unique_ptr<SeismicRun> SeismicRun::resume(SeismicRunOptions options, const 
   sc.settings = h.settings;
   apply_overrides(sc.settings, overrides);
   options.dt_factor = 1;  // h.dt_s is the step the run used
+  options.member = h.member;
   auto run = std::make_unique<SeismicRun>(sc, std::move(options));
   run->resume_from_ = std::move(body);
   return run;
@@ -174,13 +185,15 @@ void SeismicRun::write_summary(Progress& p, bool finished) {
   r.state_hash = world_->state_hash();
   r.wall_s = p.wall_s();
   const BridgeSpec& bridge = scenario_.model.bridge;
-  const RunDescription run{scenario_.model.name,
+  RunDescription run{scenario_.model.name,
                            monitored_block(),
                            dt_,
                            world_->thread_tuner().max_threads(),
                            bridge.mortar_pa,
                            {bridge.mortar_tension_fracture_j_m2, bridge.mortar_shear_fracture_j_m2},
-                           scenario_.settings};
+                           scenario_.settings,
+                           {}};
+  if (options_.member >= 0) run.member = {options_.member, draw_member(scenario_.ensemble, options_.member), scenario_.ensemble};
   p.recorder.write_summary(run, r, s, p.joints, finished);
 }
 
@@ -188,7 +201,7 @@ void SeismicRun::write_summary(Progress& p, bool finished) {
 void SeismicRun::write_checkpoint(Progress& p) {
   const State& s = world_->state();
   CheckpointHeader h{program_fingerprint(), scenario_fingerprint(scenario_.file),
-                     std::filesystem::absolute(scenario_.file).string(), scenario_.settings};
+                     std::filesystem::absolute(scenario_.file).string(), scenario_.settings, options_.member};
   h.settings.dt_s = dt_;  // the step used (dt_factor applied)
   p.result.wall_s = p.wall_s();  // the work so far, what a resumed run's wall time goes on from
   write_atomically(options_.out / "checkpoint.bin", [&](const std::filesystem::path& tmp) {

@@ -45,6 +45,9 @@ struct SeismicRunOptions {
   // keep a timeline of steps [trace_first_step, trace_last_step) (run --trace), counted
   // from the run's start, settling included.
   bool time_threads = false;
+  // >= 0: this run is member `member` of the scenario's [ensemble] (ensemble.h): its free
+  // stones' poses, joints' friction and record's amplitude as the member draws them.
+  int member = -1;
   long trace_first_step = 0, trace_last_step = 0;
   // Called after every output frame of the shaking with the fraction done (0..1).
   std::function<void(double fraction_done)> on_frame;

@@ -1,0 +1,72 @@
+// Ensembles of seismic runs (a scenario's [ensemble] table, run --members): members that
+// differ by what a real bridge is uncertain about, drawn reproducibly from (seed, member):
+// each free stone's pose within a construction tolerance (before settling), and as
+// options the joints' friction angle and the record's amplitude. Near its capacity a
+// bridge's fate in one run is decided by details nobody knows; the ensemble gives its
+// outcomes as probabilities with their sampling error (Wilson intervals).
+//
+// Outputs in the ensemble's folder:
+//   member_000/ ...        each member's run: series, history.csv, summary.json (its draws
+//                          under "member"), checkpoint.bin while it runs
+//   ensemble.csv           a row per member: member, seed, amplitude, friction_angle_deg,
+//                          then summary.json's result columns (run_result.h)
+//   ensemble.json          the probabilities of collapse, of any stone falling and of a
+//                          ring stone falling, each with its 95 % Wilson interval, and the
+//                          median, least and largest fallen stones, first opening, first
+//                          fall and crown drop
+#pragma once
+#include <array>
+#include <filesystem>
+#include <functional>
+#include <string>
+
+#include "engine/model.h"
+#include "io/scenario_file.h"
+
+namespace ishibashi {
+
+// What a member draws besides its stones' poses.
+struct MemberDraw {
+  int member = 0;
+  double amplitude = 1;           // factor on the record
+  double friction_angle_deg = 0;  // every joint's; 0: the materials' own
+};
+MemberDraw draw_member(const EnsembleSpec& spec, int member);
+
+// Member `member`'s model, for a construction tolerance t (spec.position_tolerance_m): each
+// free stone cut up to t smaller than drawn (scaled about its centroid so that its nearest
+// face moves in by a drawn cut in [0, t]; mass and inertia kept), then placed up to t / 2
+// off along each axis and turned about a random axis so that no point moves more than
+// t / 2, as far as that overlaps no neighbour (an overlapping stone's shift and turn are
+// halved, up to 8 times, then dropped): the joints open by up to about 2 t, and close
+// under gravity as the bridge settles, each member's stones bearing on different corners.
+// Every joint's friction angle is set to the draw's when the spec varies it. Fixed and
+// driven blocks stay. The same (spec, member) gives the same model, bit for bit; t = 0
+// the scenario's own.
+void perturb_model(Model& model, const EnsembleSpec& spec, const MemberDraw& draw);
+
+// The 95 % Wilson score interval (z = 1.96) of a proportion: `hits` of `trials`, {lo, hi}.
+std::array<double, 2> wilson_interval(int hits, int trials, double z = 1.959963984540054);
+
+struct EnsembleOptions {
+  std::filesystem::path out;
+  int members = 0;                 // > 0: replaces the scenario's
+  long seed = -1;                  // >= 0: replaces the scenario's
+  int jobs = 1;                    // members at once
+  int threads_per_member = 0;      // 0: the cores shared among the jobs
+  double checkpoint_wall_s = 300;  // each member's checkpoint, so that an interrupted ensemble resumes
+  std::function<void(const std::string&)> on_event;  // a line per member started or finished
+};
+
+struct EnsembleOutcome {
+  int members = 0, ran = 0, current = 0, failed = 0, interrupted = 0;  // current: finished before, kept
+  int collapses = 0, stones_fell = 0, ring_stones_fell = 0;            // among the finished members
+  int finished = 0;
+};
+
+// Runs the members not yet finished (a member's folder stamped with the same inputs is
+// kept; one with a checkpoint resumes from it), then writes ensemble.csv and
+// ensemble.json from every finished member's summary.json.
+EnsembleOutcome run_ensemble(const Scenario& scenario, const EnsembleOptions& options);
+
+}  // namespace ishibashi

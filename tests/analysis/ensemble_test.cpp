@@ -1,0 +1,207 @@
+// Ensembles of runs (analysis/run/ensemble.h): the Wilson interval against hand arithmetic;
+// a member's draws reproducible from its seed, different between members and seeds, within
+// the tolerance; a member's run the same whatever the thread count; a perturbed bridge
+// settles without overlaps, as the preset does; `run --members` runs, resumes and keeps
+// finished members.
+#include <gtest/gtest.h>
+#include <omp.h>
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <string>
+
+#include "analysis/model/compile_model.h"
+#include "analysis/run/ensemble.h"
+#include "command_line.h"
+#include "engine/world.h"
+#include "geometry/validate.h"
+
+namespace ishibashi {
+namespace {
+
+using namespace test;  // run_command, text_of, kRoot, tmp_dir
+
+TEST(Ensemble, WilsonIntervalAsByHand) {
+  // 3 of 10, z = 1.96: centre (0.3 + 1.96^2 / 20) / (1 + 1.96^2 / 10) = 0.49208 / 1.38415 = 0.35551,
+  // half-width 1.96 / 1.38415 * sqrt(0.3 * 0.7 / 10 + 1.96^2 / 400) = 1.41603 * 0.17494 = 0.24772.
+  const std::array<double, 2> three = wilson_interval(3, 10);
+  EXPECT_NEAR(three[0], 0.35551 - 0.24772, 2e-5);
+  EXPECT_NEAR(three[1], 0.35551 + 0.24772, 2e-5);
+  // None of 5: [0, z^2 / (n + z^2)] = [0, 3.8415 / 8.8415]; all of 10: [n / (n + z^2), 1].
+  EXPECT_NEAR(wilson_interval(0, 5)[0], 0.0, 1e-12);
+  EXPECT_NEAR(wilson_interval(0, 5)[1], 3.8415 / 8.8415, 1e-4);
+  EXPECT_NEAR(wilson_interval(10, 10)[0], 10 / 13.8415, 1e-4);
+  EXPECT_NEAR(wilson_interval(10, 10)[1], 1.0, 1e-12);
+  EXPECT_EQ(wilson_interval(0, 0), (std::array<double, 2>{0.0, 1.0}));  // no members: nothing known
+}
+
+const LoadedModel& model_a() {
+  static const LoadedModel a = load_model_or_scenario(kRoot / "models" / "nishida_a.toml");
+  return a;
+}
+
+Model member_model(const EnsembleSpec& spec, int member) {
+  Model m = model_a().model();
+  perturb_model(m, spec, draw_member(spec, member));
+  return m;
+}
+
+bool same_poses(const Model& a, const Model& b) {
+  for (int i = 0; i < a.block_count; ++i)
+    if (a.initial_position[i] != b.initial_position[i] || a.initial_orientation[i].coeffs() != b.initial_orientation[i].coeffs())
+      return false;
+  return true;
+}
+
+TEST(Ensemble, MembersDrawReproduciblyWithinTheTolerance) {
+  EnsembleSpec spec;
+  spec.seed = 7;
+  spec.position_tolerance_m = 1e-4;
+  const Model& nominal = model_a().model();
+  const Model member = member_model(spec, 3);
+  EXPECT_TRUE(same_poses(member, member_model(spec, 3)));  // the seed reproduces it, bit for bit
+  EXPECT_FALSE(same_poses(member, member_model(spec, 4)));
+  EnsembleSpec other = spec;
+  other.seed = 8;
+  EXPECT_FALSE(same_poses(member, member_model(other, 3)));
+  EnsembleSpec none = spec;
+  none.position_tolerance_m = 0;
+  EXPECT_TRUE(same_poses(nominal, member_model(none, 3)));  // no tolerance: the preset's poses
+
+  // Each free stone cut by at most t (its nearest face), placed within t / 2 along each axis
+  // and turned by no more than t / 2 at its farthest corner. Fixed blocks stay.
+  const double t = spec.position_tolerance_m;
+  int free = 0, placed = 0;
+  for (int b = 0; b < nominal.block_count; ++b) {
+    const Vec3 shift = member.initial_position[b] - nominal.initial_position[b];
+    if (nominal.motion[b] != Motion::free) {
+      EXPECT_EQ(shift, Vec3::Zero()) << b;
+      continue;
+    }
+    ++free;
+    double nearest = INFINITY, nearest_cut = INFINITY;
+    for (int f = nominal.face_begin[b]; f < nominal.face_begin[b + 1]; ++f) {
+      nearest = std::min(nearest, nominal.face_offset_local[f]);
+      nearest_cut = std::min(nearest_cut, member.face_offset_local[f]);
+    }
+    EXPECT_LE(nearest - nearest_cut, t * (1 + 1e-9)) << b;
+    EXPECT_GE(nearest - nearest_cut, 0.0) << b;
+    EXPECT_LE(shift.cwiseAbs().maxCoeff(), 0.5 * t) << b;
+    const double turn = member.initial_orientation[b].angularDistance(nominal.initial_orientation[b]);
+    EXPECT_LE(turn * member.radius_m[b], 0.5 * t * (1 + 1e-6)) << b;
+    placed += shift.norm() > 0.1 * t;
+  }
+  EXPECT_GT(free, 100);
+  EXPECT_GT(placed, free / 10) << "stones placed off their drawn position by more than t / 10";
+
+  // Friction and amplitude, when they vary, are drawn in their ranges.
+  spec.friction_angle_deg = {25, 35};
+  spec.amplitude = {0.8, 1.2};
+  const MemberDraw draw = draw_member(spec, 5);
+  EXPECT_GE(draw.friction_angle_deg, 25);
+  EXPECT_LT(draw.friction_angle_deg, 35);
+  EXPECT_GE(draw.amplitude, 0.8);
+  EXPECT_LT(draw.amplitude, 1.2);
+  Model rough = model_a().model();
+  perturb_model(rough, spec, draw);
+  for (const PairLaw& law : rough.pair_law) EXPECT_DOUBLE_EQ(law.tan_friction, std::tan(draw.friction_angle_deg * M_PI / 180));
+}
+
+std::uint64_t member_hash_after(int threads, int steps) {
+  omp_set_num_threads(threads);
+  EnsembleSpec spec;
+  spec.seed = 11;
+  World w(member_model(spec, 2), 8e-6);
+  w.set_adaptive_threads(false);
+  for (int i = 0; i < steps; ++i) w.step();
+  return w.state_hash();
+}
+
+TEST(Ensemble, MemberRunsTheSameWhateverTheThreads) {
+  const int saved = omp_get_max_threads();
+  const std::uint64_t one = member_hash_after(1, 400);
+  EXPECT_EQ(member_hash_after(2, 400), one);
+  EXPECT_EQ(member_hash_after(3, 400), one);
+  omp_set_num_threads(saved);
+}
+
+// The blocks of a World in their current poses, for the CGAL check.
+std::vector<Polyhedron> posed_blocks(const World& w) {
+  const Model& m = w.model();
+  std::vector<Polyhedron> blocks(m.block_count);
+  for (int b = 0; b < m.block_count; ++b) {
+    Polyhedron& p = blocks[b];
+    for (int v = m.vertex_begin[b]; v < m.vertex_begin[b + 1]; ++v)
+      p.vertices.push_back(w.state().orientation[b] * m.vertex_local[v] + w.state().position[b]);
+    for (int f = m.face_begin[b]; f < m.face_begin[b + 1]; ++f) {
+      std::vector<int>& face = p.faces.emplace_back();
+      for (int k = m.face_vertex_begin[f]; k < m.face_vertex_begin[f + 1]; ++k) face.push_back(m.face_vertex[k] - m.vertex_begin[b]);
+    }
+  }
+  return blocks;
+}
+
+// Overlapping pairs of model A (or its member) after 0.25 s of settling under gravity,
+// beyond 1e-7 m^3: the springs' own penetration under the stones' weight is microns over
+// joints of a tenth of a square metre, 1e-7 m^3 a micron over the largest.
+int overlaps_after_settling(const Model& m) {
+  World w(m, 8e-6);
+  while (w.state().time_s < 0.25) w.step();
+  return validate_blocks(posed_blocks(w), {}, 1e-7).overlapping_pairs;
+}
+
+TEST(Ensemble, PerturbedBridgeSettlesWithoutOverlapsAsThePresetDoes) {
+  EnsembleSpec spec;
+  spec.seed = 3;
+  EXPECT_EQ(overlaps_after_settling(model_a().model()), 0);
+  EXPECT_EQ(overlaps_after_settling(member_model(spec, 1)), 0);
+}
+
+// Model A, 0.05 s of settling and 0.05 s of the strongest Kobe pulses.
+std::filesystem::path short_scenario(const std::string& name, const std::string& ensemble_table) {
+  const auto f = tmp_dir() / name;
+  const auto kobe = kRoot / "data/ground_motions/kobe_1995_jma";
+  std::ofstream(f) << "[model]\nfile = \"" << (kRoot / "models/nishida_a.toml").string() << "\"\n"
+                   << "[run]\nsettle_max_s = 0.05\nduration_s = 0.05\n"
+                   << "[ground_motion]\nstart_s = 7.5\n"
+                   << "x = { file = \"" << (kobe / "RSN1106_KOBE_KJM090.AT2").string() << "\" }\n"
+                   << "y = { file = \"" << (kobe / "RSN1106_KOBE_KJM000.AT2").string() << "\" }\n"
+                   << "z = { file = \"" << (kobe / "RSN1106_KOBE_KJM-UP.AT2").string() << "\" }\n"
+                   << ensemble_table;
+  return f;
+}
+
+TEST(Ensemble, RunMembersWritesProbabilitiesAndKeepsFinishedMembers) {
+  const auto file = short_scenario("ensemble_a.toml", "[ensemble]\nmembers = 3\nseed = 5\namplitude = [0.9, 1.1]\n");
+  const auto out = tmp_dir() / "ensemble_a";
+  std::filesystem::remove_all(out);
+  const std::string command = std::string(ISHIBASHI_BINARY) + " run " + file.string() + " --jobs 2 --out " + out.string();
+  int status = 0;
+  const std::string first = run_command(command, &status);
+  ASSERT_EQ(status, 0) << first;
+  EXPECT_NE(first.find("3 ran"), std::string::npos) << first;
+  const std::string json = text_of(out / "ensemble.json");
+  EXPECT_NE(json.find("\"finished\": 3"), std::string::npos) << json;
+  EXPECT_NE(json.find("\"collapse\""), std::string::npos) << json;
+  const std::string csv = text_of(out / "ensemble.csv");
+  EXPECT_EQ(std::count(csv.begin(), csv.end(), '\n'), 4) << csv;  // header and a row per member
+  EXPECT_NE(text_of(out / "member_002" / "summary.json").find("\"index\": 2"), std::string::npos);
+
+  // Again, with a fourth member: the three are kept, the fourth runs.
+  const std::string second = run_command(command + " --members 4", &status);
+  ASSERT_EQ(status, 0) << second;
+  EXPECT_NE(second.find("1 ran, 3 were current"), std::string::npos) << second;
+}
+
+TEST(Ensemble, BadEnsembleTableNamesTheKeyAndWhatIsAllowed) {
+  const auto file = short_scenario("ensemble_bad.toml", "[ensemble]\nmembers = 3\namplitude = [1.2, 0.8]\n");
+  int status = 0;
+  const std::string out = run_command(std::string(ISHIBASHI_BINARY) + " run " + file.string() + " 2>&1", &status);
+  EXPECT_NE(status, 0);
+  EXPECT_NE(out.find("'amplitude' must be [lo, hi]"), std::string::npos) << out;
+  EXPECT_NE(out.find("ensemble_bad.toml"), std::string::npos) << out;
+}
+
+}  // namespace
+}  // namespace ishibashi
