@@ -284,7 +284,7 @@ int conjugate_gradients(const Model& m, State& s, double dt, double rz, double t
 // work over the step at the mean of the velocities before and after (the form in which
 // the step balances kinetic energy). The dashpots on the prescribed blocks, at the new
 // velocities (their pairs only): the power those put in against them, and their share of
-// the work.
+// the work (energy only: the order of these sums moves no block).
 void book(const Model& m, State& s, double dt, DampingSolve& result) {
   ImplicitDamping& w = s.implicit;
   result.work_j = for_solved_blocks(m, s, [&](std::ptrdiff_t b) {
@@ -296,18 +296,25 @@ void book(const Model& m, State& s, double dt, DampingSolve& result) {
     s.torque[b] += angular(impulse) / dt;
     return 0.5 * impulse.dot(before + w.velocity[b]);
   });
-  for (int b = 0; b < m.block_count; ++b) {
-    if (m.motion[b] != Motion::prescribed) continue;
-    Vec6 f = Vec6::Zero();
-    for (int q = s.block_pair_begin[b]; q < s.block_pair_begin[b + 1]; ++q) {
-      const int entry = s.block_pair[q], p = entry >> 1;
-      if (w.blocks[p][0] < 0) continue;
-      ImplicitDamping::Resultant r;
-      resultant_at(s, w.velocity[w.blocks[p][0]].data(), w.velocity[w.blocks[p][1]].data(), p, r);
-      f.head<3>() += (entry & 1) ? r.force : Vec3(-r.force);
-      f.tail<3>() += (entry & 1) ? r.moment_b : r.moment_a;
-    }
-    const double power = linear(f).dot(s.velocity[b]) + angular(f).dot(s.angular_velocity[b]);
+  // Pair by pair in the pair loops' chunks, summed in chunk order: the ground slab alone
+  // has hundreds of pairs, which a loop over the prescribed blocks ran on one thread.
+  std::array<double, kStageChunks> parts{};
+  parallel_ranges(s.pair_chunk_begin.data(), static_cast<int>(s.pair_chunk_begin.size()) - 1,
+                  [&](std::ptrdiff_t begin, std::ptrdiff_t end, int k) {
+                    double power = 0;  // of the dashpot forces on the prescribed blocks, W
+                    for (std::ptrdiff_t p = begin; p < end; ++p) {
+                      const auto [a, b] = w.blocks[p];
+                      if (a < 0) continue;
+                      const bool driven_a = m.motion[a] == Motion::prescribed, driven_b = m.motion[b] == Motion::prescribed;
+                      if (!driven_a && !driven_b) continue;
+                      ImplicitDamping::Resultant r;
+                      resultant_at(s, w.velocity[a].data(), w.velocity[b].data(), p, r);
+                      if (driven_a) power += -r.force.dot(s.velocity[a]) + r.moment_a.dot(s.angular_velocity[a]);
+                      if (driven_b) power += r.force.dot(s.velocity[b]) + r.moment_b.dot(s.angular_velocity[b]);
+                    }
+                    parts[k] = power;
+                  });
+  for (double power : parts) {
     result.prescribed_power_w -= power;
     result.work_j += dt * power;
   }

@@ -134,18 +134,20 @@ TEST(Checkpoint, CheckpointOfAnotherBuildOrOfChangedInputsIsRefused) {
   const std::string good = text_of(out / "checkpoint.bin");
 
   std::string other_build = good;
-  other_build[std::string("ishibashi checkpoint 6\n").size() + 8] ^= 1;  // the program's fingerprint
+  const std::string magic = "ishibashi checkpoint 10\n";
+  other_build[magic.size() + 8] ^= 1;  // the program's fingerprint
   std::ofstream(out / "checkpoint.bin", std::ios::binary) << other_build;
   std::string message = run_command(kRun + "--resume " + out.string(), &status);
   EXPECT_NE(status, 0);
   EXPECT_NE(message.find("written by another build of ishibashi"), std::string::npos) << message;
 
   // The first byte after the header is the phase flag: a byte other than 0 or 1 is damage.
-  const std::string magic = "ishibashi checkpoint 6\n";
-  // magic, program and inputs, scenario path, each run setting (io/run_settings.h)
+  // magic, program and inputs, scenario path, each run setting (io/run_settings.h), the
+  // ensemble member
   std::size_t settings_bytes = 0;
   for_each_run_setting([&](const SettingInfo&, auto member) { settings_bytes += sizeof(RunSettings{}.*member); });
-  const std::size_t header = 8 + magic.size() + 16 + 8 + std::filesystem::absolute(file).string().size() + settings_bytes;
+  const std::size_t header =
+      8 + magic.size() + 16 + 8 + std::filesystem::absolute(file).string().size() + settings_bytes + sizeof(int);
   std::string bad_flag = good;
   bad_flag[header] = 7;
   std::ofstream(out / "checkpoint.bin", std::ios::binary) << bad_flag;
