@@ -150,8 +150,8 @@ struct Sym6 {
 // Work vectors, world frame.
 struct ImplicitDamping {
   // Per pair (np), from the sub-contacts' dashpots as the contact law left them this step
-  // (pair_damping.h); blocks {-1, -1} where the pair has no sub-contacts (its resultant
-  // stays zero and the solve's pair passes skip it).
+  // (pair_damping.h); blocks {-1, -1} where the pair has no sub-contacts (the solve's
+  // passes skip it).
   struct Resultant {
     Vec3 force, moment_a, moment_b;  // on b (N); on a about x_a and on b about x_b (N m)
   };
