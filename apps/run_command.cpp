@@ -7,7 +7,7 @@
 #include <tuple>
 #include <utility>
 
-#include "analysis/run/ensemble.h"
+#include "analysis/batch/ensemble.h"
 #include "analysis/run/seismic_run.h"
 #include "engine/cores.h"
 #include "io/chrome_trace.h"

@@ -138,11 +138,8 @@ Vec6 gathered(const State& s, std::ptrdiff_t b) {
     if (s.implicit.blocks[p][0] < 0) continue;
     const ImplicitDamping::Resultant& r = s.implicit.resultant[p];
     const Vec3& moment = (entry & 1) ? r.moment_b : r.moment_a;
-    if (entry & 1) {
-      f[0] += r.force[0], f[1] += r.force[1], f[2] += r.force[2];
-    } else {
-      f[0] -= r.force[0], f[1] -= r.force[1], f[2] -= r.force[2];
-    }
+    if (entry & 1) f[0] += r.force[0], f[1] += r.force[1], f[2] += r.force[2];
+    else f[0] -= r.force[0], f[1] -= r.force[1], f[2] -= r.force[2];
     f[3] += moment[0], f[4] += moment[1], f[5] += moment[2];
   }
   return Vec6(f[0], f[1], f[2], f[3], f[4], f[5]);

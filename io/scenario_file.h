@@ -13,13 +13,13 @@
 namespace ishibashi {
 
 // [ensemble]: an ensemble of runs of one scenario, members that differ by what a real
-// bridge is uncertain about (analysis/run/ensemble.h draws them).
+// bridge is uncertain about (analysis/run/member_draw.h draws them).
 struct EnsembleSpec {
   int members = 0;                 // 0: a single run of the scenario as written
   long seed = 1;                   // member i draws from (seed, i): the same members every time
   // Construction tolerance, drawn before settling: each free stone cut up to this much
   // smaller and placed within it, where it overlaps no neighbour (perturb_model in
-  // analysis/run/ensemble.h). 0.1 mm: small against real masonry's millimetres, so that the
+  // analysis/run/member_draw.h). 0.1 mm: small against real masonry's millimetres, so that the
   // loosened joints settle the ring by little (a ring of 20 voussoirs shortens by about
   // 2 mm at most), yet each member's stones bear on different corners.
   double position_tolerance_m = 1e-4;

@@ -29,4 +29,4 @@ cmake --build "$build" --target engine_tests io_tests analysis_tests replay_corp
 export ASAN_OPTIONS=detect_leaks=1:abort_on_error=1
 export UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1:suppressions=$root/scripts/ubsan.supp
 cd "$build" && ctest --output-on-failure --timeout 600 -j 2 \
-  -E 'PresetHashes\.|ArchRing\..*Stands|Impact\.EdgeAndCornerDrops|Impact\.RandomDrops|LimitState\.|Presets\..*nishida_[b-f]|SeismicRun\.|Study\.(QuickStudy|Interrupted)|Sweep\.|Checkpoint\.|Determinism\..*OneToFourThreads|BondBending\.BondedWall|Run\.ProfileTableAndTrace'
+  -E 'PresetHashes\.|ArchRing\..*Stands|Impact\.EdgeAndCornerDrops|Impact\.RandomDrops|LimitState\.|Presets\..*nishida_[b-f]|SeismicRun\.|Study\.(QuickStudy|Interrupted)|Sweep\.|Checkpoint\.|Determinism\..*OneToFourThreads|BondBending\.BondedWall|Run\.ProfileTableAndTrace|Ensemble\.PerturbedBridge'

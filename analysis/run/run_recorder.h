@@ -8,7 +8,7 @@
 #include <string>
 #include <vector>
 
-#include "analysis/run/ensemble.h"
+#include "analysis/run/member_draw.h"
 #include "analysis/run/run_result.h"
 #include "engine/joints.h"
 #include "engine/model.h"

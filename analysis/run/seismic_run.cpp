@@ -10,7 +10,7 @@
 #include "analysis/model/compile_model.h"
 #include "analysis/model/fingerprint.h"
 #include "analysis/run/checkpoint.h"
-#include "analysis/run/ensemble.h"
+#include "analysis/run/member_draw.h"
 #include "analysis/run/run_recorder.h"
 #include "engine/cores.h"
 #include "geometry/bridge.h"

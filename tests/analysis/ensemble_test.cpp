@@ -12,7 +12,8 @@
 #include <string>
 
 #include "analysis/model/compile_model.h"
-#include "analysis/run/ensemble.h"
+#include "analysis/batch/ensemble.h"
+#include "analysis/run/member_draw.h"
 #include "command_line.h"
 #include "engine/world.h"
 #include "geometry/validate.h"

@@ -1,9 +1,7 @@
 // Ensembles of seismic runs (a scenario's [ensemble] table, run --members): members that
-// differ by what a real bridge is uncertain about, drawn reproducibly from (seed, member):
-// each free stone's pose within a construction tolerance (before settling), and as
-// options the joints' friction angle and the record's amplitude. Near its capacity a
-// bridge's fate in one run is decided by details nobody knows; the ensemble gives its
-// outcomes as probabilities with their sampling error (Wilson intervals).
+// differ by what a real bridge is uncertain about (analysis/run/member_draw.h). Near its
+// capacity a bridge's fate in one run is decided by details nobody knows; the ensemble
+// gives its outcomes as probabilities with their sampling error (Wilson intervals).
 //
 // Outputs in the ensemble's folder:
 //   member_000/ ...        each member's run: series, history.csv, summary.json (its draws
@@ -20,30 +18,9 @@
 #include <functional>
 #include <string>
 
-#include "engine/model.h"
 #include "io/scenario_file.h"
 
 namespace ishibashi {
-
-// What a member draws besides its stones' poses.
-struct MemberDraw {
-  int member = 0;
-  double amplitude = 1;           // factor on the record
-  double friction_angle_deg = 0;  // every joint's; 0: the materials' own
-};
-MemberDraw draw_member(const EnsembleSpec& spec, int member);
-
-// Member `member`'s model, for a construction tolerance t (spec.position_tolerance_m): each
-// free stone cut up to t smaller than drawn (scaled about its centroid so that its nearest
-// face moves in by a drawn cut in [0, t]; mass and inertia kept), then placed up to t / 2
-// off along each axis and turned about a random axis so that no point moves more than
-// t / 2, as far as that overlaps no neighbour (an overlapping stone's shift and turn are
-// halved, up to 8 times, then dropped): the joints open by up to about 2 t, and close
-// under gravity as the bridge settles, each member's stones bearing on different corners.
-// Every joint's friction angle is set to the draw's when the spec varies it. Fixed and
-// driven blocks stay. The same (spec, member) gives the same model, bit for bit; t = 0
-// the scenario's own.
-void perturb_model(Model& model, const EnsembleSpec& spec, const MemberDraw& draw);
 
 // The 95 % Wilson score interval (z = 1.96) of a proportion: `hits` of `trials`, {lo, hi}.
 std::array<double, 2> wilson_interval(int hits, int trials, double z = 1.959963984540054);

@@ -1,0 +1,32 @@
+// An ensemble member's draws (analysis/batch/ensemble.h runs the ensembles): what a real
+// bridge is uncertain about, drawn reproducibly from the scenario's [ensemble] seed and the
+// member's index with a fully specified generator (SplitMix64): the stones' fit and
+// placement within a construction tolerance, and as options the joints' friction angle
+// and the record's amplitude.
+#pragma once
+#include "engine/model.h"
+#include "io/scenario_file.h"
+
+namespace ishibashi {
+
+// What a member draws besides its stones' poses.
+struct MemberDraw {
+  int member = 0;
+  double amplitude = 1;           // factor on the record
+  double friction_angle_deg = 0;  // every joint's; 0: the materials' own
+};
+MemberDraw draw_member(const EnsembleSpec& spec, int member);
+
+// Member `member`'s model, for a construction tolerance t (spec.position_tolerance_m): each
+// free stone cut up to t smaller than drawn (scaled about its centroid so that its nearest
+// face moves in by a drawn cut in [0, t]; mass and inertia kept), then placed up to t / 2
+// off along each axis and turned about a random axis so that no point moves more than
+// t / 2, as far as that overlaps no neighbour (an overlapping stone's shift and turn are
+// halved, up to 8 times, then dropped): the joints open by up to about 2 t, and close
+// under gravity as the bridge settles, each member's stones bearing on different corners.
+// Every joint's friction angle is set to the draw's when the spec varies it. Fixed and
+// driven blocks stay. The same (spec, member) gives the same model, bit for bit; t = 0
+// the scenario's own.
+void perturb_model(Model& model, const EnsembleSpec& spec, const MemberDraw& draw);
+
+}  // namespace ishibashi
