@@ -10,7 +10,6 @@
 namespace ishibashi {
 namespace {
 
-
 // SplitMix64 (Steele, Lea and Flood 2014): a fully specified generator, so that a member's
 // draws are the same with every compiler and library (the standard's distributions are
 // not specified to the bit). One stream per (seed, member, purpose).
