@@ -2,7 +2,7 @@
 // a member's draws reproducible from its seed, different between members and seeds, within
 // the tolerance; a member's run the same whatever the thread count; a perturbed bridge
 // settles without overlaps, as the preset does; `run --members` runs, resumes and keeps
-// finished members.
+// finished members, and its row of the study's ensemble table is written.
 #include <gtest/gtest.h>
 #include <omp.h>
 
@@ -193,6 +193,18 @@ TEST(Ensemble, RunMembersWritesProbabilitiesAndKeepsFinishedMembers) {
   const std::string second = run_command(command + " --members 4", &status);
   ASSERT_EQ(status, 0) << second;
   EXPECT_NE(second.find("1 ran, 3 were current"), std::string::npos) << second;
+
+  // Its row of the study's ensemble table (scripts/study_ensemble_row.py), written twice:
+  // the second replaces the first.
+  const auto table = tmp_dir() / "ensemble_a_rows.csv";
+  std::filesystem::remove(table);
+  const std::string row = "python3 " + (kRoot / "scripts/study_ensemble_row.py").string() + " " + out.string() +
+                          " a dry study test " + table.string();
+  for (int k = 0; k < 2; ++k) ASSERT_EQ((run_command(row, &status), status), 0);
+  const std::string rows = text_of(table);
+  EXPECT_EQ(rows.rfind("model,variant,members,p_collapse,", 0), 0u) << rows;
+  EXPECT_EQ(std::count(rows.begin(), rows.end(), '\n'), 2) << rows;
+  EXPECT_NE(rows.find("\na,dry,4,"), std::string::npos) << rows;
 }
 
 TEST(Ensemble, BadEnsembleTableNamesTheKeyAndWhatIsAllowed) {
