@@ -53,9 +53,7 @@ void print_profile(const World& world, long steps) {
 }  // namespace
 
 // An ensemble of the scenario (ensemble.h): its members, then the probabilities.
-int run_ensemble_of(const RunOptions& o) {
-  Scenario sc = read_scenario(o.scenario);
-  apply_overrides(sc.settings, o.overrides);
+int run_ensemble_of(const RunOptions& o, Scenario sc) {
   EnsembleOptions options;
   options.out = o.out.empty() ? std::filesystem::path("out") / o.scenario.stem() : o.out;
   options.members = o.members;
@@ -83,7 +81,12 @@ int run_ensemble_of(const RunOptions& o) {
 }
 
 int run_scenario(const RunOptions& o) {
-  if (o.resume.empty() && (o.members > 0 || read_scenario(o.scenario).ensemble.members > 0)) return run_ensemble_of(o);
+  Scenario scenario;
+  if (o.resume.empty()) {
+    scenario = read_scenario(o.scenario);
+    apply_overrides(scenario.settings, o.overrides);
+    if (o.members > 0 || scenario.ensemble.members > 0) return run_ensemble_of(o, std::move(scenario));
+  }
   SeismicRunOptions options;
   options.out = !o.resume.empty() ? o.resume : o.out.empty() ? std::filesystem::path("out") / o.scenario.stem() : o.out;
   options.dt_factor = o.dt_factor;
@@ -104,9 +107,7 @@ int run_scenario(const RunOptions& o) {
   if (!o.resume.empty()) {
     resumed = SeismicRun::resume(options, o.overrides);  // threads: the only setting a resume may change
   } else {
-    Scenario sc = read_scenario(o.scenario);
-    apply_overrides(sc.settings, o.overrides);
-    resumed = std::make_unique<SeismicRun>(sc, options);
+    resumed = std::make_unique<SeismicRun>(scenario, options);
   }
   SeismicRun& run = *resumed;
   const Scenario& sc = run.scenario();
