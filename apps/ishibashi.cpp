@@ -68,13 +68,27 @@ CLI::App* add_run_command(CLI::App& app, ishibashi::RunOptions& run) {
                                              "free stone's pose drawn within the construction tolerance, outputs in "
                                              "OUT/member_NNN, probabilities in OUT/ensemble.json")
                              ->check(CLI::Range(1, 100000));
-  run_cmd->add_option("--seed", run.seed, "the ensemble's seed, replacing the scenario's (member i draws from seed and i)")
+  CLI::Option* probe = run_cmd->add_option("--probe", run.probe_members,
+                                           "a chaos probe of N members: the run stops just before the strong motion (or at "
+                                           "--branch-at); member 0 goes on from there as it is, the others with every free "
+                                           "stone moved by --perturbation; how fast they part in OUT/probe.json and probe.csv")
+                           ->check(CLI::Range(2, 100000));
+  run_cmd->add_option("--perturbation", run.perturbation_m, "the chaos probe's move of each free stone, m")
+      ->check(CLI::Range(1e-12, 1e-2))
+      ->capture_default_str();
+  run_cmd->add_option("--branch-at", run.branch_at_s,
+                      "the chaos probe's branch, seconds of shaking (default: where the record's Arias intensity reaches 5 %)")
       ->check(CLI::NonNegativeNumber);
-  run_cmd->add_option("--jobs", run.jobs, "ensemble members run at once (each on cores / jobs threads)")
+  probe->excludes(members);
+  run_cmd->add_option("--seed", run.seed,
+                      "the ensemble's seed, replacing the scenario's (member i draws from seed and i); a probe's directions")
+      ->check(CLI::NonNegativeNumber);
+  run_cmd->add_option("--jobs", run.jobs, "ensemble or probe members run at once (each on cores / jobs threads)")
       ->check(CLI::Range(1, 256));
   CLI::Option* resume = run_cmd->add_option(
       "--resume", run.resume, "continue the run in this output folder from its checkpoint (bit-identical to an unbroken run)");
   resume->excludes(members);
+  resume->excludes(probe);
   resume->excludes(run_scenario_file);
   // A resumed run is the run it was: of its settings only the threads may change.
   for (CLI::Option* setting : run_settings)

@@ -2,11 +2,13 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <cstdio>
 #include <string>
 #include <tuple>
 #include <utility>
 
+#include "analysis/batch/chaos_probe.h"
 #include "analysis/batch/ensemble.h"
 #include "analysis/run/seismic_run.h"
 #include "engine/cores.h"
@@ -80,11 +82,41 @@ int run_ensemble_of(const RunOptions& o, Scenario sc) {
   return r.interrupted > 0 ? 130 : r.failed > 0 ? 1 : 0;
 }
 
+// A chaos probe of the scenario (chaos_probe.h): how fast runs part that differ by far
+// less than any tolerance.
+int run_probe_of(const RunOptions& o, const Scenario& sc) {
+  ChaosProbeOptions options;
+  options.out = o.out.empty() ? std::filesystem::path("out") / (o.scenario.stem().string() + "_probe") : o.out;
+  options.members = o.probe_members;
+  options.seed = o.seed >= 0 ? o.seed : 1;
+  options.perturbation_m = o.perturbation_m;
+  options.branch_at_s = o.branch_at_s;
+  options.jobs = o.jobs;
+  options.threads_per_member = sc.settings.threads;
+  if (o.checkpoint_wall_s > 0) options.checkpoint_wall_s = o.checkpoint_wall_s;
+  options.on_event = [&](const std::string& text) {
+    if (!o.quiet) std::printf("%s\n", text.c_str()), std::fflush(stdout);
+  };
+  stop_runs_on_interrupt();
+  const ChaosProbeOutcome r = run_chaos_probe(sc, options);
+  std::printf("chaos probe: %d members branched at %.3f s of shaking, %d finished, %d interrupted, %d failed\n", r.members,
+              r.branch_s, r.finished, r.interrupted, r.failed);
+  for (std::size_t k = 0; k < r.parted_1cm_s.size(); ++k)
+    std::printf("  member %zu: %s\n", k + 1,
+                std::isnan(r.parted_1cm_s[k]) ? "did not part from the reference by 1 cm"
+                                               : ("parted from the reference by 1 cm " + std::to_string(r.parted_1cm_s[k]) +
+                                                  " s after the branch").c_str());
+  std::printf("largest separation %.3g m; outputs in %s: branch/, member_NNN/, probe.csv, probe.json, members.csv\n",
+              r.largest_separation_m, options.out.c_str());
+  return r.interrupted > 0 ? 130 : r.failed > 0 ? 1 : 0;
+}
+
 int run_scenario(const RunOptions& o) {
   Scenario scenario;
   if (o.resume.empty()) {
     scenario = read_scenario(o.scenario);
     apply_overrides(scenario.settings, o.overrides);
+    if (o.probe_members > 0) return run_probe_of(o, scenario);
     if (o.members > 0 || scenario.ensemble.members > 0) return run_ensemble_of(o, std::move(scenario));
   }
   SeismicRunOptions options;
@@ -98,7 +130,7 @@ int run_scenario(const RunOptions& o) {
   options.on_warning = [](const std::string& text) { std::fprintf(stderr, "\n  warning: %s\n", text.c_str()); };
   const auto shake0 = std::chrono::steady_clock::now();
   if (!o.quiet)
-    options.on_frame = [&](double done) {
+    options.on_frame = [&](const State&, double done) {
       const double elapsed = std::chrono::duration<double>(std::chrono::steady_clock::now() - shake0).count();
       std::fprintf(stderr, "\r  shaking [%-30s] %5.1f%%  ETA %4.0f s ", std::string(static_cast<int>(30 * done), '#').c_str(),
                    100 * done, elapsed * (1 - done) / done);

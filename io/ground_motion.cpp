@@ -303,4 +303,16 @@ double horizontal_pga_m_s2(const GroundMotionSpec& spec) {
   return peak;
 }
 
+double arias_time_s(const GroundMotion& g, double fraction) {
+  double total = 0;
+  for (const Vec3& a : g.accel_m_s2) total += a.x() * a.x() + a.y() * a.y();
+  double sum = 0;
+  for (std::size_t k = 0; k < g.accel_m_s2.size(); ++k) {
+    const Vec3& a = g.accel_m_s2[k];
+    sum += a.x() * a.x() + a.y() * a.y();
+    if (sum >= fraction * total) return k * g.dt_s;
+  }
+  return g.duration_s();
+}
+
 }  // namespace ishibashi

@@ -64,4 +64,9 @@ GroundMotion prepare_ground_motion(const GroundMotionSpec& spec, double dt_s);
 // the motion as prepared (window, scale, baseline correction), m/s^2.
 double horizontal_pga_m_s2(const GroundMotionSpec& spec);
 
+// The time (s from the motion's start) by which the horizontal components' Arias
+// intensity, the integral of a_x^2 + a_y^2, reaches `fraction` of its total: 0.05 is where
+// the strong motion begins (the significant duration D5-95, Trifunac and Brady 1975).
+double arias_time_s(const GroundMotion& motion, double fraction);
+
 }  // namespace ishibashi

@@ -18,12 +18,10 @@
 #include <functional>
 #include <string>
 
+#include "analysis/batch/member_runs.h"
 #include "io/scenario_file.h"
 
 namespace ishibashi {
-
-// The 95 % Wilson score interval (z = 1.96) of a proportion: `hits` of `trials`, {lo, hi}.
-std::array<double, 2> wilson_interval(int hits, int trials, double z = 1.959963984540054);
 
 struct EnsembleOptions {
   std::filesystem::path out;

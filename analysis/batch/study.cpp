@@ -91,7 +91,7 @@ std::string seismic_job(const Job& job, const StudyFile& study, int threads, con
   }
   SeismicRunOptions options;
   options.out = job.folder;
-  options.on_frame = on_fraction;
+  options.on_frame = [&](const State&, double done) { on_fraction(done); };
   options.checkpoint_wall_s = kStudyCheckpointWallS;
   RunOverrides overrides;
   overrides.set(&RunSettings::threads, threads);

@@ -4,10 +4,35 @@
 // placement within a construction tolerance, and as options the joints' friction angle
 // and the record's amplitude.
 #pragma once
+#include <cstdint>
+
 #include "engine/model.h"
 #include "io/scenario_file.h"
 
 namespace ishibashi {
+
+// SplitMix64 (Steele, Lea and Flood 2014): a fully specified generator, so that a member's
+// draws are the same with every compiler and library (the standard's distributions are
+// not specified to the bit). One stream per (seed, member, purpose).
+class DrawStream {
+ public:
+  DrawStream(long seed, int member, std::uint64_t purpose)
+      : state_(static_cast<std::uint64_t>(seed) * 0x9E3779B97F4A7C15ull ^ (static_cast<std::uint64_t>(member) + 1) * 0xD1B54A32D192ED03ull ^
+               purpose * 0xBF58476D1CE4E5B9ull) {}
+  std::uint64_t next() {
+    std::uint64_t z = (state_ += 0x9E3779B97F4A7C15ull);
+    z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ull;
+    z = (z ^ (z >> 27)) * 0x94D049BB133111EBull;
+    return z ^ (z >> 31);
+  }
+  double uniform() { return static_cast<double>(next() >> 11) * 0x1.0p-53; }  // [0, 1)
+  double between(double lo, double hi) { return lo + (hi - lo) * uniform(); }
+
+ private:
+  std::uint64_t state_;
+};
+// The purposes of the streams (a member's draws, its stones' poses, a chaos probe's nudges).
+constexpr std::uint64_t kMemberDraws = 1, kPoseDraws = 2, kProbeDraws = 3;
 
 // What a member draws besides its stones' poses.
 struct MemberDraw {

@@ -147,6 +147,7 @@ struct SeismicRun::Progress {
   RunRecorder recorder;
   SeismicRunResult result;
   bool shaking = false;  // settled: the ground moves
+  bool branched = false;  // stopped at options.branch_at_shake_s
   long shake_step = 0;   // the next step of the ground motion
   Vec3 settled_crown = Vec3::Zero();
   Vec3 ground_accel = Vec3::Zero(), ground_displacement = Vec3::Zero();  // at the last step
@@ -299,7 +300,12 @@ void SeismicRun::shake(Progress& p) {
     if ((k + 1) % steps_per_frame_ == 0 || k + 1 == n) {
       p.record("shake", m, s);
       write_summary(p, false);
-      if (options_.on_frame) options_.on_frame(double(k + 1) / n);
+      if (options_.on_frame) options_.on_frame(s, double(k + 1) / n);
+      if (k + 1 < n && options_.branch_at_shake_s >= 0 && s.time_s - r.settle_time_s >= options_.branch_at_shake_s - 0.5 * dt_) {
+        write_checkpoint(p);  // the branch point, where the chaos probe's members go on from
+        p.branched = true;
+        return;
+      }
       if (k + 1 < n) maybe_checkpoint(p);
     }
   }
@@ -321,12 +327,13 @@ SeismicRunResult SeismicRun::run() {
   p.result.joints = p.joints.size();
   p.checkpoint_time_s = world_->state().time_s;
   if (!resume_from_.empty()) restore_checkpoint(p);
+  if (!resume_from_.empty() && options_.on_resume) options_.on_resume(world_->model(), world_->state());
 
   if (!p.shaking) settle(p);
   shake(p);
 
-  p.result.interrupted = stop_requested();
-  if (p.result.interrupted) {
+  p.result.interrupted = stop_requested() || p.branched;
+  if (stop_requested()) {
     if (options_.checkpoint_every_s > 0 || options_.checkpoint_wall_s > 0)
       write_checkpoint(p);  // before the extra frame: the resumed run writes its own
     p.record("interrupted", world_->model(), world_->state());

@@ -49,8 +49,14 @@ struct SeismicRunOptions {
   // stones' poses, joints' friction and record's amplitude as the member draws them.
   int member = -1;
   long trace_first_step = 0, trace_last_step = 0;
-  // Called after every output frame of the shaking with the fraction done (0..1).
-  std::function<void(double fraction_done)> on_frame;
+  // >= 0: the run stops at the first output frame after this many seconds of shaking and
+  // writes its checkpoint there (the chaos probe's branch point, chaos_probe.h).
+  double branch_at_shake_s = -1;
+  // Called with the state read from a checkpoint, before the run goes on from it (the
+  // chaos probe perturbs its members there).
+  std::function<void(const Model&, State&)> on_resume;
+  // Called after every output frame of the shaking with the state and the fraction done (0..1).
+  std::function<void(const State&, double fraction_done)> on_frame;
   // Warnings worth a user's attention (a block that left the model).
   std::function<void(const std::string&)> on_warning;
 };

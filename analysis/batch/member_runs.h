@@ -1,0 +1,61 @@
+// What ensembles (ensemble.h) and chaos probes (chaos_probe.h) share: running a member
+// in its own folder so that an interrupted set of runs resumes, and the tables of the
+// members' outcomes as probabilities with their sampling error.
+#pragma once
+#include <array>
+#include <filesystem>
+#include <functional>
+#include <memory>
+#include <nlohmann/json.hpp>
+#include <string>
+#include <vector>
+
+#include "analysis/run/seismic_run.h"
+
+namespace ishibashi {
+
+// The 95 % Wilson score interval (z = 1.96) of a proportion: `hits` of `trials`, {lo, hi}.
+std::array<double, 2> wilson_interval(int hits, int trials, double z = 1.959963984540054);
+
+// {"median", "min", "max", "count"} of the values (null where there are none).
+nlohmann::ordered_json value_spread(const std::vector<double>& values);
+
+// A number as a stream writes it by default (6 significant digits): the tables' draws.
+std::string number_text(double v);
+
+// out/member_NNN
+std::filesystem::path member_folder(const std::filesystem::path& out, int member);
+
+enum class MemberStatus { current, ran, interrupted, failed };
+
+// Runs a member in `folder`: kept when its outputs are stamped with `key`; continued from
+// its checkpoint when the folder was started with `key`; else `start` makes a new run
+// (the folder emptied and marked started with `key` first, so that `start` may put files
+// in it). A finished run's checkpoint is removed and its outputs stamped with `key`,
+// unless it stopped before its end without a stop request (a chaos probe's branch run:
+// its checkpoint is the branch point). `event` gets a line for each change.
+using StartRun = std::function<std::unique_ptr<SeismicRun>(const SeismicRunOptions& options)>;
+MemberStatus run_in_folder(const std::filesystem::path& folder, const std::string& key, const std::string& name,
+                           SeismicRunOptions options, int threads, const StartRun& start,
+                           const std::function<void(const std::string&)>& event);
+
+// Members' outcomes, each from its folder's summary.json and history.csv.
+struct OutcomeTable {
+  std::vector<std::string> draw_columns;  // leading columns of the CSV (the draws' names)
+  struct Row {
+    int member = 0;
+    std::filesystem::path folder;
+    std::vector<std::string> draws;  // (draw_columns)
+  };
+  std::vector<Row> rows;  // the finished members
+};
+struct OutcomeCounts {
+  int finished = 0, collapses = 0, stones_fell = 0, ring_stones_fell = 0;
+};
+// Writes `csv` (a row per member: member, its draws, summary.json's result columns and
+// first_fall_s) and puts into `json` the probabilities of collapse, of any stone falling
+// and of a ring stone falling, each with its Wilson interval, and the median, least and
+// largest fallen stones, first opening, first fall and crown drop.
+OutcomeCounts write_outcomes(const OutcomeTable& table, const std::filesystem::path& csv, nlohmann::ordered_json& json);
+
+}  // namespace ishibashi
