@@ -127,6 +127,10 @@ CLI::App* add_study_command(CLI::App& app, ishibashi::StudyCommandOptions& study
   study_cmd->add_option("--jobs", study.jobs, "analyses run at once")->check(CLI::Range(1, 256));
   study_cmd->add_option("--threads-per-job", study.threads_per_job, "threads of each analysis (default: cores / jobs)")
       ->check(CLI::Range(0, 1024));
+  study_cmd->add_option("--members", study.members,
+                         "run each seismic run as an ensemble of N members (replacing the study file's members; "
+                         "0 or 1: single runs); the report gives each run's probabilities")
+      ->check(CLI::Range(0, 100000));
   study_cmd->add_flag("--force", study.force, "rerun analyses whose outputs are current");
   study_cmd->add_flag("--no-report", study.no_report, "skip the report (needs python3 with matplotlib)");
   return study_cmd;

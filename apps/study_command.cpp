@@ -15,6 +15,7 @@ int run_study_command(const StudyCommandOptions& o) {
   options.out = !o.out.empty() ? o.out : o.quick ? "out/study_quick" : "out/study";
   options.jobs = o.jobs;
   options.threads_per_job = o.threads_per_job;
+  options.members = o.members;
   options.force = o.force;
   options.report = !o.no_report;
   options.on_event = [](const std::string& text) {

@@ -11,6 +11,7 @@ struct StudyCommandOptions {
   bool quick = false;
   int jobs = 1;
   int threads_per_job = 0;
+  int members = -1;  // >= 0: each run an ensemble of this many members (0, 1: single runs), replacing the file's
   bool force = false;
   bool no_report = false;
 };

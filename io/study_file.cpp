@@ -15,6 +15,7 @@ void read_common(TableReader& t, const std::filesystem::path& file, StudyFile& s
   if (!scenarios.empty()) s.scenarios = scenarios;
   t.non_negative_numbers("snapshot_times_s", s.snapshot_times_s);
   t.number("duration_s", s.duration_s);
+  t.integer_at_least("members", s.members, 0);
 }
 
 // [reference]: every key names a model (frequencies_hz) or a scenario (says) of the study.
@@ -22,6 +23,7 @@ void read_reference(const std::filesystem::path& file, const toml::table& root, 
   TableReader reference(file, root, "reference");
   const toml::table* frequencies = reference.subtable("frequencies_hz");
   const toml::table* says = reference.subtable("says");
+  const toml::table* outcome = reference.subtable("outcome");
   reference.finish();
   auto listed = [](const std::vector<std::filesystem::path>& files, const std::string& stem) {
     for (const auto& f : files)
@@ -51,6 +53,16 @@ void read_reference(const std::filesystem::path& file, const toml::table& root, 
       const auto text = node.value<std::string>();
       if (!text) says_reader.fail(node, "'" + stem + "' must be a string: what the study says of that run");
       s.reference_says[stem] = *text;
+    }
+  TableReader outcome_reader(file, outcome, "reference.outcome");
+  if (outcome)
+    for (const auto& [key, node] : *outcome) {
+      const std::string stem(key.str());
+      if (!listed(s.scenarios, stem)) outcome_reader.fail(node, "'" + stem + "' is no scenario file of [study] scenarios");
+      const auto text = node.value<std::string>();
+      if (!text || (*text != "collapse" && *text != "stands" && *text != "no_stone_falls"))
+        outcome_reader.fail(node, "'" + stem + "' must be \"collapse\", \"stands\" or \"no_stone_falls\": the study's verdict");
+      s.reference_outcome[stem] = *text;
     }
 }
 

@@ -111,6 +111,8 @@ EnsembleOutcome run_ensemble(const Scenario& scenario, const EnsembleOptions& o)
   outcome.collapses = finished.collapses;
   outcome.stones_fell = finished.stones_fell;
   outcome.ring_stones_fell = finished.ring_stones_fell;
+  outcome.typical_member = finished.typical;
+  outcome.worst_member = finished.worst;
   return outcome;
 }
 

@@ -37,6 +37,7 @@ struct EnsembleOutcome {
   int members = 0, ran = 0, current = 0, failed = 0, interrupted = 0;  // current: finished before, kept
   int collapses = 0, stones_fell = 0, ring_stones_fell = 0;            // among the finished members
   int finished = 0;
+  int typical_member = -1, worst_member = -1;  // of the most common and the worst outcome (member_runs.h)
 };
 
 // Runs the members not yet finished (a member's folder stamped with the same inputs is

@@ -54,7 +54,25 @@ double first_fall_s(const fs::path& history, double settle_time_s) {
   return -1;
 }
 
+std::string values_of(const nlohmann::json& summary) {
+  std::ostringstream csv;
+  bool first = true;
+  for (const ResultColumn& c : result_columns()) {
+    const nlohmann::json& v = summary[c.name];
+    if (!first) csv << ',';
+    first = false;
+    if (v.is_boolean()) csv << (v.get<bool>() ? "yes" : "no");
+    else if (v.is_string()) csv << v.get<std::string>();
+    else if (!v.is_null()) csv << v.dump();
+  }
+  return csv.str();
+}
+
 }  // namespace
+
+std::string summary_csv_values(const fs::path& summary_json) {
+  return values_of(nlohmann::json::parse(std::ifstream(summary_json)));
+}
 
 std::array<double, 2> wilson_interval(int hits, int trials, double z) {
   if (trials <= 0) return {0.0, 1.0};
@@ -134,27 +152,39 @@ OutcomeCounts write_outcomes(const OutcomeTable& table, const fs::path& csv_file
   csv << ",first_fall_s\n";
   OutcomeCounts n;
   std::vector<double> fallen, first_opening, first_fall, crown_drop;
+  std::vector<int> members;
+  std::vector<bool> collapsed;
   for (const OutcomeTable::Row& row : table.rows) {
     const nlohmann::json s = nlohmann::json::parse(std::ifstream(row.folder / "summary.json"));
     const double fall = first_fall_s(row.folder / "history.csv", s["settle_time_s"].get<double>());
     csv << row.member;
     for (const std::string& draw : row.draws) csv << ',' << draw;
-    for (const ResultColumn& c : result_columns()) {
-      const nlohmann::json& v = s[c.name];
-      csv << ',';
-      if (v.is_boolean()) csv << (v.get<bool>() ? "yes" : "no");
-      else if (v.is_string()) csv << v.get<std::string>();
-      else if (!v.is_null()) csv << v.dump();
-    }
-    csv << ',' << (fall < 0 ? std::string() : std::to_string(fall)) << '\n';
+    csv << ',' << values_of(s) << ',' << (fall < 0 ? std::string() : std::to_string(fall)) << '\n';
     ++n.finished;
     n.collapses += s["collapse"].get<bool>();
+    collapsed.push_back(s["collapse"].get<bool>());
     n.stones_fell += s["fallen_stones"].get<int>() > 0;
     n.ring_stones_fell += s["fallen_ring_stones"].get<int>() > 0;
     fallen.push_back(s["fallen_stones"].get<int>());
     if (!s["first_opening_s"].is_null()) first_opening.push_back(s["first_opening_s"].get<double>());
     if (fall >= 0) first_fall.push_back(fall);
     crown_drop.push_back(s["largest_crown_drop_m"].get<double>());
+    members.push_back(row.member);
+  }
+  const std::size_t count = members.size();
+  if (count > 0) {
+    std::vector<std::size_t> order(count);
+    for (std::size_t k = 0; k < count; ++k) order[k] = k;
+    const auto worst = std::max_element(order.begin(), order.end(), [&](std::size_t a, std::size_t b) {
+      return fallen[a] != fallen[b] ? fallen[a] < fallen[b] : crown_drop[a] < crown_drop[b];
+    });
+    n.worst = members[*worst];
+    const bool most_collapse = 2 * n.collapses > n.finished;  // a tie: standing, the lesser claim
+    std::vector<std::size_t> common;
+    for (std::size_t k : order)
+      if (collapsed[k] == most_collapse) common.push_back(k);
+    std::stable_sort(common.begin(), common.end(), [&](std::size_t a, std::size_t b) { return fallen[a] < fallen[b]; });
+    n.typical = members[common[(common.size() - 1) / 2]];
   }
   write_text_atomically(csv_file, csv.str());
 
@@ -167,6 +197,8 @@ OutcomeCounts write_outcomes(const OutcomeTable& table, const fs::path& csv_file
   j["first_opening_s"] = value_spread(first_opening);  // count: the members in which a joint opened
   j["first_fall_s"] = value_spread(first_fall);
   j["largest_crown_drop_m"] = value_spread(crown_drop);
+  j["most_common_outcome_member"] = n.typical;  // of the majority's verdict, the median fallen stones
+  j["worst_outcome_member"] = n.worst;          // the most fallen stones, then the largest crown drop
   return n;
 }
 

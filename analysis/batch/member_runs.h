@@ -51,7 +51,14 @@ struct OutcomeTable {
 };
 struct OutcomeCounts {
   int finished = 0, collapses = 0, stones_fell = 0, ring_stones_fell = 0;
+  // The member of the most common outcome (of the verdict most members share, collapse or
+  // not, the one with the median number of fallen stones) and of the worst (the most fallen
+  // stones, then the largest crown drop); -1: no member finished.
+  int typical = -1, worst = -1;
 };
+// summary.json's result columns (run_result.h) as a CSV row's fields, without a newline.
+std::string summary_csv_values(const std::filesystem::path& summary_json);
+
 // Writes `csv` (a row per member: member, its draws, summary.json's result columns and
 // first_fall_s) and puts into `json` the probabilities of collapse, of any stone falling
 // and of a ring stone falling, each with its Wilson interval, and the median, least and

@@ -9,6 +9,7 @@
 #include <sstream>
 #include <vector>
 
+#include "analysis/batch/ensemble.h"
 #include "analysis/batch/job_queue.h"
 #include "analysis/batch/study_progress.h"
 #include "analysis/dynamics/frequencies.h"
@@ -46,6 +47,7 @@ std::string job_key(const Job& job, const StudyFile& study) {
   in << (job.kind == JobKind::run ? " run " : " frequencies ");
   if (job.kind == JobKind::run)  // the scenario, its model file and records
     in << scenario_fingerprint(*job.scenario) << " duration " << study.duration_s;
+  if (job.kind == JobKind::run && study.members >= 2) in << " members " << study.members;
   else if (job.scenario)
     in << file_bytes(job.input) << file_bytes(job.scenario->model_file);
   else
@@ -65,7 +67,13 @@ std::string csv_quoted(const std::string& text) {
 bool is_current(const Job& job) { return fs::exists(job.folder / "row.csv") && outputs_current(job.folder, job.key); }
 
 // Which run, its result (run_result.h) and how it ran.
-const std::string kRunHeader = "scenario,model,mortar_pa," + result_csv_header() + ",dt_s,threads,monitored_block\n";
+// A run of an ensemble (study members >= 2) gives the result of its most common outcome's
+// member, then its probabilities (a single run: members 1, the rest empty).
+const std::string kRunHeader = "scenario,model,mortar_pa," + result_csv_header() +
+                               ",dt_s,threads,monitored_block,members,typical_member,worst_member,p_collapse,p_collapse_lo,"
+                               "p_collapse_hi,p_stones_fall,p_stones_fall_lo,p_stones_fall_hi,p_ring_stones_fall,"
+                               "p_ring_stones_fall_lo,p_ring_stones_fall_hi,fallen_min,fallen_max\n";
+constexpr const char* kSingleRunColumns = ",1,,,,,,,,,,,,,";
 constexpr const char* kFrequencyHeader =
     "model,file,folder,subdivision,joint_rule,sub_contacts,mode_x_hz,mode_y_hz,mode_z_hz,impulse_x_hz,impulse_y_hz,impulse_z_hz,"
     "impulse_xz_hz,impulse_yz_hz\n";
@@ -77,6 +85,53 @@ bool resumable(const Job& job) {
   const fs::path started = job.folder / "started.key";
   return job.kind == JobKind::run && fs::exists(job.folder / "checkpoint.bin") && fs::exists(started) &&
          file_bytes(started) == job.key + "\n";
+}
+
+// The run's ground motion as the report plots it: 200 samples per second.
+void write_ground_motion(const Scenario& sc, const fs::path& folder) {
+  const GroundMotion g = prepare_ground_motion(sc.motion(), 0.005);
+  std::ostringstream csv;
+  csv << "time_s,ax_m_s2,ay_m_s2,az_m_s2\n";
+  for (std::size_t k = 0; k < g.accel_m_s2.size(); ++k)
+    csv << k * g.dt_s << "," << g.accel_m_s2[k].x() << "," << g.accel_m_s2[k].y() << "," << g.accel_m_s2[k].z() << "\n";
+  write_text_atomically(folder / "ground_motion.csv", csv.str());
+}
+
+Scenario run_scenario_of(const Job& job, const StudyFile& study, int threads) {
+  Scenario sc = *job.scenario;
+  if (study.duration_s >= 0) sc.settings.duration_s = study.duration_s;
+  sc.settings.threads = threads;
+  return sc;
+}
+
+// An ensemble's row of runs.csv (its members in the job's folder, finished ones kept): the
+// most common outcome's member's result, then the probabilities.
+std::string ensemble_job(const Job& job, const StudyFile& study, int threads) {
+  fs::create_directories(job.folder);
+  const Scenario sc = run_scenario_of(job, study, threads);
+  EnsembleOptions options;
+  options.out = job.folder;
+  options.members = study.members;
+  options.threads_per_member = threads;
+  options.checkpoint_wall_s = kStudyCheckpointWallS;
+  const EnsembleOutcome e = run_ensemble(sc, options);
+  if (e.interrupted > 0) throw std::runtime_error("interrupted (its members' checkpoints are kept: the next study goes on from them)");
+  if (e.failed > 0 || e.finished < e.members) throw std::runtime_error(std::to_string(e.failed) + " members failed");
+  write_ground_motion(sc, job.folder);
+  const fs::path typical = member_folder(job.folder, e.typical_member);
+  const nlohmann::json summary = nlohmann::json::parse(std::ifstream(typical / "summary.json"));
+  const nlohmann::json probabilities = nlohmann::json::parse(std::ifstream(job.folder / "ensemble.json"));
+  std::ostringstream row;
+  row.precision(9);
+  row << kRunHeader << job.input.stem().string() << ",\"" << sc.model.name << "\"," << sc.model.bridge.mortar_pa << ","
+      << summary_csv_values(typical / "summary.json") << "," << summary["dt_s"].get<double>() << "," << threads << ","
+      << summary["monitored_block"].get<int>() << "," << e.members << "," << typical.filename().string() << ","
+      << member_folder(job.folder, e.worst_member).filename().string();
+  for (const char* p : {"collapse", "stones_fall", "ring_stones_fall"})
+    row << "," << probabilities[p]["p"].get<double>() << "," << probabilities[p]["lo"].get<double>() << ","
+        << probabilities[p]["hi"].get<double>();
+  row << "," << probabilities["fallen_stones"]["min"].get<int>() << "," << probabilities["fallen_stones"]["max"].get<int>() << "\n";
+  return row.str();
 }
 
 // A run's row of runs.csv, and its ground motion as the report plots it. A resumable run
@@ -99,26 +154,18 @@ std::string seismic_job(const Job& job, const StudyFile& study, int threads, con
   if (resumed) {
     run = SeismicRun::resume(options, overrides);
   } else {
-    Scenario sc = *job.scenario;
-    if (study.duration_s >= 0) overrides.set(&RunSettings::duration_s, study.duration_s);
-    apply_overrides(sc.settings, overrides);
-    run = std::make_unique<SeismicRun>(sc, options);
+    run = std::make_unique<SeismicRun>(run_scenario_of(job, study, threads), options);
   }
   const SeismicRunResult r = run->run();
   if (r.interrupted) throw std::runtime_error("interrupted (its checkpoint is kept: the next study goes on from it)");
   fs::remove(job.folder / "checkpoint.bin");
   const Scenario& sc = run->scenario();
-  // The ground motion as the report plots it: 200 samples per second.
-  const GroundMotion g = prepare_ground_motion(sc.motion(), 0.005);
-  std::ostringstream csv;
-  csv << "time_s,ax_m_s2,ay_m_s2,az_m_s2\n";
-  for (std::size_t k = 0; k < g.accel_m_s2.size(); ++k)
-    csv << k * g.dt_s << "," << g.accel_m_s2[k].x() << "," << g.accel_m_s2[k].y() << "," << g.accel_m_s2[k].z() << "\n";
-  write_text_atomically(job.folder / "ground_motion.csv", csv.str());
+  write_ground_motion(sc, job.folder);
   std::ostringstream row;
   row.precision(9);
   row << kRunHeader << job.input.stem().string() << ",\"" << sc.model.name << "\"," << sc.model.bridge.mortar_pa << ","
-      << result_csv_values(r) << "," << run->dt_s() << "," << threads << "," << run->monitored_block() << "\n";
+      << result_csv_values(r) << "," << run->dt_s() << "," << threads << "," << run->monitored_block() << kSingleRunColumns
+      << "\n";
   return row.str();
 }
 
@@ -200,12 +247,15 @@ void write_tables(const std::vector<Job>& jobs, const StudyFile& study, const fs
   for (const auto& [stem, hz] : study.reference_frequencies_hz)
     reference << "frequencies," << stem << "," << hz[0] << "," << hz[1] << "," << hz[2] << ",\n";
   for (const auto& [stem, says] : study.reference_says) reference << "says," << stem << ",,,," << csv_quoted(says) << "\n";
+  for (const auto& [stem, verdict] : study.reference_outcome) reference << "outcome," << stem << ",,,," << verdict << "\n";
   write_text_atomically(out / "reference.csv", reference.str());
 }
 
 }  // namespace
 
-StudyOutcome run_study(const StudyFile& study, const StudyOptions& o) {
+StudyOutcome run_study(const StudyFile& study_file, const StudyOptions& o) {
+  StudyFile study = study_file;
+  if (o.members >= 0) study.members = o.members;
   std::vector<Job> jobs = make_jobs(study, o.out);
 
   const int workers = std::max(1, std::min<int>(o.jobs, static_cast<int>(jobs.size())));
@@ -232,14 +282,18 @@ StudyOutcome run_study(const StudyFile& study, const StudyOptions& o) {
       progress.finished(i, JobProgress::skipped);
       return;
     }
+    const bool ensemble = job.kind == JobKind::run && study.members >= 2;
+    if (ensemble && o.force) fs::remove_all(job.folder);
     const bool resumed = !o.force && resumable(job);
-    event(name + (resumed ? ": goes on from its checkpoint" : ": started"));
+    event(name + (ensemble ? ": an ensemble of " + std::to_string(study.members) + " members (finished ones kept)"
+                  : resumed ? ": goes on from its checkpoint" : ": started"));
     progress.started(i, resumed);
     const auto t0 = std::chrono::steady_clock::now();
     try {
       use_threads(threads);
       const std::string row =
-          job.kind == JobKind::run
+          ensemble ? ensemble_job(job, study, threads)
+          : job.kind == JobKind::run
               ? seismic_job(job, study, threads, [&progress, i](double done) { progress.advanced(i, done); }, resumed)
               : frequency_job(job, study);
       write_text_atomically(job.folder / "row.csv", row);

@@ -4,7 +4,9 @@
 //
 // Layout of the output folder:
 //   frequencies/<model>/   modes.csv, modes.vtu, spectrum_*.csv, peaks.csv, row.csv
-//   runs/<scenario>/       blocks.pvd, contacts.pvd, history.csv, summary.json, ground_motion.csv, row.csv
+//   runs/<scenario>/       blocks.pvd, contacts.pvd, history.csv, summary.json, ground_motion.csv, row.csv;
+//                          with members: member_NNN/ (each member's run), ensemble.csv, ensemble.json,
+//                          ground_motion.csv, row.csv
 //   frequencies.csv, runs.csv (one row per job), jobs.csv (what ran, was current or failed)
 //   report.md, report.html, figures/*.png (analysis/report/report.py)
 #pragma once
@@ -20,6 +22,7 @@ struct StudyOptions {
   std::filesystem::path out;
   int jobs = 1;              // analyses at once
   int threads_per_job = 0;   // 0: the cores shared among the jobs
+  int members = -1;          // >= 0: replaces the study file's members (each run an ensemble of them)
   bool force = false;        // rerun jobs whose outputs are current
   bool report = true;        // write the report (python3 with matplotlib)
   std::function<void(const std::string&)> on_event;  // a job started, finished, was skipped or failed; progress

@@ -13,6 +13,7 @@ Needs Debian's python3-matplotlib and python3-vtk9 (scripts/setup.sh installs th
 import base64
 import csv
 import html
+import json
 import math
 import os
 import sys
@@ -88,9 +89,23 @@ def ground_motion_figure(out, runs, figures):
     return save(fig, figures / "ground_motion.png")
 
 
-def shaking_rows(out, scenario):
-    """History rows of the shaking, with the time counted from its start."""
-    rows = read_rows(out / "runs" / scenario / "history.csv")
+def run_folder(out, run, member=None):
+    """Where a run's series and history are: its folder, or for an ensemble (a study with
+    members) its member of the most common outcome (or `member`)."""
+    member = member or run.get("typical_member", "")
+    return out / "runs" / run["scenario"] / member if member else out / "runs" / run["scenario"]
+
+
+def members_of(out, run):
+    """The folders of an ensemble's members (none for a single run)."""
+    if number(run.get("members", "1"), 1) < 2:
+        return []
+    return sorted(p for p in (out / "runs" / run["scenario"]).glob("member_*") if p.is_dir())
+
+
+def shaking_rows(folder):
+    """History rows of the shaking in a run's folder, with the time counted from its start."""
+    rows = read_rows(folder / "history.csv")
     shake = [r for r in rows if r["phase"] != "settle"]
     settled = [r for r in rows if r["phase"] == "settle"]
     t0 = number(settled[-1]["time_s"]) if settled else 0.0
@@ -106,14 +121,21 @@ def crown_figure(out, runs, figures):
     fig, axes = panels(len(groups), 2.6)
     for a, (model, members) in zip(axes, groups.items()):
         for r in members:
-            shake, t0 = shaking_rows(out, r["scenario"])
-            block = r["monitored_block"]
-            key = f"block{block}_dz_m"
-            if not shake or key not in shake[0]:
-                continue
-            t = [number(x["time_s"]) - t0 for x in shake]
-            dz = [1000 * number(x[key]) for x in shake]
-            a.plot(t, dz, lw=0.9, label=r["scenario"].replace(model + "_", ""))
+            key = f"block{r['monitored_block']}_dz_m"
+            colour = None
+            for k, folder in enumerate([run_folder(out, r)] + members_of(out, r)):
+                shake, t0 = shaking_rows(folder)
+                if not shake or key not in shake[0]:
+                    continue
+                t = [number(x["time_s"]) - t0 for x in shake]
+                dz = [1000 * number(x[key]) for x in shake]
+                if k == 0:  # the run, or the ensemble's most common outcome; then every member, thin
+                    label = r["scenario"].replace(model + "_", "")
+                    if members_of(out, r):
+                        label += f" ({r['members']} members, most common outcome bold)"
+                    colour = a.plot(t, dz, lw=1.2, label=label)[0].get_color()
+                else:
+                    a.plot(t, dz, lw=0.5, alpha=0.45, color=colour)
         finish_panel(a, f"{model}: crown unit, vertical, relative to the ground", "time of shaking [s]", "dz [mm]")
         a.legend(fontsize=7)
     fig.tight_layout()
@@ -155,7 +177,7 @@ def energy_figure(out, runs, figures):
     terms = ("kinetic_j", "elastic_j", "damping_j", "friction_j", "bond_j", "ground_work_j", "balance_error_j")
     fig, axes = panels(len(runs), 2.6)
     for a, r in zip(axes, runs):
-        shake, t0 = shaking_rows(out, r["scenario"])
+        shake, t0 = shaking_rows(run_folder(out, r))
         if not shake:
             continue
         t = [number(x["time_s"]) - t0 for x in shake]
@@ -186,13 +208,15 @@ def block_faces(vtu):
     return faces, moved, [bool(fallen[i]) for i in keep], stones
 
 
-def snapshot_figure(out, run, shaking_s, figures, limits):
-    folder = out / "runs" / run["scenario"]
+def snapshot_figure(out, run, shaking_s, figures, limits, member=None, what=""):
+    """The run (or its `member`, `what` it shows) after shaking_s of shaking."""
+    folder = run_folder(out, run, member)
     series = frames(folder)
-    shaking = number(run["shaking_time_s"], 0.0)
+    times = run if not member else {k: str(v) for k, v in json.load(open(folder / "summary.json")).items()}
+    shaking = number(times["shaking_time_s"], 0.0)
     if not series or shaking_s > shaking + 0.01:  # within a frame of the end
         return None
-    t0 = number(run["settle_time_s"], 0.0)
+    t0 = number(times["settle_time_s"], 0.0)
     time, vtu = min(series, key=lambda f: abs(f[0] - (t0 + shaking_s)))
     faces, moved, _, _ = block_faces(vtu)
     fig = plt.figure(figsize=(9, 4.5))
@@ -209,8 +233,8 @@ def snapshot_figure(out, run, shaking_s, figures, limits):
     a.set_axis_off()
     mappable = plt.cm.ScalarMappable(cmap="viridis", norm=plt.Normalize(0, 1000 * top))
     fig.colorbar(mappable, ax=a, shrink=0.6, label="displacement relative to the ground [mm]")
-    a.set_title(f"{run['scenario']} after {time - t0:.2f} s of shaking", fontsize=10)
-    return save(fig, figures / f"snapshot_{run['scenario']}_{shaking_s:g}s.png")
+    a.set_title(f"{run['scenario']}{what} after {time - t0:.2f} s of shaking", fontsize=10)
+    return save(fig, figures / f"snapshot_{run['scenario']}{'_' + member if member else ''}_{shaking_s:g}s.png")
 
 
 ANIMATION_FRAMES = 40  # at most, spread over the shaking: a few MB per run
@@ -272,7 +296,7 @@ def animation(out, run, figures, limits):
     with a cursor at the frame's time."""
     from matplotlib.animation import PillowWriter
 
-    folder = out / "runs" / run["scenario"]
+    folder = run_folder(out, run)
     t0, shaking = number(run["settle_time_s"], 0.0), number(run["shaking_time_s"], 0.0)
     chosen = animation_frames(frames(folder), t0, shaking)
     if len(chosen) < 2:
@@ -284,7 +308,7 @@ def animation(out, run, figures, limits):
     title = fig.text(0.02, 0.95, "", fontsize=9)
     mappable = plt.cm.ScalarMappable(cmap="viridis", norm=plt.Normalize(0, 1000 * top))
     fig.colorbar(mappable, ax=bridge, shrink=0.6, pad=0.0, label="displacement relative to the ground [mm]")
-    cursors = ground_motion_panels(fig, read_rows(folder / "ground_motion.csv"), shaking)
+    cursors = ground_motion_panels(fig, read_rows(out / "runs" / run["scenario"] / "ground_motion.csv"), shaking)
     path = figures / f"animation_{run['scenario']}.gif"
     writer = PillowWriter(fps=8)
     with writer.saving(fig, path, dpi=80):
@@ -300,7 +324,7 @@ def animation(out, run, figures, limits):
 
 def model_limits(out, run):
     """Bounds of the model in its first frame, with room for stones that fall out."""
-    series = frames(out / "runs" / run["scenario"])
+    series = frames(run_folder(out, run))
     faces = block_faces(series[0][1])[0]
     xs = [p for f in faces for p in f]
     lo = [min(p[i] for p in xs) for i in range(3)]
@@ -383,6 +407,7 @@ def read_study(out):
         "jobs": read_rows(out / "jobs.csv"),
         "study_hz": {r["key"]: [number(r[f"{a}_hz"]) for a in "xyz"] for r in reference if r["kind"] == "frequencies"},
         "study_says": {r["key"]: r["says"] for r in reference if r["kind"] == "says"},
+        "study_outcome": {r["key"]: r["says"] for r in reference if r["kind"] == "outcome"},
     }
 
 
@@ -422,6 +447,28 @@ def frequency_sections(out, study, figures):
     return sections
 
 
+def probability(r, what, complement=False):
+    """'p [lo-hi]' of runs.csv's p_<what>, or of its complement."""
+    p, lo, hi = (number(r.get(f"p_{what}{end}", "")) for end in ("", "_lo", "_hi"))
+    if math.isnan(p):
+        return "-"
+    if complement:
+        p, lo, hi = 1 - p, 1 - hi, 1 - lo
+    return f"{p:.2f} [{lo:.2f}-{hi:.2f}]"
+
+
+def ensemble_columns(r, study_outcome):
+    """An ensemble's columns of the runs table (dashes for a single run): its members, the
+    probabilities with their 95 % Wilson intervals, and that of the study's own outcome
+    ('collapse', 'stands' or 'no_stone_falls' in the study file's [reference.outcome])."""
+    of_study = {"collapse": probability(r, "collapse"), "stands": probability(r, "collapse", True),
+                "no_stone_falls": probability(r, "stones_fall", True)}.get(study_outcome, "-")
+    if of_study != "-":
+        of_study = f"{study_outcome.replace('_', ' ')}: {of_study}"
+    fallen = f"{r['fallen_min']}-{r['fallen_max']}" if r.get("fallen_min", "") != "" else "-"
+    return [r.get("members", "1"), probability(r, "collapse"), probability(r, "stones_fall"), fallen, of_study]
+
+
 def run_sections(out, study, figures):
     """The seismic runs' table and figures, their snapshots and animations."""
     runs = study["runs"]
@@ -433,26 +480,41 @@ def run_sections(out, study, figures):
                  f"{r['joints_cracked']} / {r['joints']}", fmt(r["energy_balance_error_relative"], 3, 100),
                  fmt(r["wall_s"], 0), study["study_says"].get(r["scenario"], "")]
                 for r in runs]
+    ensembles = any(members_of(out, r) for r in runs)
+    if ensembles:
+        for row, r in zip(run_rows, runs):
+            row[-1:-1] = ensemble_columns(r, study["study_outcome"].get(r["scenario"], ""))
     sections = [("Seismic runs",
                  "Settled under gravity, then shaken. First opening: seconds of shaking until a joint first "
                  "opened by more than 1 mm (or lost its bond). Crown drop: the largest downward displacement "
                  "of the crown unit relative to the ground. Energy balance: the fraction of the energy "
                  "exchanged (ground work, dashpots, friction, bonds) that the balance misses. Study says: what "
                  "the published study reports of that run, where the study file gives it (the study's time axis "
-                 "runs 3.8 s behind the record: its 4.0 s is the record's 7.8 s, 3.8 s of shaking from 4.0 s).",
+                 "runs 3.8 s behind the record: its 4.0 s is the record's 7.8 s, 3.8 s of shaking from 4.0 s)."
+                 + (" A run of several members is an ensemble (members that differ by the construction "
+                    "tolerance, README: Ensembles): its columns up to wall time are its most common outcome's member "
+                    "(of the verdict most members share, the median number of fallen stones), then the "
+                    "probabilities with their 95 % Wilson intervals, and that of the study's own verdict." if ensembles
+                    else ""),
                  (["scenario", "settled", "shaking [s]", "first opening [s]", "crown drop [mm]",
-                   "stones fallen", "collapse", "joints cracked", "energy balance [%]", "wall [s]", "study says"],
+                   "stones fallen", "collapse", "joints cracked", "energy balance [%]", "wall [s]"]
+                  + (["members", "p collapse [95 %]", "p a stone falls [95 %]", "stones fallen (range)",
+                      "p of the study's outcome here"] if ensembles else []) + ["study says"],
                   run_rows),
                  [ground_motion_figure(out, runs, figures), crown_figure(out, runs, figures),
                   energy_figure(out, runs, figures)])]
     snapshots, animations = [], []
     for r in runs:
-        if not frames(out / "runs" / r["scenario"]):
+        if not frames(run_folder(out, r)):
             continue
         limits = model_limits(out, r)
         limits = ([limits[0][0], limits[0][1], limits[0][2] - 1.0], limits[1])
         for t in study["snapshot_times"]:
             snapshots.append(snapshot_figure(out, r, t, figures, limits))
+        if members_of(out, r):  # the ensemble's worst outcome at its end
+            worst = r["worst_member"]
+            snapshots.append(snapshot_figure(out, r, number(r["shaking_time_s"], 0.0), figures, limits, worst,
+                                             f", the worst of {r['members']} members ({worst})"))
         animations.append(animation(out, r, figures, limits))
     sections.append(("Snapshots", "Each run at the study's snapshot times, coloured by each block's displacement "
                      "relative to the ground (open view.pvsm in ParaView for the whole series).", None, snapshots))

@@ -45,7 +45,7 @@ TEST(Study, QuickStudyWritesTablesAndAReportWithEveryFigureThenKeepsCurrentOutpu
   EXPECT_NE(md.find("## Natural frequencies against the study"), std::string::npos);
   EXPECT_NE(md.find("| 17.6 |"), std::string::npos) << "model A's x frequency in the study";
   EXPECT_NE(md.find("| collapses in plane: first horizontal crack at 4.0 s"), std::string::npos);
-  EXPECT_EQ(count_of(text_of(out / "reference.csv"), "\n"), 9);  // header, 3 models, 5 verdicts
+  EXPECT_EQ(count_of(text_of(out / "reference.csv"), "\n"), 14);  // header, 3 models, 5 verdicts, 5 outcomes
   for (const char* figure : {"ground_motion.png", "crown_displacement.png", "impulse_spectra.png", "energy.png",
                              "mode_shapes_nishida_a_corners.png", "mode_shapes_nishida_a_moments.png"})
     EXPECT_GT(std::filesystem::file_size(out / "figures" / figure), 10000u) << figure;
@@ -85,6 +85,36 @@ TEST(Study, InterruptedStudyGoesOnFromItsRunsCheckpointAndEndsAsIfNeverStopped) 
   };
   EXPECT_FALSE(hash(run / "summary.json").empty());
   EXPECT_EQ(hash(run / "summary.json"), hash(reference_run / "summary.json"));
+}
+
+TEST(Study, RunsAsEnsemblesGiveTheirProbabilitiesAndTheStudysOutcomeInTheReport) {
+  const auto file = tmp_dir() / "ishibashi_study_members.toml";
+  std::ofstream(file) << "[study]\nname = \"Members\"\nscenarios = [\"" << (kRoot / "scenarios/nishida_a_kobe_dry.toml").string()
+                      << "\"]\nsnapshot_times_s = [0.1]\nduration_s = 0.15\nmembers = 3\n"
+                      << "[reference.outcome]\nnishida_a_kobe_dry = \"stands\"\n";
+  const auto out = tmp_dir() / "ishibashi_study_members";
+  std::filesystem::remove_all(out);
+  int status = 0;
+  const std::string study = std::string(ISHIBASHI_BINARY) + " study " + file.string() + " --members 2 --out " + out.string();
+  const std::string first = run_command(study, &status);
+  ASSERT_EQ(status, 0) << first;
+  EXPECT_NE(first.find("an ensemble of 2 members"), std::string::npos) << first;  // --members replaces the file's 3
+  const auto run = out / "runs" / "nishida_a_kobe_dry";
+  EXPECT_TRUE(std::filesystem::exists(run / "member_001" / "summary.json"));
+  EXPECT_FALSE(std::filesystem::exists(run / "member_002"));
+  const std::string runs = text_of(out / "runs.csv");
+  EXPECT_NE(runs.find(",2,member_00"), std::string::npos) << runs;  // members, the most common outcome's member
+  EXPECT_NE(runs.find("p_collapse,p_collapse_lo"), std::string::npos) << runs;
+  // Neither member collapses in 0.15 s: p(collapse) 0 of 2, [0, 3.84 / 5.84]; the study's
+  // outcome (here: stands) has p 1 [0.34, 1].
+  const std::string md = text_of(out / "report.md");
+  EXPECT_NE(md.find("| 0.00 [0.00-0.66] |"), std::string::npos) << md;
+  EXPECT_NE(md.find("| stands: 1.00 [0.34-1.00] |"), std::string::npos) << md;
+  EXPECT_NE(md.find("| 0-0 |"), std::string::npos) << md;  // stones fallen, least and most
+  EXPECT_NE(md.find("](figures/snapshot_nishida_a_kobe_dry_member_00"), std::string::npos) << md;  // the worst outcome
+  const std::string second = run_command(study, &status);
+  EXPECT_EQ(status, 0) << second;
+  EXPECT_NE(second.find("0 jobs ran, 1 were current"), std::string::npos) << second;
 }
 
 TEST(Study, BadStudyFileNamesTheFileAndLine) {
