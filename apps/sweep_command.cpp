@@ -29,7 +29,7 @@ int run_sweep_command(const SweepCommandOptions& o) {
                 s.scenario.c_str(), f.outcomes, f.failures, f.median, f.beta,
                 f.degenerate ? " (degenerate: all runs failed, none did, or failures and survivals do not overlap)" : "");
     if (s.reference.empty()) continue;
-    std::printf("  against %s on the same %d (record, level): both stand %d, both fail %d, only %s fails %d, only %s fails %d; "
+    std::printf("  against %s on the same %d cases (record, level, member): both stand %d, both fail %d, only %s fails %d, only %s fails %d; "
                 "one curve for both: p = %.3g (likelihood ratio %.2f)\n",
                 s.reference.c_str(), s.cases, s.both_stand, s.both_fail, s.reference.c_str(), s.only_reference_fails,
                 s.scenario.c_str(), s.only_scenario_fails, s.against_reference.p_value, s.against_reference.statistic);

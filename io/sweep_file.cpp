@@ -27,6 +27,7 @@ SweepFile read_sweep(const std::filesystem::path& file) {
   sweep.text("scenario", scenario);
   sweep.paths("scenarios", base, s.scenarios);
   sweep.number("duration_s", s.duration_s);
+  sweep.integer_at_least("members", s.members, 1);
   std::vector<double> pga, scale;
   sweep.non_negative_numbers("pga_g", pga);
   sweep.non_negative_numbers("scale", scale);

@@ -47,6 +47,10 @@ struct SweepFile {
   // compared with.
   std::vector<std::filesystem::path> scenarios;
   double duration_s = -1;        // < 0: the scenario's
+  // [sweep] members: each (scenario, record, level) as this many ensemble members (the
+  // scenario's [ensemble] seed and tolerance, analysis/run/member_draw.h), more samples per
+  // level for the fragility fit; <= 1: the scenario's own run.
+  int members = 1;
   bool scale_to_pga = true;      // levels are target PGAs in g; false: scale factors
   std::vector<double> levels;
   FailureCriteria failure;

@@ -32,8 +32,8 @@ constexpr double kG = 9.80665;
 constexpr int kRowTag = 1, kCaseTag = 2;  // worker -> rank 0: a finished row; rank 0 -> worker: the next case
 
 struct Case {
-  int scenario, record, level;
-  std::string key;  // "scenario,record,level": the first three fields of its row
+  int scenario, record, level, member;  // member: of the sweep's members (0 when it has none)
+  std::string key;  // "scenario,record,level,member": the first four fields of its row
 };
 
 std::string level_label(double level) {
@@ -49,7 +49,9 @@ std::string host_name() {
 }
 
 fs::path case_folder(const SweepFile& sweep, const Case& c, const fs::path& out) {
-  return out / "runs" / scenario_name(sweep, c.scenario) / (sweep.records[c.record].name + "_" + level_label(sweep.levels[c.level]));
+  const std::string member = sweep.members > 1 ? "_member_" + std::to_string(c.member) : "";
+  return out / "runs" / scenario_name(sweep, c.scenario) /
+         (sweep.records[c.record].name + "_" + level_label(sweep.levels[c.level]) + member);
 }
 
 // The inputs key of a case (job_queue.h): its scenario with its model file and records, the
@@ -63,6 +65,7 @@ std::string case_key(const SweepFile& sweep, const Case& c) {
   in << "sweep case " << scenario_fingerprint(sweep.scenarios[c.scenario]) << " level " << sweep.levels[c.level]
      << (sweep.scale_to_pga ? " pga" : " factor") << " duration " << sweep.duration_s << " start " << record.motion.start_s
      << " failure " << f.collapse << " " << f.crown_drop_m << " " << f.fallen_stones;  // baseline: the scenario's
+  if (sweep.members > 1) in << " member " << c.member << " of " << sweep.members;  // the draws: the scenario's [ensemble]
   for (const auto& component : record.motion.component)
     if (component)
       in << " " << fnv1a(file_bytes(component->file)) << " " << component->format << " " << static_cast<int>(component->unit)
@@ -91,6 +94,7 @@ std::string run_case(const SweepFile& sweep, const Case& c, int threads, const f
 
   SeismicRunOptions options;
   options.out = case_folder(sweep, c, out);
+  if (sweep.members > 1) options.member = c.member;
   fs::remove_all(options.out);  // a run that died half-way starts again
   SeismicRun run(sc, options);
   const SeismicRunResult r = run.run();
@@ -158,13 +162,13 @@ std::vector<int> cases_to_run(const SweepFile& sweep, const fs::path& out, const
   if (!header.empty() && header + "\n" != sweep_csv_header())
     throw InputError(table.string() + ": its columns are not this version's (\"" + header.substr(0, 40) +
                      "...\"); move it away, or give the sweep another --out");
-  std::map<std::string, int> case_of;  // "scenario,record,level" -> case
+  std::map<std::string, int> case_of;  // "scenario,record,level,member" -> case
   for (int i = 0; i < static_cast<int>(cases.size()); ++i) case_of[cases[i].key] = i;
   std::set<int> done;
   std::string kept = sweep_csv_header();
   for (const std::string& row : finished_sweep_rows(table)) {
     const std::vector<std::string> f = row_fields(row);
-    const auto c = f.size() >= 3 ? case_of.find(f[0] + "," + f[1] + "," + f[2]) : case_of.end();
+    const auto c = f.size() >= 4 ? case_of.find(f[0] + "," + f[1] + "," + f[2] + "," + f[3]) : case_of.end();
     if (c == case_of.end() || !outputs_current(case_folder(sweep, cases[c->second], out), case_key(sweep, cases[c->second])))
       continue;
     done.insert(c->second);
@@ -186,13 +190,15 @@ SweepOutcome run_sweep(const SweepFile& sweep, const SweepOptions& o, const MpiS
   auto event = [&](const std::string& text) {
     if (o.on_event) o.on_event(text);
   };
-  // The variants of one (record, level) next to each other: a sweep stopped part way has
-  // compared what it has run.
+  // The variants of one (record, level, member) next to each other: a sweep stopped part
+  // way has compared what it has run.
   std::vector<Case> cases;
-  for (int r = 0; r < static_cast<int>(sweep.records.size()); ++r)
-    for (int l = 0; l < static_cast<int>(sweep.levels.size()); ++l)
-      for (int k = 0; k < static_cast<int>(sweep.scenarios.size()); ++k)
-        cases.push_back({k, r, l, scenario_name(sweep, k) + "," + sweep.records[r].name + "," + level_label(sweep.levels[l])});
+  for (int m = 0; m < std::max(1, sweep.members); ++m)
+    for (int r = 0; r < static_cast<int>(sweep.records.size()); ++r)
+      for (int l = 0; l < static_cast<int>(sweep.levels.size()); ++l)
+        for (int k = 0; k < static_cast<int>(sweep.scenarios.size()); ++k)
+          cases.push_back({k, r, l, m, scenario_name(sweep, k) + "," + sweep.records[r].name + "," +
+                                           level_label(sweep.levels[l]) + "," + std::to_string(m)});
   const int runs_here = mpi.size() > 1 ? 1 : std::max(1, o.jobs);
   const int node_share = mpi.size() > 1 ? mpi.ranks_on_this_node() : runs_here;
   const int threads = decide_thread_count(o.threads_per_job, node_share);
@@ -207,7 +213,9 @@ SweepOutcome run_sweep(const SweepFile& sweep, const SweepOptions& o, const MpiS
   outcome.kept = static_cast<int>(cases.size() - pending.size());
   event("sweep: " + std::to_string(cases.size()) + " runs (" + std::to_string(sweep.scenarios.size()) + " scenarios x " +
         std::to_string(sweep.records.size()) + " records x " +
-        std::to_string(sweep.levels.size()) + " levels), " + std::to_string(outcome.kept) + " done before; " +
+        std::to_string(sweep.levels.size()) + " levels" +
+        (sweep.members > 1 ? " x " + std::to_string(sweep.members) + " members" : "") + "), " +
+        std::to_string(outcome.kept) + " done before; " +
         std::to_string(mpi.size() > 1 ? mpi.size() : runs_here) + (mpi.size() > 1 ? " MPI ranks" : " at a time") + ", " +
         std::to_string(threads) + " threads each");
 
@@ -224,7 +232,9 @@ SweepOutcome run_sweep(const SweepFile& sweep, const SweepOptions& o, const MpiS
     }
     append << message << std::flush;  // one complete row at a time
     ++outcome.ran;
-    event(message.substr(0, message.find(',', message.find(',', message.find(',') + 1) + 1)) + ": done (rank " +
+    std::size_t key_end = 0;  // the row's first four fields: its case
+    for (int field = 0; field < 4 && key_end != std::string::npos; ++field) key_end = message.find(',', key_end + (field > 0));
+    event(message.substr(0, key_end) + ": done (rank " +
           std::to_string(rank) + ")");
   };
   queue.start(runs_here, [&](int i) {

@@ -27,7 +27,7 @@ struct Outcomes {
 
 const std::string& sweep_csv_header() {
   static const std::string header =
-      "scenario,record,level,scale_factor,pga_g,failed," + result_csv_header() + ",host\n";
+      "scenario,record,level,member,scale_factor,pga_g,failed," + result_csv_header() + ",host\n";
   return header;
 }
 
@@ -63,7 +63,7 @@ std::vector<std::string> row_fields(const std::string& row) {
 }
 
 std::vector<ScenarioFragility> write_sweep_curves(const SweepFile& sweep, const fs::path& out, const std::vector<std::string>& rows) {
-  std::map<std::string, std::vector<std::pair<double, double>>> ida;  // "scenario,record" -> (PGA, crown drop)
+  std::map<std::string, std::vector<std::pair<double, double>>> ida;  // "scenario,record,member" -> (PGA, crown drop)
   std::map<std::string, Outcomes> outcomes;
   for (const std::string& row : rows) {
     const std::vector<std::string> f = row_fields(row);
@@ -71,15 +71,16 @@ std::vector<ScenarioFragility> write_sweep_curves(const SweepFile& sweep, const 
     const std::string& scenario = f[sweep_column("scenario")];
     const double pga_g = std::stod(f[sweep_column("pga_g")]);
     const int failed = std::stoi(f[sweep_column("failed")]);
-    ida[scenario + "," + f[sweep_column("record")]].push_back({pga_g, std::stod(f[sweep_column("largest_crown_drop_m")])});
+    const std::string& member = f[sweep_column("member")];
+    ida[scenario + "," + f[sweep_column("record")] + "," + member].push_back({pga_g, std::stod(f[sweep_column("largest_crown_drop_m")])});
     Outcomes& o = outcomes[scenario];
     o.pga.push_back(pga_g);
     o.failed.push_back(failed);
-    o.by_case[f[sweep_column("record")] + "," + f[sweep_column("level")]] = failed;
+    o.by_case[f[sweep_column("record")] + "," + f[sweep_column("level")] + "," + member] = failed;
   }
   std::ostringstream curves;
   curves.precision(9);
-  curves << "scenario,record,pga_g,crown_drop_m\n";
+  curves << "scenario,record,member,pga_g,crown_drop_m\n";
   for (auto& [key, points] : ida) {
     std::sort(points.begin(), points.end());
     for (const auto& [x, drop] : points) curves << key << "," << x << "," << drop << "\n";

@@ -28,7 +28,7 @@ struct ScenarioFragility {
   std::string scenario;
   FragilityFit fit;
   std::string reference;  // the first scenario (empty for the first itself)
-  int cases = 0;          // (record, level) run with both
+  int cases = 0;          // (record, level, member) run with both
   int both_stand = 0, both_fail = 0, only_reference_fails = 0, only_scenario_fails = 0;
   FragilityComparison against_reference;
 };

@@ -24,6 +24,8 @@ def main():
         sys.exit("usage: sweep_plots.py SWEEP_OUTPUT_FOLDER")
     out = Path(sys.argv[1])
     runs = read_rows(out / "sweep.csv")
+    for r in runs:
+        r.setdefault("member", "0")  # tables of sweeps before members had none
     if not runs:
         sys.exit(f"sweep_plots.py: {out}/sweep.csv has no rows")
     fits = read_rows(out / "fragility_fit.csv")
@@ -31,13 +33,16 @@ def main():
 
     fig, ax = plt.subplots(figsize=(7, 4.5))
     for k, scenario in enumerate(scenarios):
-        for j, record in enumerate(sorted({r["record"] for r in runs})):
+        records = sorted({r["record"] for r in runs})
+        for record, member in sorted({(r["record"], r["member"]) for r in runs}):
             points = sorted((float(r["pga_g"]), 1000 * float(r["largest_crown_drop_m"]), r["failed"] == "1")
-                            for r in runs if r["record"] == record and r["scenario"] == scenario)
+                            for r in runs if (r["record"], r["member"]) == (record, member) and r["scenario"] == scenario)
             if not points:
                 continue
-            ax.plot([p[0] for p in points], [p[1] for p in points], STYLES[k % len(STYLES)], marker="o", color=f"C{j}",
-                    label=f"{scenario}, {record}" if len(scenarios) > 1 else record)
+            first = member == min(r["member"] for r in runs)  # one legend entry per record; members share its colour
+            ax.plot([p[0] for p in points], [p[1] for p in points], STYLES[k % len(STYLES)], marker="o",
+                    color=f"C{records.index(record)}", lw=1.2 if first else 0.6,
+                    label=(f"{scenario}, {record}" if len(scenarios) > 1 else record) if first else None)
             failed = [p for p in points if p[2]]
             ax.plot([p[0] for p in failed], [p[1] for p in failed], "x", color="red", ms=10, mew=2)
     ax.set_xlabel("PGA, larger horizontal component [g]")

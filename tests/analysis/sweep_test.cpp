@@ -11,11 +11,13 @@
 #include <fstream>
 #include <map>
 #include <memory>
+#include <set>
 #include <sstream>
 #include <vector>
 
 #include "command_line.h"
 #include "io/input_error.h"
+#include "analysis/batch/sweep_table.h"
 #include "io/sweep_file.h"
 
 namespace ishibashi {
@@ -130,19 +132,19 @@ TEST(Sweep, VariantsAreRunOnTheSameCasesAndCompared) {
   ASSERT_EQ(status, 0) << text;
   EXPECT_NE(text.find("8 runs (2 scenarios x 2 records x 2 levels)"), std::string::npos) << text;
   EXPECT_NE(text.find("fragility of ishibashi_sweep_mortar"), std::string::npos) << text;
-  EXPECT_NE(text.find("against ishibashi_sweep_dry on the same 4 (record, level)"), std::string::npos) << text;
+  EXPECT_NE(text.find("against ishibashi_sweep_dry on the same 4 cases (record, level, member)"), std::string::npos) << text;
   ASSERT_EQ(rows(out).size(), 8u);
   EXPECT_TRUE(std::filesystem::exists(out / "runs/ishibashi_sweep_mortar/kobe_ew_ns_1/blocks.pvd"));
   for (const char* output : {"comparison.csv", "fragility.png", "ida.png"})
     EXPECT_TRUE(std::filesystem::exists(out / output)) << output;
 
-  // The failed column (6th) of each variant, case by case, against the comparison's counts.
+  // The failed column (7th) of each variant, case by case, against the comparison's counts.
   std::map<std::string, std::map<std::string, int>> failed;  // variant -> "record,level" -> failed
   for (const std::string& row : rows(out)) {
     std::vector<std::string> f;
     std::stringstream cells(row);
     for (std::string cell; std::getline(cells, cell, ',');) f.push_back(cell);
-    failed[f[0]][f[1] + "," + f[2]] = std::stoi(f[5]);
+    failed[f[0]][f[1] + "," + f[2]] = std::stoi(f[6]);
   }
   int both_stand = 0, both_fail = 0, only_dry = 0, only_mortar = 0;
   for (const auto& [key, d] : failed["ishibashi_sweep_dry"]) {
@@ -159,6 +161,30 @@ TEST(Sweep, VariantsAreRunOnTheSameCasesAndCompared) {
   const std::string refused = run_command(kSweep + file.string() + " --out " + out.string(), &status);
   EXPECT_NE(status, 0);
   EXPECT_NE(refused.find("its columns are not this version's"), std::string::npos) << refused;
+}
+
+// Members (the scenario's [ensemble] draws) as more samples per level: each (record, level)
+// run twice with different stones' poses, every run a row and an outcome of the fit.
+TEST(Sweep, MembersAreMoreSamplesPerLevel) {
+  const auto file = sweep_file("scenario = \"" + scenario_file("ishibashi_sweep_dry", 0).string() + "\"\nmembers = 2");
+  const auto out = tmp_dir() / "ishibashi_sweep_members";
+  std::filesystem::remove_all(out);
+  int status = 0;
+  const std::string text = run_command(kSweep + file.string() + " --jobs 2 --threads-per-job 1 --out " + out.string(), &status);
+  ASSERT_EQ(status, 0) << text;
+  EXPECT_NE(text.find("8 runs (1 scenarios x 2 records x 2 levels x 2 members)"), std::string::npos) << text;
+  ASSERT_EQ(rows(out).size(), 8u);
+  std::map<std::string, std::set<std::string>> hashes;  // "record,level" -> the members' state hashes
+  for (const std::string& row : rows(out)) {
+    std::vector<std::string> f;
+    std::stringstream cells(row);
+    for (std::string cell; std::getline(cells, cell, ',');) f.push_back(cell);
+    hashes[f[1] + "," + f[2]].insert(f[sweep_column("state_hash")]);
+  }
+  ASSERT_EQ(hashes.size(), 4u);
+  for (const auto& [key, members] : hashes) EXPECT_EQ(members.size(), 2u) << key << ": the members ran the same";
+  EXPECT_TRUE(std::filesystem::exists(out / "runs/ishibashi_sweep_dry/kobe_ns_ew_0.5_member_1/summary.json"));
+  EXPECT_NE(text_of(out / "fragility_fit.csv").find(",8,"), std::string::npos) << text_of(out / "fragility_fit.csv");
 }
 
 // A sweep file with both `scenario` and `scenarios`, two variants of one name, or a name
