@@ -10,9 +10,6 @@
 // (pair_damping.h, summed from the sub-contacts once a step) and a gather.
 // Backward Euler never amplifies a damped mode, so dt is limited by the springs alone
 // (explicit dashpots with h = 1 on a block held by many joints: a tenth of that or less).
-// ModelOptions::damping_theta = theta < 1 takes the dashpots' force at theta v_new +
-// (1 - theta) v_old instead (v_old: the step's start), (M + theta dt C) delta =
-// dt F_d(theta v* + (1 - theta) v_old): the theta-method, stable for theta >= 1/2.
 // The change is handed to integrate() as the force M delta / dt.
 // Every sum runs in fixed chunks in a fixed order: the result is the same for any team.
 #include <array>
@@ -215,7 +212,6 @@ double for_solved_blocks(const Model& m, const State& s, Fn&& fn) {
 double first_residual(const Model& m, State& s, double dt, bool refresh, double* scale2) {
   ImplicitDamping& w = s.implicit;
   std::vector<Vec6>& x = w.delta;
-  const double theta = m.options.damping_theta;
   parallel_for(m.block_count, [&](std::ptrdiff_t b) {
     Vec6& v = w.velocity[b];
     if (solved(m, s, b)) {
@@ -224,13 +220,7 @@ double first_residual(const Model& m, State& s, double dt, bool refresh, double*
       Vec3 wb = r.transpose() * s.angular_velocity[b];
       wb += (r.transpose() * s.torque[b] - wb.cross(inertia.cwiseProduct(wb))).cwiseQuotient(inertia) * dt;
       v << s.velocity[b] + (s.force[b] / m.mass_kg[b] + m.gravity_m_s2) * dt, r * wb;
-      if (theta == 1) {
-        w.product[b] = v + x[b];
-      } else {  // the velocity the dashpots act at, theta of the way from the start to the guess
-        Vec6 start;
-        start << s.velocity[b], s.angular_velocity[b];
-        w.product[b] = theta * (v + x[b]) + (1 - theta) * start;
-      }
+      w.product[b] = v + x[b];
     } else {
       if (m.motion[b] == Motion::prescribed)
         v << s.velocity[b], s.angular_velocity[b];
@@ -242,7 +232,7 @@ double first_residual(const Model& m, State& s, double dt, bool refresh, double*
   });
   pair_resultants(s, w.product, /*assemble=*/true);
   const auto [rz, impulse2] = sums_over_solved_blocks<2>(m, s, [&](std::ptrdiff_t b) {
-    if (refresh) w.diagonal[b] = diagonal_inverse(m, s, b, theta * dt);
+    if (refresh) w.diagonal[b] = diagonal_inverse(m, s, b, dt);
     w.product[b] = dt * gathered(s, b);  // the dashpots' impulse at the first guess
     w.residual[b] = w.product[b] - mass_times(m, s, b, x[b]);
     w.preconditioned[b] = w.direction[b] = w.diagonal[b] * w.residual[b];
@@ -257,7 +247,6 @@ double first_residual(const Model& m, State& s, double dt, bool refresh, double*
 // it stopped at kDampingSolveMaxIterations.
 int conjugate_gradients(const Model& m, State& s, double dt, double rz, double target, bool* converged) {
   ImplicitDamping& w = s.implicit;
-  const double theta_dt = m.options.damping_theta * dt;
   int iterations = 0;
   double beta = 0;  // the first direction is z itself (first_residual)
   while (rz > target && iterations < kDampingSolveMaxIterations) {
@@ -270,7 +259,7 @@ int conjugate_gradients(const Model& m, State& s, double dt, double rz, double t
       pair_resultants(s, w.direction);
     const double pap = for_solved_blocks(m, s, [&](std::ptrdiff_t b) {
       if (update) w.direction[b] = w.preconditioned[b] + beta * w.direction[b];
-      w.product[b] = mass_times(m, s, b, w.direction[b]) - theta_dt * gathered(s, b);
+      w.product[b] = mass_times(m, s, b, w.direction[b]) - dt * gathered(s, b);
       return w.direction[b].dot(w.product[b]);
     });
     if (!(pap > 0)) break;
@@ -295,7 +284,6 @@ int conjugate_gradients(const Model& m, State& s, double dt, double rz, double t
 // the work (energy only: the order of these sums moves no block).
 void book(const Model& m, State& s, double dt, DampingSolve& result) {
   ImplicitDamping& w = s.implicit;
-  const double theta = m.options.damping_theta;
   result.work_j = for_solved_blocks(m, s, [&](std::ptrdiff_t b) {
     const Vec6 impulse = mass_times(m, s, b, w.delta[b]);
     Vec6 before;
@@ -305,16 +293,6 @@ void book(const Model& m, State& s, double dt, DampingSolve& result) {
     s.torque[b] += angular(impulse) / dt;
     return 0.5 * impulse.dot(before + w.velocity[b]);
   });
-  // The velocities the dashpots acted at (theta < 1: between the step's start and end).
-  const std::vector<Vec6>* acted_at = &w.velocity;
-  if (theta != 1) {
-    parallel_for(m.block_count, [&](std::ptrdiff_t b) {
-      Vec6 start;
-      start << s.velocity[b], s.angular_velocity[b];
-      w.product[b] = solved(m, s, b) ? Vec6(theta * w.velocity[b] + (1 - theta) * start) : w.velocity[b];
-    });
-    acted_at = &w.product;
-  }
   // Pair by pair in the pair loops' chunks, summed in chunk order: the ground slab alone
   // has hundreds of pairs, which a loop over the prescribed blocks ran on one thread.
   std::array<double, kStageChunks> parts{};
@@ -327,7 +305,7 @@ void book(const Model& m, State& s, double dt, DampingSolve& result) {
                       const bool driven_a = m.motion[a] == Motion::prescribed, driven_b = m.motion[b] == Motion::prescribed;
                       if (!driven_a && !driven_b) continue;
                       ImplicitDamping::Resultant r;
-                      resultant_at(s, (*acted_at)[a].data(), (*acted_at)[b].data(), p, r);
+                      resultant_at(s, w.velocity[a].data(), w.velocity[b].data(), p, r);
                       if (driven_a) power += -r.force.dot(s.velocity[a]) + r.moment_a.dot(s.angular_velocity[a]);
                       if (driven_b) power += r.force.dot(s.velocity[b]) + r.moment_b.dot(s.angular_velocity[b]);
                     }

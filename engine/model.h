@@ -169,11 +169,6 @@ struct ModelOptions {
   JointRule joint_rule = JointRule::corners;  // at subdivision 1; n > 1 refines either the same way
   ShearSpring shear_spring = ShearSpring::shear_modulus;
   Damping damping = Damping::study;
-  // Damping::implicit: the dashpots' force at theta v_new + (1 - theta) v_old, the velocities
-  // at the step's end and start: 1 backward Euler (first order, damps every mode it cannot
-  // resolve), 0.5 the trapezoidal rule (second order, but a mode far beyond the step's
-  // reach alternates in sign instead of dying out).
-  double damping_theta = 1.0;
   // Fixed blocks become prescribed: a driver sets their velocity each step (the ground of
   // a seismic run or an impulse response).
   bool drive_fixed_blocks = false;

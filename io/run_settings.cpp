@@ -12,7 +12,6 @@ ModelOptions model_options(const RunSettings& s) {
   options.joint_rule = s.joint_rule;
   options.shear_spring = s.shear_spring;
   options.damping = s.damping;
-  options.damping_theta = s.damping_theta;
   options.bonds_when_settled = s.mortar_bonds == MortarBonds::settled;
   return options;
 }

@@ -33,7 +33,6 @@ struct RunSettings {
   JointRule joint_rule = JointRule::corners;
   ShearSpring shear_spring = ShearSpring::shear_modulus;
   Damping damping = Damping::study;
-  double damping_theta = 1.0;       // implicit dashpots' weight of the step's end velocity (ModelOptions)
   MortarBonds mortar_bonds = MortarBonds::settled;
 };
 
@@ -76,10 +75,6 @@ void for_each_run_setting(Fn&& fn) {
                  "dashpots: \"study\" (as specified; dt set by them), \"capped\" (scaled down where dt would not resolve "
                  "them; dt set by the springs) or \"implicit\" (as specified, integrated implicitly; dt set by the springs)"},
      &S::damping);
-  fn(SettingInfo{"run", "damping_theta", "--damping-theta",
-                 "implicit dashpots at theta v_end + (1 - theta) v_start: 1 backward Euler, 0.5 the trapezoidal rule", 0.5,
-                 1},
-     &S::damping_theta);
   fn(SettingInfo{"model", "mortar_bonds", "--mortar-bonds",
                  "mortar sets \"settled\" (in the settled pose) or \"initial\" (from the first step)"},
      &S::mortar_bonds);

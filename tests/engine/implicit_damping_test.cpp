@@ -63,12 +63,12 @@ TEST(ImplicitDamping, PairMatrixIsTheSumOfItsDashpots) {
 // springs of K = E S / L_z in all (base as thick as the stone) with dashpots
 // C = 2 h sqrt(M K) (MODEL.md section 3) give a bounce of omega^2 = K / M, zeta = h; with
 // h = 1, critically damped: z(t) = -(M g / K) (1 - (1 + omega t) exp(-omega t)).
-double worst_sinking_error(Damping damping, double steps_per_period, double theta = 1) {
+double worst_sinking_error(Damping damping, double steps_per_period) {
   const Material mat = test::stone(1.0);
   const double mass = mat.density_kg_m3 * kStone.prod();
   const double stiffness = mat.young_pa * kStone.x() * kStone.y() / kStone.z();
   const double omega = std::sqrt(stiffness / mass), deflection = mass * kG / stiffness;
-  World w(stone_stack(1.0, damping, 1, theta), 2 * M_PI / omega / steps_per_period);
+  World w(stone_stack(1.0, damping), 2 * M_PI / omega / steps_per_period);
   const State& s = w.state();
   const double z0 = s.position[1].z();
   double worst = 0;
@@ -143,10 +143,9 @@ double rocking_first_peak() {
 struct RockingPeaks {
   double first = 0, second = 0;
 };
-RockingPeaks rocking_peaks(Damping damping, double share, double theta = 1) {
+RockingPeaks rocking_peaks(Damping damping, double share) {
   const double b = kRockWidth, h = kRockHeight, omega0 = kRockSpin;
-  World w = world_at_share(
-      test::block_on_base(Vec3(b, 0.64, h), test::stone(1.0, 60.0)).build({.damping = damping, .damping_theta = theta}), share);
+  World w = world_at_share(test::block_on_base(Vec3(b, 0.64, h), test::stone(1.0, 60.0)).build({.damping = damping}), share);
   State& s = w.state();
   s.angular_velocity[1] = Vec3(0, omega0, 0);  // about the +x bottom edge: v = w x (x_c - edge)
   s.velocity[1] = omega0 * Vec3(h / 2, 0, b / 2);
@@ -196,36 +195,6 @@ TEST(ImplicitDamping, RockingBlockConvergesToTheExplicitDecayAsDtHalves) {
     if (share == 0.4) EXPECT_LT(error, 0.15);
   }
   EXPECT_LT(last_error, 0.01);
-}
-
-TEST(ImplicitDamping, ThetaExperiment2) {
-  for (double theta : {1.0, 0.75, 0.6, 0.5}) {
-    std::printf("theta %.2f sinking %.4f %.4f %.4f\n", theta, worst_sinking_error(Damping::implicit, 25, theta),
-                worst_sinking_error(Damping::implicit, 50, theta), worst_sinking_error(Damping::implicit, 100, theta));
-    for (int stones : {4, 12}) {
-      World w = world_at_share(stone_stack(1.0, Damping::implicit, stones, theta), 0.8);
-      const State& s = w.state();
-      double largest = 0;
-      while (s.time_s < 0.3) {
-        w.step();
-        for (const Vec3& v : s.velocity) largest = std::max(largest, v.norm());
-      }
-      double last = 0;
-      for (const Vec3& v : s.velocity) last = std::max(last, v.norm());
-      std::printf("  stack %d: largest speed %.3g, at 0.3 s %.3g, balance %.3g of damping, iterations %.2f\n", stones, largest, last,
-                  s.energy.balance_error_j() / s.energy.damping_j, double(s.profile.damping_iterations) / s.step);
-    }
-  }
-}
-
-TEST(ImplicitDamping, ThetaExperiment) {
-  const double reference = rocking_peaks(Damping::study, 0.05).second;
-  for (double theta : {1.0, 0.75, 0.6, 0.55, 0.5})
-    for (double share : {0.8, 0.6, 0.4, 0.2, 0.1, 0.05}) {
-      const RockingPeaks p = rocking_peaks(Damping::implicit, share, theta);
-      std::printf("theta %.2f share %.2f first %.5f second %.5f error %+.4f\n", theta, share, p.first, p.second,
-                  (p.second - reference) / reference);
-    }
 }
 
 // The pair matrices are summed about the pair's one normal (pair_damping.h): every

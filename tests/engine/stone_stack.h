@@ -16,14 +16,14 @@ namespace ishibashi::test {
 constexpr double kG = 9.81;
 const Vec3 kStone(0.64, 0.48, 0.32);
 
-inline Model stone_stack(double h, Damping damping, int stones = 1, double theta = 1) {
+inline Model stone_stack(double h, Damping damping, int stones = 1) {
   ModelBuilder b = block_on_base(kStone, stone(h), /*base_thickness=*/kStone.z());
   for (int i = 1; i < stones; ++i) {
     const Polyhedron p = make_box(Vec3(0, 0, (i + 0.5) * kStone.z()), kStone);
     b.add_block(p.vertices, p.faces, 0, Motion::free, "stone " + std::to_string(i));
   }
   b.set_gravity(Vec3(0, 0, -kG));
-  return b.build({.damping = damping, .damping_theta = theta});
+  return b.build({.damping = damping});
 }
 
 // Steps w for 0.3 s and checks that its stack of `stones` settles under its weight: no
