@@ -17,6 +17,10 @@
 #   Run.ShortSeismicRun* stays: the program's whole run path, VTK output included.
 #   Run.ProfileTableAndTrace* (40 s): the same run path with --profile and --trace, whose
 #   engine and writer code ChromeTrace.* runs under the sanitizers.
+#   Ensemble.PerturbedBridge* (5 min) and Ensemble.RunMembers* (4 min: model A's members):
+#   the members' folders, resumption and outcome tables run under the sanitizers in
+#   ChaosProbe.BlockSliding* (a stone on a slab), the draws in Ensemble.MembersDraw*.
+#   Study.RunsAsEnsembles* (a study of two members and its report): the same code.
 set -euo pipefail
 root=$(cd "$(dirname "$0")/.." && pwd)
 bash "$root/scripts/setup.sh"
@@ -29,4 +33,4 @@ cmake --build "$build" --target engine_tests io_tests analysis_tests replay_corp
 export ASAN_OPTIONS=detect_leaks=1:abort_on_error=1
 export UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1:suppressions=$root/scripts/ubsan.supp
 cd "$build" && ctest --output-on-failure --timeout 600 -j 2 \
-  -E 'PresetHashes\.|ArchRing\..*Stands|Impact\.EdgeAndCornerDrops|Impact\.RandomDrops|LimitState\.|Presets\..*nishida_[b-f]|SeismicRun\.|Study\.(QuickStudy|Interrupted)|Sweep\.|Checkpoint\.|Determinism\..*OneToFourThreads|BondBending\.BondedWall|Run\.ProfileTableAndTrace|Ensemble\.PerturbedBridge'
+  -E 'PresetHashes\.|ArchRing\..*Stands|Impact\.EdgeAndCornerDrops|Impact\.RandomDrops|LimitState\.|Presets\..*nishida_[b-f]|SeismicRun\.|Study\.(QuickStudy|Interrupted|RunsAsEnsembles)|Sweep\.|Checkpoint\.|Determinism\..*OneToFourThreads|BondBending\.BondedWall|Run\.ProfileTableAndTrace|Ensemble\.(PerturbedBridge|RunMembers)'
