@@ -163,16 +163,17 @@ void write_probe_tables(const Scenario& sc, const ChaosProbeOptions& o, double b
   for (std::size_t k = 0; k < sep.size(); ++k) {
     nlohmann::ordered_json member;
     member["member"] = perturbed_index[k];
+    double t = NAN;
     for (std::size_t l = 0; l < std::size(kPartingLevels); ++l) {
-      const double t = parting_time_s(reference.time_s, sep[k], kPartingLevels[l].separation_m);
+      t = parting_time_s(reference.time_s, sep[k], kPartingLevels[l].separation_m);
       member[kPartingLevels[l].name] = number_or_null(t);
       if (!std::isnan(t)) parted[l].push_back(t);
     }
+    outcome.parted_1cm_s[perturbed_index[k] - 1] = t;  // the last level's
     double largest = 0;
     for (double s : sep[k]) largest = std::max(largest, std::isnan(s) ? 0.0 : s);
     member["largest_separation_m"] = largest;
     outcome.largest_separation_m = std::max(outcome.largest_separation_m, largest);
-    outcome.parted_1cm_s[perturbed_index[k] - 1] = parting_time_s(reference.time_s, sep[k], 1e-2);
     j["parting"].push_back(member);
   }
   j["parting_time_note"] = "seconds from the branch until the separation reached the level, over the members that reached it";
@@ -204,14 +205,18 @@ PositionSeries read_positions(const fs::path& file) {
 
 ChaosProbeOutcome run_chaos_probe(const Scenario& scenario, const ChaosProbeOptions& o) {
   const Scenario& sc = scenario;
-  if (o.members < 2) throw InputError("--probe " + std::to_string(o.members) + ": a chaos probe needs 2 members or more (the reference and a perturbed run)");
-  if (!(o.perturbation_m > 0)) throw InputError("--perturbation: a chaos probe moves its stones by a distance > 0 m (1e-6: a micrometre)");
+  if (o.members < 2)
+    throw InputError("--probe " + std::to_string(o.members) +
+                     ": a chaos probe needs 2 members or more (the reference and a perturbed run)");
+  if (!(o.perturbation_m > 0))
+    throw InputError("--perturbation: a chaos probe moves its stones by a distance > 0 m (1e-6: a micrometre)");
   const GroundMotion motion = prepare_ground_motion(sc.motion(), 1e-3);
   ChaosProbeOutcome outcome;
   outcome.members = o.members;
   outcome.branch_s = o.branch_at_s >= 0 ? o.branch_at_s : arias_time_s(motion, 0.05);
   if (outcome.branch_s >= motion.duration_s())
-    throw InputError("--branch-at " + std::to_string(outcome.branch_s) + ": the ground motion lasts " + std::to_string(motion.duration_s()) + " s");
+    throw InputError("--branch-at " + std::to_string(outcome.branch_s) + ": the ground motion lasts only " +
+                     std::to_string(motion.duration_s()) + " s");
   fs::create_directories(o.out);
   std::mutex report_lock;  // serialises on_event; outside any time step
   auto event = [&](const std::string& text) {

@@ -47,11 +47,11 @@ std::string job_key(const Job& job, const StudyFile& study) {
   in << (job.kind == JobKind::run ? " run " : " frequencies ");
   if (job.kind == JobKind::run)  // the scenario, its model file and records
     in << scenario_fingerprint(*job.scenario) << " duration " << study.duration_s;
-  if (job.kind == JobKind::run && study.members >= 2) in << " members " << study.members;
   else if (job.scenario)
     in << file_bytes(job.input) << file_bytes(job.scenario->model_file);
   else
     in << file_bytes(job.input);
+  if (job.kind == JobKind::run && study.members >= 2) in << " members " << study.members;
   if (job.kind == JobKind::frequencies)
     in << " modes " << study.modes << " impulse " << study.impulse_s << " rule " << job.joint_rule;
   return inputs_key(in.str());
