@@ -4,6 +4,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <functional>
 #include <string>
 #include <tuple>
 #include <utility>
@@ -52,6 +53,13 @@ void print_profile(const World& world, long steps) {
                 double(p.damping_iterations) / steps, p.damping_unconverged);
 }
 
+// A line per member's event on stdout, unless --quiet.
+std::function<void(const std::string&)> event_printer(const RunOptions& o) {
+  return [quiet = o.quiet](const std::string& text) {
+    if (!quiet) std::printf("%s\n", text.c_str()), std::fflush(stdout);
+  };
+}
+
 }  // namespace
 
 // An ensemble of the scenario (ensemble.h): its members, then the probabilities.
@@ -63,9 +71,7 @@ int run_ensemble_of(const RunOptions& o, Scenario sc) {
   options.jobs = o.jobs;
   options.threads_per_member = sc.settings.threads;
   if (o.checkpoint_wall_s > 0) options.checkpoint_wall_s = o.checkpoint_wall_s;
-  options.on_event = [&](const std::string& text) {
-    if (!o.quiet) std::printf("%s\n", text.c_str()), std::fflush(stdout);
-  };
+  options.on_event = event_printer(o);
   stop_runs_on_interrupt();
   const EnsembleOutcome r = run_ensemble(sc, options);
   std::printf("ensemble: %d members, %d ran, %d were current, %d interrupted, %d failed\n", r.members, r.ran, r.current,
@@ -94,9 +100,7 @@ int run_probe_of(const RunOptions& o, const Scenario& sc) {
   options.jobs = o.jobs;
   options.threads_per_member = sc.settings.threads;
   if (o.checkpoint_wall_s > 0) options.checkpoint_wall_s = o.checkpoint_wall_s;
-  options.on_event = [&](const std::string& text) {
-    if (!o.quiet) std::printf("%s\n", text.c_str()), std::fflush(stdout);
-  };
+  options.on_event = event_printer(o);
   stop_runs_on_interrupt();
   const ChaosProbeOutcome r = run_chaos_probe(sc, options);
   std::printf("chaos probe: %d members branched at %.3f s of shaking, %d finished, %d interrupted, %d failed\n", r.members,
