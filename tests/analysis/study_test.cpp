@@ -139,6 +139,12 @@ TEST(Study, BadStudyFileNamesTheFileAndLine) {
   EXPECT_NE(short_list.find(file.string() + ":4: 'a' must be [x, y, z] in Hz"), std::string::npos) << short_list;
   const std::string rule = refused("[study]\nmodels = [\"a.toml\"]\n[frequencies]\njoint_rules = [\"corners\", \"edges\"]\n");
   EXPECT_NE(rule.find(file.string() + ":4: 'joint_rules' may only hold \"corners\", \"moments\""), std::string::npos) << rule;
+  const std::string verdict = refused("[study]\nscenarios = [\"nowhere.toml\"]\n[reference.outcome]\nnowhere = \"survives\"\n");
+  EXPECT_NE(verdict.find(file.string() + ":4: 'nowhere' must be \"collapse\", \"stands\" or \"no_stone_falls\""),
+            std::string::npos)
+      << verdict;
+  const std::string members = refused("[study]\nscenarios = [\"nowhere.toml\"]\nmembers = -2\n");
+  EXPECT_NE(members.find(file.string() + ":3: "), std::string::npos) << members;
 }
 
 }  // namespace
