@@ -95,10 +95,11 @@ std::vector<std::vector<double>> separations(const PositionSeries& reference, co
   std::vector<std::vector<double>> out;
   for (const PositionSeries& m : members) {
     std::vector<double>& sep = out.emplace_back(reference.time_s.size(), NAN);
+    if (m.blocks != reference.blocks) continue;  // another model's: no separation
     std::size_t j = 0;
     for (std::size_t i = 0; i < reference.time_s.size(); ++i) {
       while (j < m.time_s.size() && m.time_s[j] < reference.time_s[i] - 1e-9) ++j;
-      if (j < m.time_s.size() && std::abs(m.time_s[j] - reference.time_s[i]) <= 1e-9 && m.blocks == reference.blocks)
+      if (j < m.time_s.size() && std::abs(m.time_s[j] - reference.time_s[i]) <= 1e-9)
         sep[i] = separation_m(m.centroid[j], reference.centroid[i]);
     }
   }

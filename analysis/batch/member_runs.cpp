@@ -5,6 +5,7 @@
 #include <cstdio>
 #include <fstream>
 #include <sstream>
+#include <tuple>
 
 #include "analysis/batch/job_queue.h"
 #include "engine/cores.h"
@@ -54,7 +55,9 @@ double first_fall_s(const fs::path& history, double settle_time_s) {
   return -1;
 }
 
-std::string values_of(const nlohmann::json& summary) {
+}  // namespace
+
+std::string summary_csv_values(const nlohmann::json& summary) {
   std::ostringstream csv;
   bool first = true;
   for (const ResultColumn& c : result_columns()) {
@@ -66,12 +69,6 @@ std::string values_of(const nlohmann::json& summary) {
     else if (!v.is_null()) csv << v.dump();
   }
   return csv.str();
-}
-
-}  // namespace
-
-std::string summary_csv_values(const fs::path& summary_json) {
-  return values_of(nlohmann::json::parse(std::ifstream(summary_json)));
 }
 
 std::array<double, 2> wilson_interval(int hits, int trials, double z) {
@@ -159,7 +156,7 @@ OutcomeCounts write_outcomes(const OutcomeTable& table, const fs::path& csv_file
     const double fall = first_fall_s(row.folder / "history.csv", s["settle_time_s"].get<double>());
     csv << row.member;
     for (const std::string& draw : row.draws) csv << ',' << draw;
-    csv << ',' << values_of(s) << ',' << (fall < 0 ? std::string() : std::to_string(fall)) << '\n';
+    csv << ',' << summary_csv_values(s) << ',' << (fall < 0 ? std::string() : std::to_string(fall)) << '\n';
     ++n.finished;
     n.collapses += s["collapse"].get<bool>();
     collapsed.push_back(s["collapse"].get<bool>());
@@ -173,15 +170,13 @@ OutcomeCounts write_outcomes(const OutcomeTable& table, const fs::path& csv_file
   }
   const std::size_t count = members.size();
   if (count > 0) {
-    std::vector<std::size_t> order(count);
-    for (std::size_t k = 0; k < count; ++k) order[k] = k;
-    const auto worst = std::max_element(order.begin(), order.end(), [&](std::size_t a, std::size_t b) {
-      return fallen[a] != fallen[b] ? fallen[a] < fallen[b] : crown_drop[a] < crown_drop[b];
-    });
-    n.worst = members[*worst];
+    std::size_t worst = 0;
+    for (std::size_t k = 1; k < count; ++k)
+      if (std::tie(fallen[k], crown_drop[k]) > std::tie(fallen[worst], crown_drop[worst])) worst = k;
+    n.worst = members[worst];
     const bool most_collapse = 2 * n.collapses > n.finished;  // a tie: standing, the lesser claim
     std::vector<std::size_t> common;
-    for (std::size_t k : order)
+    for (std::size_t k = 0; k < count; ++k)
       if (collapsed[k] == most_collapse) common.push_back(k);
     std::stable_sort(common.begin(), common.end(), [&](std::size_t a, std::size_t b) { return fallen[a] < fallen[b]; });
     n.typical = members[common[(common.size() - 1) / 2]];

@@ -57,7 +57,7 @@ struct OutcomeCounts {
   int typical = -1, worst = -1;
 };
 // summary.json's result columns (run_result.h) as a CSV row's fields, without a newline.
-std::string summary_csv_values(const std::filesystem::path& summary_json);
+std::string summary_csv_values(const nlohmann::json& summary);
 
 // Writes `csv` (a row per member: member, its draws, summary.json's result columns and
 // first_fall_s) and puts into `json` the probabilities of collapse, of any stone falling

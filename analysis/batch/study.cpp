@@ -124,7 +124,7 @@ std::string ensemble_job(const Job& job, const StudyFile& study, int threads) {
   std::ostringstream row;
   row.precision(9);
   row << kRunHeader << job.input.stem().string() << ",\"" << sc.model.name << "\"," << sc.model.bridge.mortar_pa << ","
-      << summary_csv_values(typical / "summary.json") << "," << summary["dt_s"].get<double>() << "," << threads << ","
+      << summary_csv_values(summary) << "," << summary["dt_s"].get<double>() << "," << threads << ","
       << summary["monitored_block"].get<int>() << "," << e.members << "," << typical.filename().string() << ","
       << member_folder(job.folder, e.worst_member).filename().string();
   for (const char* p : {"collapse", "stones_fall", "ring_stones_fall"})
