@@ -4,6 +4,7 @@
 #include <cmath>
 #include <cstdint>
 
+#include "engine/pair_damping.h"
 #include "engine/parallel.h"
 #include "engine/pipeline.h"
 
@@ -88,6 +89,10 @@ double apply_contact_law(const Model& m, State& s, double dt) {
   s.pair_force_n.resize(np);
   s.pair_moment_nm.resize(2 * np);
   const bool implicit_dashpots = m.options.damping == Damping::implicit;
+  if (implicit_dashpots) {
+    s.implicit.blocks.resize(np);
+    s.implicit.pair_matrix.resize(np);
+  }
   std::array<EnergyParts, kStageChunks> parts{};
   // Pair by pair: what the sub-contacts of a pair share (blocks, velocities, law) is
   // loaded once, and their resultant is summed here so that the gather works on pairs.
@@ -97,6 +102,7 @@ double apply_contact_law(const Model& m, State& s, double dt) {
       const Pair& pair = s.pairs[pi];
       if (pair.sub_count == 0) {
         s.pair_force_n[pi] = s.pair_moment_nm[2 * pi] = s.pair_moment_nm[2 * pi + 1] = Vec3::Zero();
+        if (implicit_dashpots) s.implicit.blocks[pi] = {pair.a, -1};  // no dashpots: the solve skips it
         continue;
       }
       const int a = pair.a, b = pair.b;
@@ -108,6 +114,7 @@ double apply_contact_law(const Model& m, State& s, double dt) {
       // 1 unless capped; 0 when implicit_damping.cpp applies the dashpots after the law.
       const double damping_scale = implicit_dashpots ? 0.0 : std::min(s.damping_scale[a], s.damping_scale[b]);
       Vec3 pair_force = Vec3::Zero(), pair_torque = Vec3::Zero();
+      PairDampingSum dashpots;  // Damping::implicit: the pair's dashpots as the law leaves them
       for (int i = pair.sub_begin; i < pair.sub_begin + pair.sub_count; ++i) {
         // A dry sub-contact that was open and stays open (gap >= 0 before and after, no
         // stretch, no dashpot force) carries nothing and stores nothing: only its flags
@@ -230,10 +237,19 @@ double apply_contact_law(const Model& m, State& s, double dt) {
         if (!implicit_dashpots) {
           e.damping -= 0.5 * dt * (damping_before + damping_force).dot(v_rel);
           c.damping_force_n[i] = damping_force;
+        } else if (!(flags & SubContactFlag::open)) {
+          // For implicit_damping.cpp: none where the sub-contact is open, no shear dashpot
+          // where it slides and no normal one where a softening bond is held at its tensile
+          // strength (MODEL.md section 3).
+          dashpots.add((flags & SubContactFlag::pulling) ? 0.0 : k.cn, (flags & SubContactFlag::sliding) ? 0.0 : k.cs, r);
         }
         c.flags[i] = flags;
         pair_force += force;
         pair_torque += r.cross(force);
+      }
+      if (implicit_dashpots) {
+        s.implicit.pair_matrix[pi] = dashpots.matrix(c.normal[pair.sub_begin]);
+        s.implicit.blocks[pi] = {a, b};
       }
       s.pair_force_n[pi] = pair_force;
       s.pair_moment_nm[2 * pi] = -pair_torque;                         // on a, about x_a

@@ -7,7 +7,7 @@
 // unknown is the change the dashpots make, delta = v_new - v* (6 per free block), found
 // by conjugate gradients preconditioned with each block's own 6x6 diagonal block of
 // M + dt C, matrix-free: a product is one pass over the pairs' 6x6 dashpot matrices
-// (pair_damping.h, summed from the sub-contacts once a step) and a gather.
+// (pair_damping.h, summed by the contact law as it leaves each sub-contact) and a gather.
 // Backward Euler never amplifies a damped mode, so dt is limited by the springs alone
 // (explicit dashpots with h = 1 on a block held by many joints: a tenth of that or less).
 // The change is handed to integrate() as the force M delta / dt.
@@ -15,6 +15,7 @@
 #include <array>
 #include <cmath>
 
+#include "engine/dashpot_product.h"
 #include "engine/pair_damping.h"
 #include "engine/parallel.h"
 #include "engine/pipeline.h"
@@ -43,108 +44,6 @@ Mat6 full(const Sym6& k) {
   return f;
 }
 
-// The dashpot resultants of pair p at its blocks' velocities xa, xb (world frame), into r.
-// Written on plain doubles: on Eigen's 3- and 6-vectors GCC moved halves of SSE registers
-// through the stack, and the loads that followed waited on the stores (a third of the
-// pass). The operations and their order are those of the vector form. The pass streams
-// the pair matrices from memory on a large model (model F: 2.7 MB), so nothing else is
-// stored per pair: the lever d = x_b - x_a comes from the blocks' positions.
-inline __attribute__((always_inline)) void resultant_at(const State& s, const double* xa, const double* xb, std::ptrdiff_t p,
-                                                        ImplicitDamping::Resultant& r) {
-  const Vec3 d = s.position[s.implicit.blocks[p][1]] - s.position[s.implicit.blocks[p][0]];
-  const double d0 = d[0], d1 = d[1], d2 = d[2];
-  // v0 = v_b - v_a - w_b x d (the velocity of the point of b at x_a less v_a), w = w_b - w_a
-  const double u[6] = {(xb[0] - xa[0]) - (xb[4] * d2 - xb[5] * d1), (xb[1] - xa[1]) - (xb[5] * d0 - xb[3] * d2),
-                       (xb[2] - xa[2]) - (xb[3] * d1 - xb[4] * d0), xb[3] - xa[3],
-                       xb[4] - xa[4],                               xb[5] - xa[5]};
-  const Sym6& k = s.implicit.pair_matrix[p];
-  double f[6];  // -K u: the force on b and its moment about x_a
-#pragma GCC unroll 6
-  for (int i = 0; i < 6; ++i) {
-    double sum = 0;
-#pragma GCC unroll 6
-    for (int j = 0; j < 6; ++j) sum += k.v[kSymIndex[i][j]] * u[j];
-    f[i] = -sum;
-  }
-  r.force = Vec3(f[0], f[1], f[2]);
-  r.moment_a = Vec3(-f[3], -f[4], -f[5]);
-  r.moment_b = Vec3(f[3] - (d1 * f[2] - d2 * f[1]), f[4] - (d2 * f[0] - d0 * f[2]), f[5] - (d0 * f[1] - d1 * f[0]));
-}
-
-// Every pair's dashpot resultants at x (the product's pass over the pairs), in the pair
-// loops' chunks: a thread's pairs are those of its blocks. With `assemble`, the pair
-// matrices are first summed from the sub-contacts' dashpots as the contact law left them
-// this step: none where a sub-contact is open, no shear one where it slides and no normal
-// one where a softening bond is held at its tensile strength (MODEL.md section 3); a pair
-// without sub-contacts is marked (blocks -1) and has no resultant.
-void pair_resultants(State& s, const std::vector<Vec6>& x, bool assemble = false) {
-  ImplicitDamping& w = s.implicit;
-  parallel_ranges(s.pair_chunk_begin.data(), static_cast<int>(s.pair_chunk_begin.size()) - 1,
-                  [&](std::ptrdiff_t begin, std::ptrdiff_t end, int) {
-                    for (std::ptrdiff_t p = begin; p < end; ++p) {
-                      if (assemble) {
-                        const Pair& pair = s.pairs[p];
-                        if (pair.sub_count == 0) {
-                          w.blocks[p] = {-1, -1};
-                          continue;
-                        }
-                        const SubContacts& c = s.contacts;
-                        PairDampingSum sum;
-                        for (int i = pair.sub_begin; i < pair.sub_begin + pair.sub_count; ++i) {
-                          const std::uint8_t flags = c.flags[i];
-                          if (flags & SubContactFlag::open) continue;
-                          const double cn = (flags & SubContactFlag::pulling) ? 0.0 : c.normal_damping_n_s_m[i];
-                          const double cs = (flags & SubContactFlag::sliding) ? 0.0 : c.shear_damping_n_s_m[i];
-                          sum.add(cn, cs, c.point[i] - s.position[pair.a]);
-                        }
-                        w.pair_matrix[p] = sum.matrix(c.normal[pair.sub_begin]);
-                        w.blocks[p] = {pair.a, pair.b};
-                      }
-                      const auto [a, b] = w.blocks[p];
-                      if (a >= 0) resultant_at(s, x[a].data(), x[b].data(), p, w.resultant[p]);
-                    }
-                  });
-}
-
-// The same at the next search direction z + beta p (CG's direction update, done here on
-// the fly for each pair's two blocks, and stored by the block pass that follows: one
-// pass over the blocks less per iteration). z and p are zero where not solved.
-void pair_resultants_at_next_direction(State& s, double beta) {
-  ImplicitDamping& w = s.implicit;
-  parallel_ranges(s.pair_chunk_begin.data(), static_cast<int>(s.pair_chunk_begin.size()) - 1,
-                  [&](std::ptrdiff_t begin, std::ptrdiff_t end, int) {
-                    for (std::ptrdiff_t p = begin; p < end; ++p) {
-                      const auto [a, b] = w.blocks[p];
-                      if (a < 0) continue;
-                      const double *za = w.preconditioned[a].data(), *pa = w.direction[a].data();
-                      const double *zb = w.preconditioned[b].data(), *pb = w.direction[b].data();
-                      const double xa[6] = {za[0] + beta * pa[0], za[1] + beta * pa[1], za[2] + beta * pa[2],
-                                            za[3] + beta * pa[3], za[4] + beta * pa[4], za[5] + beta * pa[5]};
-                      const double xb[6] = {zb[0] + beta * pb[0], zb[1] + beta * pb[1], zb[2] + beta * pb[2],
-                                            zb[3] + beta * pb[3], zb[4] + beta * pb[4], zb[5] + beta * pb[5]};
-                      resultant_at(s, xa, xb, p, w.resultant[p]);
-                    }
-                  });
-}
-
-// The gathered dashpot force and moment on block b from the pairs' resultants (N, N m).
-// Pairs without sub-contacts are skipped (a third of model F's): their zeros would
-// change no bit of the sums, which start at +0. The sums are plain doubles, kept in
-// registers (a Vec6 was stored back at every entry).
-Vec6 gathered(const State& s, std::ptrdiff_t b) {
-  double f[6] = {0, 0, 0, 0, 0, 0};
-  for (int q = s.block_pair_begin[b]; q < s.block_pair_begin[b + 1]; ++q) {
-    const int entry = s.block_pair[q], p = entry >> 1;  // 2p: b is the pair's a, 2p + 1: its b
-    if (s.implicit.blocks[p][0] < 0) continue;
-    const ImplicitDamping::Resultant& r = s.implicit.resultant[p];
-    const Vec3& moment = (entry & 1) ? r.moment_b : r.moment_a;
-    if (entry & 1) f[0] += r.force[0], f[1] += r.force[1], f[2] += r.force[2];
-    else f[0] -= r.force[0], f[1] -= r.force[1], f[2] -= r.force[2];
-    f[3] += moment[0], f[4] += moment[1], f[5] += moment[2];
-  }
-  return Vec6(f[0], f[1], f[2], f[3], f[4], f[5]);
-}
-
 // Block b's diagonal block of M + dt C, inverted. Its pairs' matrices: as they are where b
 // is a (its velocity enters v0 and w with a minus sign), and S^T K S where b is b, with
 // S = [[I, [d]x], [0, I]] mapping (v_b, w_b) to (v0, w), d = x_b - x_a.
@@ -152,7 +51,7 @@ Mat6 diagonal_inverse(const Model& m, const State& s, std::ptrdiff_t b, double d
   Mat6 d = Mat6::Zero();
   for (int q = s.block_pair_begin[b]; q < s.block_pair_begin[b + 1]; ++q) {
     const int entry = s.block_pair[q], p = entry >> 1;
-    if (s.implicit.blocks[p][0] < 0) continue;
+    if (!has_dashpots(s.implicit, p)) continue;
     const Mat6 k = full(s.implicit.pair_matrix[p]);
     if (!(entry & 1)) {
       d += k;
@@ -230,7 +129,7 @@ double first_residual(const Model& m, State& s, double dt, bool refresh, double*
       w.product[b] = v;
     }
   });
-  pair_resultants(s, w.product, /*assemble=*/true);
+  pair_products_at(m, s, w.product);
   const auto [rz, impulse2] = sums_over_solved_blocks<2>(m, s, [&](std::ptrdiff_t b) {
     if (refresh) w.diagonal[b] = diagonal_inverse(m, s, b, dt);
     w.product[b] = dt * gathered(s, b);  // the dashpots' impulse at the first guess
@@ -254,9 +153,9 @@ int conjugate_gradients(const Model& m, State& s, double dt, double rz, double t
     // iteration on, computed by the pair pass for its blocks and stored by the block pass.
     const bool update = iterations++ > 0;
     if (update)
-      pair_resultants_at_next_direction(s, beta);
+      pair_products_at_next_direction(m, s, beta);
     else
-      pair_resultants(s, w.direction);
+      pair_products_at(m, s, w.direction);
     const double pap = for_solved_blocks(m, s, [&](std::ptrdiff_t b) {
       if (update) w.direction[b] = w.preconditioned[b] + beta * w.direction[b];
       w.product[b] = mass_times(m, s, b, w.direction[b]) - dt * gathered(s, b);
@@ -300,14 +199,17 @@ void book(const Model& m, State& s, double dt, DampingSolve& result) {
                   [&](std::ptrdiff_t begin, std::ptrdiff_t end, int k) {
                     double power = 0;  // of the dashpot forces on the prescribed blocks, W
                     for (std::ptrdiff_t p = begin; p < end; ++p) {
+                      if (!has_dashpots(w, p)) continue;
                       const auto [a, b] = w.blocks[p];
-                      if (a < 0) continue;
                       const bool driven_a = m.motion[a] == Motion::prescribed, driven_b = m.motion[b] == Motion::prescribed;
                       if (!driven_a && !driven_b) continue;
-                      ImplicitDamping::Resultant r;
-                      resultant_at(s, w.velocity[a].data(), w.velocity[b].data(), p, r);
-                      if (driven_a) power += -r.force.dot(s.velocity[a]) + r.moment_a.dot(s.angular_velocity[a]);
-                      if (driven_b) power += r.force.dot(s.velocity[b]) + r.moment_b.dot(s.angular_velocity[b]);
+                      Vec6 on_a = Vec6::Zero(), on_b;
+                      pair_resultant(s, w.velocity[a].data(), w.velocity[b].data(), p, on_a.data(), on_b.data());
+                      Vec6 va, vb;
+                      va << s.velocity[a], s.angular_velocity[a];
+                      vb << s.velocity[b], s.angular_velocity[b];
+                      if (driven_a) power += on_a.dot(va);
+                      if (driven_b) power += on_b.dot(vb);
                     }
                     parts[k] = power;
                   });
@@ -323,9 +225,8 @@ DampingSolve solve_implicit_damping(const Model& m, State& s, double dt) {
   const int nb = m.block_count;
   ImplicitDamping& w = s.implicit;
   const std::size_t np = s.pairs.size();
-  w.blocks.resize(np);
-  w.pair_matrix.resize(np);
-  w.resultant.resize(np);
+  w.on_b.resize(np);
+  w.on_a.resize(nb);
   w.velocity.resize(nb);
   w.delta.resize(nb, Vec6::Zero());  // a block's entry is kept from step to step
   w.residual.resize(nb);
@@ -335,11 +236,13 @@ DampingSolve solve_implicit_damping(const Model& m, State& s, double dt) {
   const bool fresh = w.diagonal.size() != static_cast<std::size_t>(nb);  // none yet, nor from a checkpoint
   w.diagonal.resize(nb);
 
+  index_pairs_with_dashpots(m, s);
   DampingSolve result;
   double scale2 = 0;
   const double rz = first_residual(m, s, dt, fresh || s.step % kPreconditionerRefreshSteps == 0, &scale2);
   // Converged when the residual is a small share of the dashpots' impulse.
-  const double target = kDampingSolveTolerance * kDampingSolveTolerance * scale2;
+  const double tolerance = m.options.damping_solve_tolerance;
+  const double target = tolerance * tolerance * scale2;
   result.iterations = conjugate_gradients(m, s, dt, rz, target, &result.converged);
   book(m, s, dt, result);
   return result;

@@ -160,6 +160,9 @@ std::string choice_list() {
 // What an analysis asks of a model beyond its blocks and materials. Applied and checked
 // once, by ModelBuilder::build; a built Model is never edited (the same blocks with other
 // options are built again from the same builder).
+// ModelOptions::damping_solve_tolerance unless a run sets it.
+constexpr double kDampingSolveTolerance = 1e-3;
+
 struct ModelOptions {
   // 1: one sub-contact per vertex of the contact polygon. n > 1 (at most 16): the polygon
   // is split into triangles from its centroid and each into n*n sub-triangles, one
@@ -169,6 +172,9 @@ struct ModelOptions {
   JointRule joint_rule = JointRule::corners;  // at subdivision 1; n > 1 refines either the same way
   ShearSpring shear_spring = ShearSpring::shear_modulus;
   Damping damping = Damping::study;
+  // Damping::implicit: the conjugate gradients stop when the residual is this share of the
+  // dashpots' impulse (implicit_damping.cpp).
+  double damping_solve_tolerance = kDampingSolveTolerance;
   // Fixed blocks become prescribed: a driver sets their velocity each step (the ground of
   // a seismic run or an impulse response).
   bool drive_fixed_blocks = false;

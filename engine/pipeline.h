@@ -70,8 +70,7 @@ double gather_forces(const Model& model, State& state);
 // implicit_damping.cpp (Damping::implicit), between gather and integrate: the
 // dashpot forces at the end-of-step velocities (backward Euler), added to State::force and
 // torque. Conjugate gradients stop when the preconditioned residual is below
-// kDampingSolveTolerance of the right-hand side's.
-constexpr double kDampingSolveTolerance = 1e-3;
+// ModelOptions::damping_solve_tolerance of the right-hand side's.
 constexpr int kDampingSolveMaxIterations = 200;
 constexpr long kPreconditionerRefreshSteps = 10;
 struct DampingSolve {

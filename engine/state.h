@@ -152,12 +152,16 @@ struct ImplicitDamping {
   // Per pair (np), from the sub-contacts' dashpots as the contact law left them this step
   // (pair_damping.h); blocks {-1, -1} where the pair has no sub-contacts (the solve's
   // passes skip it).
-  struct Resultant {
-    Vec3 force, moment_a, moment_b;  // on b (N); on a about x_a and on b about x_b (N m)
-  };
-  std::vector<std::array<int, 2>> blocks;  // (np) the pair's blocks a, b
+  std::vector<std::array<int, 2>> blocks;  // (np) the pair's blocks a, b (b = -1: no sub-contacts)
   std::vector<Sym6> pair_matrix;       // (np) the pair's dashpots this step
-  std::vector<Resultant> resultant;    // (np) dashpot resultants of the last product
+  // Dashpot resultants of the last product: force (N) and moment about the block's
+  // centroid (N m), on b per pair, and on each block summed over the pairs where it is a.
+  std::vector<Vec6> on_b;              // (np)
+  std::vector<Vec6> on_a;              // (nb)
+  // The pairs with dashpots this step: those where block i is a at pairs_of_a[
+  // pairs_of_a_begin[i] .. pairs_of_a_begin[i + 1]), in pair order; where it is b, likewise
+  // in pairs_of_b, in the order of State::block_pair.
+  std::vector<int> pairs_of_a_begin, pairs_of_a, pairs_of_b_begin, pairs_of_b;
   std::vector<Vec6> velocity;          // (nb) v* (without dashpots); prescribed: theirs
   std::vector<Vec6> delta;             // (nb) v_new - v*; last step's is the solve's first guess
   std::vector<Vec6> residual, preconditioned, direction, product;  // (nb) conjugate gradients

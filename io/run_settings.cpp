@@ -12,6 +12,7 @@ ModelOptions model_options(const RunSettings& s) {
   options.joint_rule = s.joint_rule;
   options.shear_spring = s.shear_spring;
   options.damping = s.damping;
+  options.damping_solve_tolerance = s.solve_tolerance;
   options.bonds_when_settled = s.mortar_bonds == MortarBonds::settled;
   return options;
 }

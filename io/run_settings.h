@@ -33,6 +33,7 @@ struct RunSettings {
   JointRule joint_rule = JointRule::corners;
   ShearSpring shear_spring = ShearSpring::shear_modulus;
   Damping damping = Damping::study;
+  double solve_tolerance = kDampingSolveTolerance;  // Damping::implicit (ModelOptions)
   MortarBonds mortar_bonds = MortarBonds::settled;
 };
 
@@ -75,6 +76,10 @@ void for_each_run_setting(Fn&& fn) {
                  "dashpots: \"study\" (as specified; dt set by them), \"capped\" (scaled down where dt would not resolve "
                  "them; dt set by the springs) or \"implicit\" (as specified, integrated implicitly; dt set by the springs)"},
      &S::damping);
+  fn(SettingInfo{"run", "solve_tolerance", "--solve-tolerance",
+                 "implicit dashpots: the solve stops when its residual is this share of the dashpots' impulse", 0, 0.5,
+                 true},
+     &S::solve_tolerance);
   fn(SettingInfo{"model", "mortar_bonds", "--mortar-bonds",
                  "mortar sets \"settled\" (in the settled pose) or \"initial\" (from the first step)"},
      &S::mortar_bonds);

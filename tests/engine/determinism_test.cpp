@@ -24,7 +24,9 @@ std::uint64_t shaken_wall_hash(int threads, bool adaptive = false, long* thread_
   spec.leaves = 2;
   spec.options.damping = damping;
   World w(make_wall_model(spec), damping == Damping::study ? 1e-5 : 3e-5);
-  if (damping == Damping::capped) EXPECT_LT(*std::min_element(w.state().damping_scale.begin(), w.state().damping_scale.end()), 1.0);
+  if (damping == Damping::capped) {
+    EXPECT_LT(*std::min_element(w.state().damping_scale.begin(), w.state().damping_scale.end()), 1.0);
+  }
   w.set_adaptive_threads(adaptive);
   State& s = w.state();
   for (int i = 0; i < 3000; ++i) {

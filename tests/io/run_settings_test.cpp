@@ -109,11 +109,13 @@ TEST(RunSettings, ModelOptionsCarryTheJointAndDashpotSettings) {
   RunSettings s;
   s.subdivision = 3, s.joint_rule = JointRule::moments, s.shear_spring = ShearSpring::normal, s.damping = Damping::implicit;
   s.mortar_bonds = MortarBonds::initial;
+  s.solve_tolerance = 1e-2;
   const ModelOptions o = model_options(s);
   EXPECT_EQ(o.subdivision, 3);
   EXPECT_EQ(o.joint_rule, JointRule::moments);
   EXPECT_EQ(o.shear_spring, ShearSpring::normal);
   EXPECT_EQ(o.damping, Damping::implicit);
+  EXPECT_EQ(o.damping_solve_tolerance, 1e-2);
   EXPECT_FALSE(o.bonds_when_settled);
   EXPECT_TRUE(model_options(RunSettings{}).bonds_when_settled);
 }
