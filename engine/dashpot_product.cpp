@@ -61,7 +61,8 @@ void pair_resultant(const State& s, const double* xa, const double* xb, std::ptr
 }
 
 // Model F's pairs without sub-contacts (a third, scattered) would cost the passes a
-// mispredicted branch each.
+// mispredicted branch each, and so would this index if it tested them with branches: it
+// counts and writes without one (a chunk's slot past its last entry is a dummy).
 void index_pairs_with_dashpots(const Model& m, State& s) {
   ImplicitDamping& w = s.implicit;
   const int nb = m.block_count;
@@ -70,6 +71,8 @@ void index_pairs_with_dashpots(const Model& m, State& s) {
   w.pairs_of_b_begin.resize(nb + 1);
   w.pairs_of_a.resize(s.pairs.size());
   w.pairs_of_b.resize(s.pairs.size());
+  // 1 where entry q of State::block_pair is pair p's side b and p has dashpots.
+  auto b_side_with_dashpots = [&](int q) { return (s.block_pair[q] & 1) & int{has_dashpots(w, s.block_pair[q] >> 1)}; };
   // Per chunk (the pair loops' and the block loops' chunks share their blocks): counts,
   // then each chunk writes from its offset.
   std::array<int, kStageChunks + 1> a_offset{}, b_offset{};
@@ -78,37 +81,35 @@ void index_pairs_with_dashpots(const Model& m, State& s) {
     for (std::ptrdiff_t p = begin; p < end; ++p) count += has_dashpots(w, p);
     a_offset[k + 1] = count;
     count = 0;
-    for (std::ptrdiff_t b = std::ptrdiff_t{nb} * k / chunks; b < std::ptrdiff_t{nb} * (k + 1) / chunks; ++b)
-      for (int q = s.block_pair_begin[b]; q < s.block_pair_begin[b + 1]; ++q)
-        count += (s.block_pair[q] & 1) && has_dashpots(w, s.block_pair[q] >> 1);
+    for (int q = s.block_pair_begin[std::ptrdiff_t{nb} * k / chunks]; q < s.block_pair_begin[std::ptrdiff_t{nb} * (k + 1) / chunks]; ++q)
+      count += b_side_with_dashpots(q);
     b_offset[k + 1] = count;
   });
   for (int k = 0; k < chunks; ++k) a_offset[k + 1] += a_offset[k], b_offset[k + 1] += b_offset[k];
   parallel_ranges(s.pair_chunk_begin.data(), chunks, [&](std::ptrdiff_t begin, std::ptrdiff_t end, int k) {
+    int dummy;
     int at = a_offset[k];
     std::ptrdiff_t p = begin;
     for (std::ptrdiff_t block = std::ptrdiff_t{nb} * k / chunks; block < std::ptrdiff_t{nb} * (k + 1) / chunks; ++block) {
       w.pairs_of_a_begin[block] = at;
-      for (; p < end && w.blocks[p][0] == block; ++p)
-        if (has_dashpots(w, p)) w.pairs_of_a[at++] = static_cast<int>(p);
+      for (; p < end && w.blocks[p][0] == block; ++p) {
+        *(at < a_offset[k + 1] ? &w.pairs_of_a[at] : &dummy) = static_cast<int>(p);
+        at += has_dashpots(w, p);
+      }
     }
     at = b_offset[k];
     for (std::ptrdiff_t b = std::ptrdiff_t{nb} * k / chunks; b < std::ptrdiff_t{nb} * (k + 1) / chunks; ++b) {
       w.pairs_of_b_begin[b] = at;
-      for (int q = s.block_pair_begin[b]; q < s.block_pair_begin[b + 1]; ++q)
-        if ((s.block_pair[q] & 1) && has_dashpots(w, s.block_pair[q] >> 1)) w.pairs_of_b[at++] = s.block_pair[q] >> 1;
+      for (int q = s.block_pair_begin[b]; q < s.block_pair_begin[b + 1]; ++q) {
+        *(at < b_offset[k + 1] ? &w.pairs_of_b[at] : &dummy) = s.block_pair[q] >> 1;
+        at += b_side_with_dashpots(q);
+      }
     }
   });
   w.pairs_of_a_begin[nb] = a_offset[chunks];
   w.pairs_of_b_begin[nb] = b_offset[chunks];
 }
 
-// The product's pass over the pairs: every pair's dashpot resultants at the velocities
-// velocity_of(block, x) writes, in the block loops' chunks (a thread's pairs are those
-// of its blocks, as the contact law left the pair matrices). Each block's own pairs
-// (those where it is a) are summed here into on_a, in pair order; only the other side is
-// stored per pair (on_b) for the gather. Halves what the pass writes and the gather
-// reads, the two streams of a product. A block's pairs go two at a time, one per lane.
 namespace {
 template <class VelocityOf>
 void pair_products(const Model& m, State& s, VelocityOf&& velocity_of) {
