@@ -111,6 +111,13 @@ void index_pairs_with_dashpots(const Model& m, State& s) {
 }
 
 namespace {
+
+// The product's pass over the pairs: every pair's dashpot resultants at the velocities
+// velocity_of(block, x) writes, in the block loops' chunks (a thread's pairs are those
+// of its blocks). Each block's own pairs (those where it is a) are summed here into on_a,
+// in pair order; only the other side is stored per pair (on_b) for the gather: what the
+// pass writes and the gather reads, the two streams of a product, are a third smaller.
+// A block's pairs go two at a time, one per lane.
 template <class VelocityOf>
 void pair_products(const Model& m, State& s, VelocityOf&& velocity_of) {
   ImplicitDamping& w = s.implicit;
