@@ -1,0 +1,127 @@
+#!/usr/bin/python3
+"""Two ensembles of one scenario (`ishibashi run --members N`), outcome by outcome: do
+their distributions differ beyond sampling error? For a scheme against another (issue 45
+item 3: the implicit dashpots against the explicit reference, a solve's tolerance against
+a tighter one), each ensemble's members drawn alike.
+
+    scripts/compare_ensembles.py ENSEMBLE_A ENSEMBLE_B [--labels A,B]
+
+Reads each member folder's summary.json (finished members only, so an ensemble still
+running can be compared so far) and its history.csv for the first fall. Prints a Markdown
+table: per outcome, each ensemble's median and range (counts for the yes/no outcomes),
+and the two-sided p-value of an exact test that both come from one distribution:
+Fisher's for the yes/no outcomes, the permutation distribution of the rank sum
+(Mann-Whitney, ties at mid-ranks) for the numbers. With five members a side the smallest
+p a rank test can give is 0.008; a large p says the members cannot tell the two apart,
+not that they agree.
+"""
+import argparse
+import csv
+import itertools
+import json
+import math
+from pathlib import Path
+
+NUMBERS = [("fallen_stones", "stones fallen", "{:g}"), ("fallen_ring_stones", "ring stones fallen", "{:g}"),
+           ("first_opening_s", "first opening [s]", "{:.3f}"), ("first_fall_s", "first fall [s]", "{:.2f}"),
+           ("largest_crown_drop_m", "largest crown drop [m]", "{:.3g}"), ("joints_cracked", "joints cracked", "{:g}")]
+YES_NO = [("collapse", "collapse", lambda s: bool(s["collapse"])),
+          ("stones_fall", "any stone falls", lambda s: s["fallen_stones"] > 0),
+          ("ring_stones_fall", "a ring stone falls", lambda s: s["fallen_ring_stones"] > 0)]
+
+
+def first_fall_s(folder, settle_time_s):
+    """Seconds of shaking at the first frame with a fallen stone (None: none fell)."""
+    for row in csv.DictReader(open(folder / "history.csv")):
+        if row["phase"] == "shake" and int(row["fallen_stones"]) > 0:
+            return float(row["time_s"]) - settle_time_s
+    return None
+
+
+def members(ensemble):
+    """The finished members' summaries, each with its first fall."""
+    found = []
+    for folder in sorted(ensemble.glob("member_*")):
+        summary_file = folder / "summary.json"
+        if not summary_file.exists():
+            continue
+        s = json.load(open(summary_file))
+        if not s.get("finished") or s.get("interrupted"):
+            continue
+        s["first_fall_s"] = first_fall_s(folder, s["settle_time_s"])
+        found.append(s)
+    return found
+
+
+def fisher_p(yes_a, n_a, yes_b, n_b):
+    """Two-sided Fisher exact test of yes_a of n_a against yes_b of n_b."""
+    yes, n = yes_a + yes_b, n_a + n_b
+
+    def probability(k):  # k of the yeses in A, the margins fixed
+        return math.comb(n_a, k) * math.comb(n_b, yes - k) / math.comb(n, yes)
+
+    observed = probability(yes_a)
+    return min(1.0, sum(probability(k) for k in range(max(0, yes - n_b), min(yes, n_a) + 1)
+                        if probability(k) <= observed * (1 + 1e-9)))
+
+
+def mid_ranks(values):
+    order = sorted(range(len(values)), key=lambda i: values[i])
+    ranks = [0.0] * len(values)
+    i = 0
+    while i < len(order):
+        j = i
+        while j + 1 < len(order) and values[order[j + 1]] == values[order[i]]:
+            j += 1
+        for k in range(i, j + 1):
+            ranks[order[k]] = (i + j) / 2 + 1
+        i = j + 1
+    return ranks
+
+
+def rank_sum_p(a, b):
+    """Two-sided exact permutation p of A's rank sum (every split of the pooled members)."""
+    ranks = mid_ranks(a + b)
+    n = len(ranks)
+    expected = len(a) * (n + 1) / 2
+    observed = abs(sum(ranks[: len(a)]) - expected)
+    splits = extreme = 0
+    for chosen in itertools.combinations(range(n), len(a)):
+        splits += 1
+        extreme += abs(sum(ranks[i] for i in chosen) - expected) >= observed - 1e-9
+    return extreme / splits
+
+
+def spread(values, form):
+    if not values:
+        return "none"
+    values = sorted(values)
+    middle = len(values) // 2
+    median = values[middle] if len(values) % 2 else (values[middle - 1] + values[middle]) / 2
+    return f"{form.format(median)} ({form.format(values[0])} to {form.format(values[-1])})"
+
+
+def main():
+    parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    parser.add_argument("ensembles", type=Path, nargs=2)
+    parser.add_argument("--labels", default=None, help="two names, comma-separated (default: the folders')")
+    o = parser.parse_args()
+    labels = o.labels.split(",") if o.labels else [e.name for e in o.ensembles]
+    runs = [members(e) for e in o.ensembles]
+    for label, ensemble, found in zip(labels, o.ensembles, runs):
+        if not found:
+            raise SystemExit(f"{ensemble}: no finished member (member_NNN/summary.json with finished true)")
+    print(f"| outcome | {labels[0]} ({len(runs[0])} members) | {labels[1]} ({len(runs[1])} members) | exact p |")
+    print("|---|---|---|---|")
+    for _, name, test in YES_NO:
+        yes = [sum(test(s) for s in r) for r in runs]
+        p = fisher_p(yes[0], len(runs[0]), yes[1], len(runs[1]))
+        print(f"| {name} | {yes[0]} of {len(runs[0])} | {yes[1]} of {len(runs[1])} | {p:.3f} (Fisher) |")
+    for key, name, form in NUMBERS:
+        values = [[s[key] for s in r if s.get(key) is not None] for r in runs]
+        p = f"{rank_sum_p(*values):.3f} (rank sum)" if all(values) else "(a side has none)"
+        print(f"| {name} | {spread(values[0], form)} | {spread(values[1], form)} | {p} |")
+
+
+if __name__ == "__main__":
+    main()

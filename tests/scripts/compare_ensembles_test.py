@@ -1,0 +1,55 @@
+#!/usr/bin/python3
+"""scripts/compare_ensembles.py's exact tests against hand arithmetic, and its table from
+two small ensembles written here (member folders with summary.json and history.csv)."""
+import json
+import subprocess
+import sys
+import tempfile
+from pathlib import Path
+
+ROOT = Path(__file__).resolve().parents[2]
+sys.path.insert(0, str(ROOT / "scripts"))
+import compare_ensembles as c  # noqa: E402
+
+
+def close(a, b):
+    return abs(a - b) < 1e-12
+
+
+# Fisher: 2 of 3 against 0 of 3, two yeses in all: A holds 0, 1 or 2 of them with
+# probability 3/15, 9/15, 3/15; the observed 2 and the as unlikely 0 give 0.4.
+assert close(c.fisher_p(2, 3, 0, 3), 0.4), c.fisher_p(2, 3, 0, 3)
+assert close(c.fisher_p(5, 5, 0, 5), 2 / 252), c.fisher_p(5, 5, 0, 5)  # 1 / C(10, 5), both tails
+assert close(c.fisher_p(1, 2, 1, 2), 1.0)
+# Rank sum: A the three smallest of six: 1 of C(6, 3) = 20 splits each tail.
+assert close(c.rank_sum_p([1, 2, 3], [4, 5, 6]), 2 / 20)
+assert close(c.rank_sum_p([1, 2, 3, 4, 5], [6, 7, 8, 9, 10]), 2 / 252)
+assert close(c.rank_sum_p([1, 1, 2], [1, 2, 2]), 1.0)  # ties: mid-ranks, A's sum is the mean
+assert c.mid_ranks([5, 1, 5, 3]) == [3.5, 1, 3.5, 2]
+
+
+def write_member(folder, fallen, ring, opening, fall_frame):
+    folder.mkdir(parents=True)
+    summary = {"finished": True, "interrupted": False, "settle_time_s": 0.5, "collapse": ring > 0,
+               "fallen_stones": fallen, "fallen_ring_stones": ring, "first_opening_s": opening,
+               "largest_crown_drop_m": 0.01 * fallen, "joints_cracked": 100 + fallen}
+    (folder / "summary.json").write_text(json.dumps(summary))
+    rows = ["time_s,phase,fallen_stones"] + [f"{0.5 + 0.1 * i},shake,{fallen if i >= fall_frame else 0}"
+                                             for i in range(10)]
+    (folder / "history.csv").write_text("\n".join(rows) + "\n")
+
+
+with tempfile.TemporaryDirectory() as tmp:
+    tmp = Path(tmp)
+    for m, (fallen, ring) in enumerate([(0, 0), (3, 0), (9, 2)]):
+        write_member(tmp / "a" / f"member_{m:03d}", fallen, ring, 1.0 + m, 4)
+    for m, (fallen, ring) in enumerate([(20, 5), (30, 6), (40, 7)]):
+        write_member(tmp / "b" / f"member_{m:03d}", fallen, ring, 4.0 + m, 2)
+    (tmp / "b" / "member_003").mkdir()  # a member not finished: left out
+    table = subprocess.run([sys.executable, str(ROOT / "scripts" / "compare_ensembles.py"), str(tmp / "a"),
+                            str(tmp / "b"), "--labels", "A,B"], check=True, capture_output=True, text=True).stdout
+    assert "| A (3 members) | B (3 members) |" in table, table
+    assert "| any stone falls | 2 of 3 | 3 of 3 | 1.000 (Fisher) |" in table, table
+    assert "| stones fallen | 3 (0 to 9) | 30 (20 to 40) | 0.100 (rank sum) |" in table, table
+    assert "| first fall [s] | 0.40 (0.40 to 0.40) | 0.20 (0.20 to 0.20) |" in table, table
+print("compare_ensembles: exact tests and table as computed by hand")
