@@ -131,6 +131,10 @@ CLI::App* add_study_command(CLI::App& app, ishibashi::StudyCommandOptions& study
                          "run each seismic run as an ensemble of N members (replacing the study file's members; "
                          "0 or 1: single runs); the report gives each run's probabilities")
       ->check(CLI::Range(0, 100000));
+  // Every run's numerical method and joint model, as `run` takes them (a study of the
+  // fast path: --damping implicit --dt 4e-5).
+  add_run_setting_flags(study_cmd, study.run_overrides,
+                        {"dt_s", "damping", "solve_tolerance", "joint_rule", "shear_spring", "subdivision", "mortar_bonds"});
   study_cmd->add_flag("--force", study.force, "rerun analyses whose outputs are current");
   study_cmd->add_flag("--no-report", study.no_report, "skip the report (needs python3 with matplotlib)");
   return study_cmd;

@@ -16,6 +16,7 @@ int run_study_command(const StudyCommandOptions& o) {
   options.jobs = o.jobs;
   options.threads_per_job = o.threads_per_job;
   options.members = o.members;
+  options.run_overrides = o.run_overrides;
   options.force = o.force;
   options.report = !o.no_report;
   options.on_event = [](const std::string& text) {

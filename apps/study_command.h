@@ -3,6 +3,8 @@
 #pragma once
 #include <filesystem>
 
+#include "io/run_settings.h"
+
 namespace ishibashi {
 
 struct StudyCommandOptions {
@@ -12,6 +14,7 @@ struct StudyCommandOptions {
   int jobs = 1;
   int threads_per_job = 0;
   int members = -1;  // >= 0: each run an ensemble of this many members (0, 1: single runs), replacing the file's
+  RunOverrides run_overrides;  // the run settings given on the command line, for every run
   bool force = false;
   bool no_report = false;
 };

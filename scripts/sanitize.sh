@@ -21,6 +21,8 @@
 #   the members' folders, resumption and outcome tables run under the sanitizers in
 #   ChaosProbe.BlockSliding* (a stone on a slab), the draws in Ensemble.MembersDraw*.
 #   Study.RunsAsEnsembles* (a study of two members and its report): the same code.
+#   Study.RunSettingsOnTheCommandLine* (three short studies of model A): the overrides'
+#   plain code, the run path of Run.ShortSeismicRun*.
 #   Run.FinerFrames* (5 min: two runs of model A that differ in their frames only) and
 #   Impulse.FaceUnitBesideTheCrown* (1 min): the run and impulse paths of
 #   Run.ShortSeismicRun* and the other Impulse.* tests, which stay.
@@ -36,4 +38,4 @@ cmake --build "$build" --target engine_tests io_tests analysis_tests replay_corp
 export ASAN_OPTIONS=detect_leaks=1:abort_on_error=1
 export UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1:suppressions=$root/scripts/ubsan.supp
 cd "$build" && ctest --output-on-failure --timeout 600 -j 2 \
-  -E 'PresetHashes\.|ArchRing\..*Stands|Impact\.EdgeAndCornerDrops|Impact\.RandomDrops|LimitState\.|Presets\..*nishida_[b-f]|SeismicRun\.|Study\.(QuickStudy|Interrupted|RunsAsEnsembles)|Sweep\.|Checkpoint\.|Determinism\..*OneToFourThreads|BondBending\.BondedWall|Run\.ProfileTableAndTrace|Ensemble\.(PerturbedBridge|RunMembers)|Run\.FinerFrames|Impulse\.FaceUnitBesideTheCrown'
+  -E 'PresetHashes\.|ArchRing\..*Stands|Impact\.EdgeAndCornerDrops|Impact\.RandomDrops|LimitState\.|Presets\..*nishida_[b-f]|SeismicRun\.|Study\.(QuickStudy|Interrupted|RunsAsEnsembles|RunSettingsOnTheCommandLine)|Sweep\.|Checkpoint\.|Determinism\..*OneToFourThreads|BondBending\.BondedWall|Run\.ProfileTableAndTrace|Ensemble\.(PerturbedBridge|RunMembers)|Run\.FinerFrames|Impulse\.FaceUnitBesideTheCrown'

@@ -52,6 +52,10 @@ std::string job_key(const Job& job, const StudyFile& study) {
   else
     in << file_bytes(job.input);
   if (job.kind == JobKind::run && study.members >= 2) in << " members " << study.members;
+  if (job.kind == JobKind::run)
+    for_each_run_setting([&](const SettingInfo& info, auto member) {
+      if (study.run_overrides.given.count(info.key)) in << " " << info.key << " " << setting_value(study.run_overrides.values.*member);
+    });
   if (job.kind == JobKind::frequencies)
     in << " modes " << study.modes << " impulse " << study.impulse_s << " rule " << job.joint_rule;
   return inputs_key(in.str());
@@ -212,7 +216,10 @@ void gather_rows(const std::vector<Job>& jobs, JobKind kind, const std::string& 
 // The long runs first: the frequency analyses fill the gaps at the end.
 std::vector<Job> make_jobs(const StudyFile& study, const fs::path& out) {
   std::vector<Job> jobs;
-  for (const fs::path& s : study.scenarios) jobs.push_back({JobKind::run, s, out / "runs" / s.stem(), read_scenario(s)});
+  for (const fs::path& s : study.scenarios) {
+    jobs.push_back({JobKind::run, s, out / "runs" / s.stem(), read_scenario(s)});
+    apply_overrides(jobs.back().scenario->settings, study.run_overrides);
+  }
   for (const fs::path& m : study.models) {
     std::optional<Scenario> scenario;
     if (is_scenario_file(m)) scenario = read_scenario(m);
@@ -256,6 +263,7 @@ void write_tables(const std::vector<Job>& jobs, const StudyFile& study, const fs
 StudyOutcome run_study(const StudyFile& study_file, const StudyOptions& o) {
   StudyFile study = study_file;
   if (o.members >= 0) study.members = o.members;
+  study.run_overrides = o.run_overrides;
   std::vector<Job> jobs = make_jobs(study, o.out);
 
   const int workers = std::max(1, std::min<int>(o.jobs, static_cast<int>(jobs.size())));

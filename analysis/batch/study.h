@@ -23,6 +23,7 @@ struct StudyOptions {
   int jobs = 1;              // analyses at once
   int threads_per_job = 0;   // 0: the cores shared among the jobs
   int members = -1;          // >= 0: replaces the study file's members (each run an ensemble of them)
+  RunOverrides run_overrides;  // every run's settings replaced by these (`study --damping implicit`)
   bool force = false;        // rerun jobs whose outputs are current
   bool report = true;        // write the report (python3 with matplotlib)
   std::function<void(const std::string&)> on_event;  // a job started, finished, was skipped or failed; progress

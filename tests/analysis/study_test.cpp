@@ -117,6 +117,29 @@ TEST(Study, RunsAsEnsemblesGiveTheirProbabilitiesAndTheStudysOutcomeInTheReport)
   EXPECT_NE(second.find("0 jobs ran, 1 were current"), std::string::npos) << second;
 }
 
+// `study --damping implicit --dt 4e-5` runs every run so (the fast path's study), and the
+// same study without them is not current: the run settings are part of a run's key.
+TEST(Study, RunSettingsOnTheCommandLineReachEveryRunAndItsKey) {
+  const auto file = tmp_dir() / "ishibashi_study_settings.toml";
+  std::ofstream(file) << "[study]\nname = \"Settings\"\nscenarios = [\"" << (kRoot / "scenarios/nishida_a_kobe_dry.toml").string()
+                      << "\"]\nsnapshot_times_s = [0.05]\nduration_s = 0.05\n";
+  const auto out = tmp_dir() / "ishibashi_study_settings";
+  std::filesystem::remove_all(out);
+  const std::string study = std::string(ISHIBASHI_BINARY) + " study " + file.string() + " --no-report --out " + out.string();
+  int status = 0;
+  const std::string fast = run_command(study + " --damping implicit --dt 4e-5", &status);
+  ASSERT_EQ(status, 0) << fast;
+  const std::string summary = text_of(out / "runs" / "nishida_a_kobe_dry" / "summary.json");
+  EXPECT_NE(summary.find("\"damping\": \"implicit\""), std::string::npos) << summary;
+  EXPECT_NE(summary.find("\"dt_s\": 4e-05"), std::string::npos) << summary;
+  const std::string again = run_command(study + " --damping implicit --dt 4e-5", &status);
+  EXPECT_NE(again.find("0 jobs ran, 1 were current"), std::string::npos) << again;
+  const std::string reference = run_command(study, &status);
+  ASSERT_EQ(status, 0) << reference;
+  EXPECT_NE(reference.find("1 jobs ran, 0 were current"), std::string::npos) << reference;
+  EXPECT_NE(text_of(out / "runs" / "nishida_a_kobe_dry" / "summary.json").find("\"damping\": \"study\""), std::string::npos);
+}
+
 TEST(Study, BadStudyFileNamesTheFileAndLine) {
   const auto file = std::filesystem::temp_directory_path() / "ishibashi_bad_study.toml";
   // Writes the study file, runs `study` on it and returns what it printed; it must fail.
