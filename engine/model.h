@@ -157,12 +157,12 @@ std::string choice_list() {
   return list;
 }
 
-// What an analysis asks of a model beyond its blocks and materials. Applied and checked
-// once, by ModelBuilder::build; a built Model is never edited (the same blocks with other
-// options are built again from the same builder).
 // ModelOptions::damping_solve_tolerance unless a run sets it.
 constexpr double kDampingSolveTolerance = 1e-3;
 
+// What an analysis asks of a model beyond its blocks and materials. Applied and checked
+// once, by ModelBuilder::build; a built Model is never edited (the same blocks with other
+// options are built again from the same builder).
 struct ModelOptions {
   // 1: one sub-contact per vertex of the contact polygon. n > 1 (at most 16): the polygon
   // is split into triangles from its centroid and each into n*n sub-triangles, one

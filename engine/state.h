@@ -150,8 +150,8 @@ struct Sym6 {
 // Work vectors, world frame.
 struct ImplicitDamping {
   // Per pair (np), from the sub-contacts' dashpots as the contact law left them this step
-  // (pair_damping.h); blocks {-1, -1} where the pair has no sub-contacts (the solve's
-  // passes skip it).
+  // (pair_damping.h, summed by the contact law); blocks {a, -1} where the pair has no
+  // sub-contacts (the solve's passes skip it).
   std::vector<std::array<int, 2>> blocks;  // (np) the pair's blocks a, b (b = -1: no sub-contacts)
   std::vector<Sym6> pair_matrix;       // (np) the pair's dashpots this step
   // Dashpot resultants of the last product: force (N) and moment about the block's
