@@ -49,8 +49,8 @@ void print_profile(const World& world, long steps) {
               "  threads: they slow each other through memory); waiting: the rest of the team's time in the stage; serial:\n"
               "  share of the stage one thread runs alone; imbalance: the busiest thread's chunks against the mean\n");
   if (world.model().options.damping == Damping::implicit)
-    std::printf("implicit dashpots: %.2f conjugate-gradient iterations per step, %ld steps stopped unconverged\n",
-                double(p.damping_iterations) / steps, p.damping_unconverged);
+    std::printf("implicit dashpots: %.2f conjugate-gradient iterations per step (tolerance %g), %ld steps stopped unconverged\n",
+                double(p.damping_iterations) / steps, world.model().options.damping_solve_tolerance, p.damping_unconverged);
 }
 
 // A line per member's event on stdout, unless --quiet.
