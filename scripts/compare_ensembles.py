@@ -4,7 +4,7 @@ their distributions differ beyond sampling error? For a scheme against another (
 item 3: the implicit dashpots against the explicit reference, a solve's tolerance against
 a tighter one), each ensemble's members drawn alike.
 
-    scripts/compare_ensembles.py ENSEMBLE_A ENSEMBLE_B [--labels A,B]
+    scripts/compare_ensembles.py ENSEMBLE_A ENSEMBLE_B [--labels "name A" "name B"]
 
 Reads each member folder's summary.json (finished members only, so an ensemble still
 running can be compared so far) and its history.csv for the first fall. Prints a Markdown
@@ -104,9 +104,9 @@ def spread(values, form):
 def main():
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     parser.add_argument("ensembles", type=Path, nargs=2)
-    parser.add_argument("--labels", default=None, help="two names, comma-separated (default: the folders')")
+    parser.add_argument("--labels", nargs=2, default=None, help="the two ensembles' names (default: their folders')")
     o = parser.parse_args()
-    labels = o.labels.split(",") if o.labels else [e.name for e in o.ensembles]
+    labels = o.labels or [e.name for e in o.ensembles]
     runs = [members(e) for e in o.ensembles]
     for label, ensemble, found in zip(labels, o.ensembles, runs):
         if not found:

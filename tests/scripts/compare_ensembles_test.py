@@ -47,7 +47,7 @@ with tempfile.TemporaryDirectory() as tmp:
         write_member(tmp / "b" / f"member_{m:03d}", fallen, ring, 4.0 + m, 2)
     (tmp / "b" / "member_003").mkdir()  # a member not finished: left out
     table = subprocess.run([sys.executable, str(ROOT / "scripts" / "compare_ensembles.py"), str(tmp / "a"),
-                            str(tmp / "b"), "--labels", "A,B"], check=True, capture_output=True, text=True).stdout
+                            str(tmp / "b"), "--labels", "A", "B"], check=True, capture_output=True, text=True).stdout
     assert "| A (3 members) | B (3 members) |" in table, table
     assert "| any stone falls | 2 of 3 | 3 of 3 | 1.000 (Fisher) |" in table, table
     assert "| stones fallen | 3 (0 to 9) | 30 (20 to 40) | 0.100 (rank sum) |" in table, table
