@@ -8,8 +8,6 @@
 #include <string>
 #include <vector>
 
-#include "io/run_settings.h"
-
 namespace ishibashi {
 
 struct StudyFile {
@@ -21,8 +19,6 @@ struct StudyFile {
   double duration_s = -1;                         // [study] seconds of shaking; < 0: each scenario's
   int members = 0;                                // [study] each run as an ensemble of this many
                                                   // members (analysis/batch/ensemble.h); 0: single runs
-  RunOverrides run_overrides;                     // every run's settings replaced by these (`study
-                                                  // --damping implicit --dt 4e-5`); none from the file
   int modes = 12;                                 // [frequencies] modes
   double impulse_s = 1.0;                         // [frequencies] impulse response length, s
   std::vector<std::string> joint_rules;           // [frequencies] each model under each of these

@@ -42,7 +42,7 @@ std::string job_name(const Job& job) {
   return (job.kind == JobKind::run ? "run " : "frequencies ") + job.folder.filename().string();
 }
 
-std::string job_key(const Job& job, const StudyFile& study) {
+std::string job_key(const Job& job, const StudyFile& study, const RunOverrides& overrides) {
   std::ostringstream in;
   in << (job.kind == JobKind::run ? " run " : " frequencies ");
   if (job.kind == JobKind::run)  // the scenario, its model file and records
@@ -54,7 +54,7 @@ std::string job_key(const Job& job, const StudyFile& study) {
   if (job.kind == JobKind::run && study.members >= 2) in << " members " << study.members;
   if (job.kind == JobKind::run)
     for_each_run_setting([&](const SettingInfo& info, auto member) {
-      if (study.run_overrides.given.count(info.key)) in << " " << info.key << " " << setting_value(study.run_overrides.values.*member);
+      if (overrides.given.count(info.key)) in << " " << info.key << " " << setting_value(overrides.values.*member);
     });
   if (job.kind == JobKind::frequencies)
     in << " modes " << study.modes << " impulse " << study.impulse_s << " rule " << job.joint_rule;
@@ -214,11 +214,12 @@ void gather_rows(const std::vector<Job>& jobs, JobKind kind, const std::string& 
 }
 
 // The long runs first: the frequency analyses fill the gaps at the end.
-std::vector<Job> make_jobs(const StudyFile& study, const fs::path& out) {
+// A run's settings replaced by `overrides` (study --damping ...), which its key includes.
+std::vector<Job> make_jobs(const StudyFile& study, const fs::path& out, const RunOverrides& overrides) {
   std::vector<Job> jobs;
   for (const fs::path& s : study.scenarios) {
     jobs.push_back({JobKind::run, s, out / "runs" / s.stem(), read_scenario(s)});
-    apply_overrides(jobs.back().scenario->settings, study.run_overrides);
+    apply_overrides(jobs.back().scenario->settings, overrides);
   }
   for (const fs::path& m : study.models) {
     std::optional<Scenario> scenario;
@@ -227,7 +228,7 @@ std::vector<Job> make_jobs(const StudyFile& study, const fs::path& out) {
     for (const std::string& rule : study.joint_rules)
       jobs.push_back({JobKind::frequencies, m, out / "frequencies" / (m.stem().string() + "_" + rule), scenario, rule});
   }
-  for (Job& job : jobs) job.key = job_key(job, study);
+  for (Job& job : jobs) job.key = job_key(job, study, overrides);
   return jobs;
 }
 
@@ -263,8 +264,7 @@ void write_tables(const std::vector<Job>& jobs, const StudyFile& study, const fs
 StudyOutcome run_study(const StudyFile& study_file, const StudyOptions& o) {
   StudyFile study = study_file;
   if (o.members >= 0) study.members = o.members;
-  study.run_overrides = o.run_overrides;
-  std::vector<Job> jobs = make_jobs(study, o.out);
+  std::vector<Job> jobs = make_jobs(study, o.out, o.run_overrides);
 
   const int workers = std::max(1, std::min<int>(o.jobs, static_cast<int>(jobs.size())));
   const int threads = decide_thread_count(o.threads_per_job, workers);

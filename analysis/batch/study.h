@@ -14,6 +14,7 @@
 #include <functional>
 #include <string>
 
+#include "io/run_settings.h"
 #include "io/study_file.h"
 
 namespace ishibashi {
