@@ -126,6 +126,8 @@ double first_residual(const Model& m, State& s, double dt, bool refresh, double*
       else
         v.setZero();
       x[b].setZero();
+      w.preconditioned[b].setZero();  // zero where not solved: the products read them
+      w.direction[b].setZero();
       w.product[b] = v;
     }
   });
@@ -230,8 +232,8 @@ DampingSolve solve_implicit_damping(const Model& m, State& s, double dt) {
   w.velocity.resize(nb);
   w.delta.resize(nb, Vec6::Zero());  // a block's entry is kept from step to step
   w.residual.resize(nb);
-  w.preconditioned.assign(nb, Vec6::Zero());  // zero where not solved: the products read it
-  w.direction.assign(nb, Vec6::Zero());  // zero where not solved: the products read it
+  w.preconditioned.resize(nb);  // zero where not solved (first_residual's pass sets it)
+  w.direction.resize(nb);
   w.product.resize(nb);
   const bool fresh = w.diagonal.size() != static_cast<std::size_t>(nb);  // none yet, nor from a checkpoint
   w.diagonal.resize(nb);

@@ -7,6 +7,7 @@
 // is rebuilt go through per-chunk buffers. The arrays are regrouped only when a pair
 // gains or loses sub-contacts or the pair list changed.
 #include <algorithm>
+#include <array>
 #include <cstdint>
 
 #include "engine/narrowphase.h"
@@ -64,19 +65,21 @@ void overwrite_rebuilt(State& s) {
 
 // A pair gained or lost sub-contacts, or the pair list changed: every pair's range is laid
 // out anew in next_contacts, rebuilt pairs from their chunk's buffer and the rest from the
-// current arrays, which it then replaces.
+// current arrays, which it then replaces. Each chunk counts its own pairs' sub-contacts,
+// so only the chunks' offsets are summed by one thread (a regroup comes every other step
+// of a cracked bridge: a serial pass over the pairs held the other threads up each time).
 void regroup(State& s) {
-  const int np = static_cast<int>(s.pairs.size());
   const int chunks = static_cast<int>(s.pair_chunk_begin.size()) - 1;
   ++s.profile.contact_regroups;
-  s.pair_scratch_begin.resize(np);
-  int total = 0;
-  for (int pi = 0; pi < np; ++pi) {
-    const Pair& pair = s.pairs[pi];
-    s.pair_scratch_begin[pi] = total;
-    total += pair.rebuilt_count >= 0 ? pair.rebuilt_count : pair.sub_count;
-  }
-  s.next_contacts.resize(total);
+  auto new_count = [](const Pair& pair) { return pair.rebuilt_count >= 0 ? pair.rebuilt_count : pair.sub_count; };
+  std::array<int, kStageChunks + 1> chunk_begin{};  // chunk k's new range starts at chunk_begin[k]
+  parallel_ranges(s.pair_chunk_begin.data(), chunks, [&](std::ptrdiff_t begin, std::ptrdiff_t end, int k) {
+    int count = 0;
+    for (std::ptrdiff_t pi = begin; pi < end; ++pi) count += new_count(s.pairs[pi]);
+    chunk_begin[k + 1] = count;
+  });
+  for (int k = 0; k < chunks; ++k) chunk_begin[k + 1] += chunk_begin[k];
+  s.next_contacts.resize(chunk_begin[chunks]);
   parallel_ranges(s.pair_chunk_begin.data(), chunks, [&](std::ptrdiff_t begin, std::ptrdiff_t end, int k) {
     // Runs of pairs that kept their sub-contacts are contiguous in both layouts: one
     // copy per run, not one per pair (a regroup typically changes a handful of pairs).
@@ -85,9 +88,10 @@ void regroup(State& s) {
       if (run_count > 0) s.next_contacts.copy_range(s.contacts, run_from, run_count, run_to);
       run_count = 0;
     };
+    int at = chunk_begin[k];
     for (std::ptrdiff_t pi = begin; pi < end; ++pi) {
       Pair& pair = s.pairs[pi];
-      const int at = s.pair_scratch_begin[pi];
+      const int count = new_count(pair);
       if (pair.rebuilt_count >= 0) {
         flush();
         s.next_contacts.copy_range(s.chunk_contacts[k], pair.rebuilt_begin, pair.rebuilt_count, at);
@@ -97,6 +101,7 @@ void regroup(State& s) {
         run_count += pair.sub_count;
       }
       pair.sub_begin = at;
+      at += count;
     }
     flush();
   });

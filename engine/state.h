@@ -196,7 +196,6 @@ struct State {
                                          // gain or lose sub-contacts
   std::vector<SubContacts> chunk_contacts;  // per-chunk output of re-clipped pairs
   std::vector<std::uint8_t> chunk_regroup; // per chunk: 1 a pair was rebuilt, 2 one changed its count
-  std::vector<int> pair_scratch_begin;   // (np) regrouping: each pair's new range start
   bool pairs_changed = true;             // the pair list changed since the last narrowphase
   std::vector<Vec3> pair_force_n;        // (np) resultant force of a pair's sub-contacts on b
   std::vector<Vec3> pair_moment_nm;      // (2 np) moment of the pair's forces on a about a's

@@ -1,0 +1,32 @@
+#!/usr/bin/env bash
+# Model B dry in its cracked phase: 0.05 s of settling, then SHAKE seconds (default 0.2) of
+# Kobe from the record's 7.3 s, where its joints crack and rock (a pair regroups its
+# sub-contacts in about half the steps: the calm samples of implicit_ab.sh miss this
+# phase). Programs BEFORE and AFTER alternated ROUNDS times on THREADS threads (fixed
+# teams), each with the study's explicit dashpots and with implicit dashpots at 4e-5 s.
+# One CSV row per run; the stage columns are work us/step from --profile. On a shared
+# machine pause other work first and quote medians of back-to-back runs.
+#   bash perf/cracked_ab.sh BEFORE AFTER [ROUNDS] [THREADS] [SHAKE] > perf/results/cracked_ab.csv
+set -eu
+BEFORE=$1 AFTER=$2 ROUNDS=${3:-3} THREADS=${4:-2} SHAKE=${5:-0.2}
+SCENARIO=$(dirname "$0")/../scenarios/nishida_b_kobe_dry.toml
+OUT=$(mktemp -d)
+trap 'rm -rf "$OUT"' EXIT
+run() {  # label program extra-flags...
+  local label=$1 program=$2; shift 2
+  "$program" run "$SCENARIO" --settle-max 0.05 --start 7.3 --duration "$SHAKE" --threads "$THREADS" --fixed-threads \
+    --profile --quiet --out "$OUT/run" "$@" > "$OUT/log" 2>&1
+  local hash
+  hash=$(python3 -c "import json, sys; print(json.load(open(sys.argv[1]))['state_hash'])" "$OUT/run/summary.json")
+  awk -v label="$label" -v round="$round" -v threads="$THREADS" -v hash="$hash" '
+    /^narrowphase/ {np = $5} /^contact law/ {law = $6} /^damping solve/ {solve = $6}
+    /steps\/s/ {for (i = 1; i <= NF; ++i) {if ($i == "steps/s,") rate = $(i - 1); if ($i == "regroups") {regroups = $(i + 1); gsub(",", "", regroups)}}}
+    END {printf "%s,%s,%s,%s,%s,%s,%s,%s,%s\n", label, round, threads, rate, np, law, (solve == "" ? 0 : solve), regroups, hash}' "$OUT/log"
+}
+echo "run,round,threads,steps_per_s,narrowphase_us_per_step,contact_law_us_per_step,solve_us_per_step,regroups,state_hash"
+for round in $(seq "$ROUNDS"); do
+  run before_explicit "$BEFORE"
+  run after_explicit "$AFTER"
+  run before_implicit "$BEFORE" --damping implicit --dt 4e-5
+  run after_implicit "$AFTER" --damping implicit --dt 4e-5
+done
