@@ -115,6 +115,7 @@ double apply_contact_law(const Model& m, State& s, double dt) {
       const double damping_scale = implicit_dashpots ? 0.0 : std::min(s.damping_scale[a], s.damping_scale[b]);
       Vec3 pair_force = Vec3::Zero(), pair_torque = Vec3::Zero();
       PairDampingSum dashpots;  // Damping::implicit: the pair's dashpots as the law leaves them
+      bool closed = false;      // a sub-contact of the pair has its dashpots (is not open)
       for (int i = pair.sub_begin; i < pair.sub_begin + pair.sub_count; ++i) {
         // A dry sub-contact that was open and stays open (gap >= 0 before and after, no
         // stretch, no dashpot force) carries nothing and stores nothing: only its flags
@@ -242,14 +243,17 @@ double apply_contact_law(const Model& m, State& s, double dt) {
           // where it slides and no normal one where a softening bond is held at its tensile
           // strength (MODEL.md section 3).
           dashpots.add((flags & SubContactFlag::pulling) ? 0.0 : k.cn, (flags & SubContactFlag::sliding) ? 0.0 : k.cs, r);
+          closed = true;
         }
         c.flags[i] = flags;
         pair_force += force;
         pair_torque += r.cross(force);
       }
       if (implicit_dashpots) {
-        s.implicit.pair_matrix[pi] = dashpots.matrix(c.normal[pair.sub_begin]);
-        s.implicit.blocks[pi] = {a, b};
+        // A pair whose sub-contacts are all open (half of a cracked bridge's) has a zero
+        // matrix: the solve skips it, as it skips a pair without sub-contacts.
+        if (closed) s.implicit.pair_matrix[pi] = dashpots.matrix(c.normal[pair.sub_begin]);
+        s.implicit.blocks[pi] = {a, closed ? b : -1};
       }
       s.pair_force_n[pi] = pair_force;
       s.pair_moment_nm[2 * pi] = -pair_torque;                         // on a, about x_a
