@@ -9,7 +9,8 @@
 
 namespace ishibashi {
 
-// pose.cpp: world-frame vertices, face planes and edge directions of every block.
+// pose.cpp: every block's rotation matrix and world-frame face planes (the narrowphase
+// makes the vertices and edge directions of the pairs it searches: narrowphase.h).
 void update_pose(const Model& model, State& state);
 
 // broadphase.cpp: rebuilds the sorted candidate pair list when a block has moved more
