@@ -4,12 +4,13 @@
 # sub-contacts in about half the steps: the calm samples of implicit_ab.sh miss this
 # phase). Programs BEFORE and AFTER alternated ROUNDS times on THREADS threads (fixed
 # teams), each with the study's explicit dashpots and with implicit dashpots at 4e-5 s.
-# One CSV row per run; the stage columns are work us/step from --profile. On a shared
+# One CSV row per run; the stage columns are work us a step from --profile (profile_row.awk). On a shared
 # machine pause other work first and quote medians of back-to-back runs.
 #   bash perf/cracked_ab.sh BEFORE AFTER [ROUNDS] [THREADS] [SHAKE] > perf/results/cracked_ab.csv
 set -eu
 BEFORE=$1 AFTER=$2 ROUNDS=${3:-3} THREADS=${4:-2} SHAKE=${5:-0.2}
-SCENARIO=$(dirname "$0")/../scenarios/nishida_b_kobe_dry.toml
+PERF=$(cd "$(dirname "$0")" && pwd)
+SCENARIO=$PERF/../scenarios/nishida_b_kobe_dry.toml
 OUT=$(mktemp -d)
 trap 'rm -rf "$OUT"' EXIT
 run() {  # label program extra-flags...
@@ -18,12 +19,9 @@ run() {  # label program extra-flags...
     --profile --quiet --out "$OUT/run" "$@" > "$OUT/log" 2>&1
   local hash
   hash=$(python3 -c "import json, sys; print(json.load(open(sys.argv[1]))['state_hash'])" "$OUT/run/summary.json")
-  awk -v label="$label" -v round="$round" -v threads="$THREADS" -v hash="$hash" '
-    /^narrowphase/ {np = $5} /^contact law/ {law = $6} /^damping solve/ {solve = $6}
-    /steps\/s/ {for (i = 1; i <= NF; ++i) {if ($i == "steps/s,") rate = $(i - 1); if ($i == "regroups") {regroups = $(i + 1); gsub(",", "", regroups)}}}
-    END {printf "%s,%s,%s,%s,%s,%s,%s,%s,%s\n", label, round, threads, rate, np, law, (solve == "" ? 0 : solve), regroups, hash}' "$OUT/log"
+  echo "$label,$round,$THREADS,$(awk -f "$PERF/profile_row.awk" "$OUT/log"),$hash"
 }
-echo "run,round,threads,steps_per_s,narrowphase_us_per_step,contact_law_us_per_step,solve_us_per_step,regroups,state_hash"
+echo "run,round,threads,steps_per_s,pose_us,narrowphase_us,contact_law_us,gather_us,solve_us,integrate_us,regroups,state_hash"
 for round in $(seq "$ROUNDS"); do
   run before_explicit "$BEFORE"
   run after_explicit "$AFTER"

@@ -14,14 +14,9 @@ b_run() {
   timeout 150 "$D/bin/ishibashi" run scenarios/nishida_b_kobe_dry.toml --settle-max 0.05 --start 7.3 --duration 0.1 \
     --threads "$t" --fixed-threads --quiet --profile --out "/tmp/$label" "$@" > "/tmp/$label.log" 2>&1
   { echo "=== $label: $t threads $*"; cat "/tmp/$label.log"; } >> "$O/profiles.log"
-  awk -v label="$label" -v t="$t" '
-    /^narrowphase/ {np = $5} /^contact law/ {law = $6} /^damping solve/ {solve = $6} /^gather/ {gather = $5}
-    /^integrate/ {integrate = $5} /^pose/ {pose = $5}
-    /steps\/s/ {for (i = 1; i <= NF; ++i) if ($i == "steps/s,") rate = $(i - 1)}
-    END {printf "%s,%s,%s,%s,%s,%s,%s,%s,%s\n", label, t, rate, pose, np, law, gather, (solve == "" ? 0 : solve), integrate}' \
-    "/tmp/$label.log" >> "$O/runs.csv"
+  echo "$label,$t,$(awk -f perf/profile_row.awk "/tmp/$label.log")" >> "$O/runs.csv"
 }
-echo "label,threads,steps_per_s,pose_us,narrowphase_us,contact_law_us,gather_us,solve_us,integrate_us" > "$O/runs.csv"
+echo "label,threads,steps_per_s,pose_us,narrowphase_us,contact_law_us,gather_us,solve_us,integrate_us,regroups" > "$O/runs.csv"
 for t in 1 2 4 8 16; do
   b_run "$t" "explicit_$t"
   b_run "$t" "implicit_$t" --damping implicit --dt 4e-5

@@ -1,0 +1,16 @@
+# One CSV fragment from `ishibashi run --profile`'s output: steps/s, then the work us a step
+# of pose, narrowphase, contact law, gather, damping solve (0 without implicit dashpots) and
+# integrate, then the regroups. Used by perf/cracked_ab.sh and perf/device_cracked.sh.
+/^pose/ {pose = $5}
+/^narrowphase/ {narrowphase = $5}
+/^contact law/ {law = $6}
+/^gather/ {gather = $5}
+/^damping solve/ {solve = $6}
+/^integrate/ {integrate = $5}
+/steps\/s/ {
+  for (i = 1; i <= NF; ++i) {
+    if ($i == "steps/s,") rate = $(i - 1)
+    if ($i == "regroups") {regroups = $(i + 1); gsub(",", "", regroups)}
+  }
+}
+END {printf "%s,%s,%s,%s,%s,%s,%s,%s", rate, pose, narrowphase, law, gather, (solve == "" ? 0 : solve), integrate, regroups}
