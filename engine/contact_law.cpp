@@ -252,7 +252,11 @@ double apply_contact_law(const Model& m, State& s, double dt) {
       if (implicit_dashpots) {
         // A pair whose sub-contacts are all open (half of a cracked bridge's) has a zero
         // matrix: the solve skips it, as it skips a pair without sub-contacts.
-        if (closed) s.implicit.pair_matrix[pi] = dashpots.matrix(c.normal[pair.sub_begin]);
+        if (closed) {
+          const Sym6 k = dashpots.matrix(c.normal[pair.sub_begin]);
+          Sym6f& stored = s.implicit.pair_matrix[pi];
+          for (int i = 0; i < 21; ++i) stored.v[i] = static_cast<float>(k.v[i]);
+        }
         s.implicit.blocks[pi] = {a, closed ? b : -1};
       }
       s.pair_force_n[pi] = pair_force;

@@ -40,16 +40,16 @@ inline __attribute__((always_inline)) void dashpot_resultant(const T* d, const d
 }
 
 // Pair p at xa, xb: its force and moment on a added to on_a, those on b written to on_b.
-// The pass streams the pair matrices from memory on a large model (model F: 2.7 MB), so
+// The pass streams the pair matrices from memory on a large model (model F: 1.4 MB), so
 // nothing else is stored per pair: the lever d comes from the blocks' positions.
 inline __attribute__((always_inline)) void resultant_inline(const State& s, const double* xa, const double* xb,
                                                             std::ptrdiff_t p, double* on_a, double* on_b) {
   const auto [a, b] = s.implicit.blocks[p];
   const double d[3] = {s.position[b][0] - s.position[a][0], s.position[b][1] - s.position[a][1],
                        s.position[b][2] - s.position[a][2]};
-  const double* k = s.implicit.pair_matrix[p].v;
+  const float* k = s.implicit.pair_matrix[p].v;
   double f[6];
-  dashpot_resultant(d, xa, xb, [&](int i) { return k[i]; }, f, on_b);
+  dashpot_resultant(d, xa, xb, [&](int i) { return double{k[i]}; }, f, on_b);
 #pragma GCC unroll 6
   for (int i = 0; i < 6; ++i) on_a[i] -= f[i];
 }
@@ -139,8 +139,8 @@ void pair_products(const Model& m, State& s, VelocityOf&& velocity_of) {
         for (int i = 0; i < 3; ++i)
           d[i] = Two{s.position[b0][i] - position_a[i], s.position[b1][i] - position_a[i]};
         for (int i = 0; i < 6; ++i) xb[i] = Two{x0[i], x1[i]};
-        const double *k0 = w.pair_matrix[p0].v, *k1 = w.pair_matrix[p1].v;
-        dashpot_resultant(d, xa, xb, [&](int i) { return Two{k0[i], k1[i]}; }, f, on_b);
+        const float *k0 = w.pair_matrix[p0].v, *k1 = w.pair_matrix[p1].v;
+        dashpot_resultant(d, xa, xb, [&](int i) { return Two{double{k0[i]}, double{k1[i]}}; }, f, on_b);
         for (int i = 0; i < 6; ++i) on_a[i] -= f[i][0];
         for (int i = 0; i < 6; ++i) on_a[i] -= f[i][1];
         double *out0 = w.on_b[p0].data(), *out1 = w.on_b[p1].data();

@@ -36,7 +36,7 @@ Vec6 mass_times(const Model& m, const State& s, std::ptrdiff_t b, const Vec6& x)
   return y;
 }
 
-Mat6 full(const Sym6& k) {
+Mat6 full(const Sym6f& k) {
   Mat6 f;
   int at = 0;
   for (int i = 0; i < 6; ++i)

@@ -147,13 +147,19 @@ struct Energy {
 struct Sym6 {
   double v[21];
 };
+// The same in single precision: how the solve stores a pair's matrix. Its passes stream
+// every pair's matrix once an iteration (model F: 1.4 MB so, 2.7 in double), and float's
+// relative rounding (6e-8) lies four orders below the solve's tolerance (1e-3).
+struct Sym6f {
+  float v[21];
+};
 // Work vectors, world frame.
 struct ImplicitDamping {
   // Per pair (np), from the sub-contacts' dashpots as the contact law left them this step
   // (pair_damping.h, summed by the contact law); blocks {a, -1} where the pair has no
   // sub-contacts (the solve's passes skip it).
   std::vector<std::array<int, 2>> blocks;  // (np) the pair's blocks a, b (b = -1: no sub-contacts)
-  std::vector<Sym6> pair_matrix;       // (np) the pair's dashpots this step
+  std::vector<Sym6f> pair_matrix;      // (np) the pair's dashpots this step
   // Dashpot resultants of the last product: force (N) and moment about the block's
   // centroid (N m), on b per pair, and on each block summed over the pairs where it is a.
   std::vector<Vec6> on_b;              // (np)
