@@ -186,7 +186,8 @@ struct State {
   std::vector<Vec3> angular_velocity;    // rad/s, world frame
   std::vector<Vec3> applied_force;       // external loads set by the driver, N
   std::vector<Vec3> applied_torque;      // N m
-  std::vector<Vec3> force, torque;       // resultant of contacts + applied loads (no gravity)
+  std::vector<Vec3> force, torque;       // resultant of contacts + applied loads (no gravity);
+                                         // prescribed blocks: applied loads only (gather.cpp)
   std::vector<std::uint8_t> left_model;  // 1: a free block that fell below Model::leave_depth_m,
                                          // frozen since (its kinetic energy in Energy::left_model_j)
 
@@ -213,6 +214,9 @@ struct State {
   std::vector<int> pair_chunk_begin;     // (stage_chunks + 1) the pair loops' chunk k: pairs
                                          // [k] .. [k + 1], those whose block a lies in the
                                          // block loops' chunk k
+  std::vector<std::array<int, 2>> prescribed_entry;  // {entry (as in block_pair), its
+  std::vector<int> prescribed_entry_begin;  // block} where that block is prescribed, in pair
+                                         // order; chunk k's from prescribed_entry_begin[k]
   bool pair_index_valid = false;
   std::vector<double> damping_scale;     // (nb) factor on the dashpots of a block's sub-contacts
                                          // (a pair takes the smaller): 1 unless
