@@ -44,8 +44,8 @@ int run_demo(const DemoOptions& o) {
   }
   const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   const Energy& e = s.energy;
-  std::printf("done: %.2f s simulated in %.2f s (%.0f steps/s), %zu sub-contacts, %d frames\n", s.time_s, wall,
-              steps / wall, s.contacts.size(), writer.frame_count());
+  std::printf("done: %.2f s simulated in %.2f s (%.0f steps/s), %d sub-contacts, %d frames\n", s.time_s, wall,
+              steps / wall, sub_contact_count(s), writer.frame_count());
   std::printf("energy (J): kinetic %.4g, dissipated by dashpots %.4g, by friction %.4g, work of the base %.4g, "
               "balance error %.3g (%.3g %% of the work in)\n",
               e.kinetic_j, e.damping_j, e.friction_j, e.prescribed_work_j, e.balance_error_j(),

@@ -149,8 +149,8 @@ int run_scenario(const RunOptions& o) {
   const Scenario& sc = run.scenario();
   const Model& m = run.world().model();
   if (!o.resume.empty()) std::printf("resuming %s from its checkpoint\n", options.out.c_str());
-  std::printf("%s: %d blocks, %zu sub-contacts (%s joint rule), dt = %.3g s, at most %d threads; ground motion %.2f s (from "
-              "%.2f s of the record)\n", sc.model.name.c_str(), m.block_count, run.world().state().contacts.size(),
+  std::printf("%s: %d blocks, %d sub-contacts (%s joint rule), dt = %.3g s, at most %d threads; ground motion %.2f s (from "
+              "%.2f s of the record)\n", sc.model.name.c_str(), m.block_count, sub_contact_count(run.world().state()),
               joint_rule_name(sc.settings.joint_rule), run.dt_s(), run.world().thread_tuner().max_threads(),
               run.ground_motion().duration_s(), sc.settings.start_s);
   std::printf("  stability limit %.3g s, set by %s and its joints%s\n", run.stability_limit_s(),

@@ -12,15 +12,15 @@ namespace ishibashi {
 int form_bonds(const Model& m, State& s) {
   SubContacts& c = s.contacts;
   int formed = 0;
-  for (std::size_t i = 0; i < c.size(); ++i) {
+  for_each_sub_contact(s, [&](int i) {
     const std::uint8_t f = c.flags[i];
-    if (!(f & SubContactFlag::original) || (f & (SubContactFlag::bonded | SubContactFlag::broken))) continue;
-    if (!m.law(m.material[c.block_a[i]], m.material[c.block_b[i]]).carries_bond()) continue;
+    if (!(f & SubContactFlag::original) || (f & (SubContactFlag::bonded | SubContactFlag::broken))) return;
+    if (!m.law(m.material[c.block_a[i]], m.material[c.block_b[i]]).carries_bond()) return;
     // Its springs keep the settled stretches (the dead load's compression and friction);
     // the bond adds strength from here on, so nothing moves when it forms.
     c.flags[i] = f | SubContactFlag::bonded;
     ++formed;
-  }
+  });
   return formed;
 }
 

@@ -4,8 +4,12 @@
 //
 // Most pairs of a masonry structure barely move relative to each other from one step to
 // the next: their sub-contacts are updated where they lie, and only pairs whose manifold
-// is rebuilt go through per-chunk buffers. The arrays are regrouped only when a pair
-// gains or loses sub-contacts or the pair list changed.
+// is rebuilt go through per-chunk buffers. A pair that gains or loses sub-contacts gets a
+// new range after the arrays' end, its old one left dead; the arrays are laid out densely
+// anew only when the pair list changed or the dead entries reach 1/kDeadShare of the
+// live ones. (A cracked bridge changes a handful of pairs' counts every other step: laying
+// out every sub-contact anew each time, 8 MB read and written for model B, was a sixth
+// of its step on one thread.)
 #include <algorithm>
 #include <array>
 #include <cstdint>
@@ -18,6 +22,13 @@ namespace ishibashi {
 namespace {
 
 enum class Layout : std::uint8_t { unchanged = 0, same = 1, regroup = 2 };
+
+// Dense anew when the dead entries exceed this share of the live ones. A compaction
+// copies every sub-contact; an appended pair costs the passes that walk the pairs a jump
+// out of their stream (about twenty arrays). Model B cracked, one thread: 1/16 left the
+// passes' time as it was and 1/256 (a compaction of its 37,000 sub-contacts every few
+// regroups) made it a little shorter.
+constexpr int kDeadShare = 256;
 
 // Every pair: searched, and its manifold rebuilt into its chunk's buffer (with history),
 // or its sub-contacts updated in place. Returns how the sub-contact layout changed.
@@ -63,14 +74,48 @@ void overwrite_rebuilt(State& s) {
   });
 }
 
-// A pair gained or lost sub-contacts, or the pair list changed: every pair's range is laid
-// out anew in next_contacts, rebuilt pairs from their chunk's buffer and the rest from the
-// current arrays, which it then replaces. Each chunk counts its own pairs' sub-contacts,
-// so only the chunks' offsets are summed by one thread (a regroup comes every other step
-// of a cracked bridge: a serial pass over the pairs held the other threads up each time).
+// Rebuilt pairs whose count is unchanged overwrite their ranges; the others get new ranges
+// after the arrays' end, each chunk's in pair order from its offset (the same layout for
+// any team), and leave their old ranges dead.
+void append_changed(State& s) {
+  const int chunks = static_cast<int>(s.pair_chunk_begin.size()) - 1;
+  auto moves = [](const Pair& pair) { return pair.rebuilt_count >= 0 && pair.rebuilt_count != pair.sub_count; };
+  std::array<int, kStageChunks + 1> chunk_at{};  // chunk k appends from chunk_at[k]
+  std::array<int, kStageChunks> chunk_dead{};
+  parallel_ranges(s.pair_chunk_begin.data(), chunks, [&](std::ptrdiff_t begin, std::ptrdiff_t end, int k) {
+    int count = 0;
+    for (std::ptrdiff_t pi = begin; pi < end; ++pi)
+      if (moves(s.pairs[pi])) count += s.pairs[pi].rebuilt_count;
+    chunk_at[k + 1] = count;
+  });
+  chunk_at[0] = static_cast<int>(s.contacts.size());
+  for (int k = 0; k < chunks; ++k) chunk_at[k + 1] += chunk_at[k];
+  s.contacts.resize(chunk_at[chunks]);
+  parallel_ranges(s.pair_chunk_begin.data(), chunks, [&](std::ptrdiff_t begin, std::ptrdiff_t end, int k) {
+    int at = chunk_at[k], dead = 0;
+    for (std::ptrdiff_t pi = begin; pi < end; ++pi) {
+      Pair& pair = s.pairs[pi];
+      if (pair.rebuilt_count < 0) continue;
+      if (moves(pair)) {
+        dead += pair.sub_count;
+        pair.sub_begin = at;
+        pair.sub_count = pair.rebuilt_count;
+        at += pair.rebuilt_count;
+      }
+      if (pair.rebuilt_count > 0) s.contacts.copy_range(s.chunk_contacts[k], pair.rebuilt_begin, pair.rebuilt_count, pair.sub_begin);
+      pair.rebuilt_count = -1;  // placed: a compaction now keeps it where it is
+    }
+    chunk_dead[k] = dead;
+  });
+  for (int k = 0; k < chunks; ++k) s.contacts_dead += chunk_dead[k];
+}
+
+// The pair list changed, or the dead entries piled up: every pair's range is laid out anew
+// in next_contacts, in pair order, rebuilt pairs from their chunk's buffer and the rest
+// from the current arrays, which it then replaces. Each chunk counts its own pairs'
+// sub-contacts, so only the chunks' offsets are summed by one thread.
 void regroup(State& s) {
   const int chunks = static_cast<int>(s.pair_chunk_begin.size()) - 1;
-  ++s.profile.contact_regroups;
   auto new_count = [](const Pair& pair) { return pair.rebuilt_count >= 0 ? pair.rebuilt_count : pair.sub_count; };
   std::array<int, kStageChunks + 1> chunk_begin{};  // chunk k's new range starts at chunk_begin[k]
   parallel_ranges(s.pair_chunk_begin.data(), chunks, [&](std::ptrdiff_t begin, std::ptrdiff_t end, int k) {
@@ -81,8 +126,8 @@ void regroup(State& s) {
   for (int k = 0; k < chunks; ++k) chunk_begin[k + 1] += chunk_begin[k];
   s.next_contacts.resize(chunk_begin[chunks]);
   parallel_ranges(s.pair_chunk_begin.data(), chunks, [&](std::ptrdiff_t begin, std::ptrdiff_t end, int k) {
-    // Runs of pairs that kept their sub-contacts are contiguous in both layouts: one
-    // copy per run, not one per pair (a regroup typically changes a handful of pairs).
+    // Runs of pairs that kept their sub-contacts and lie one after the other: one copy
+    // per run, not one per pair.
     int run_from = 0, run_to = 0, run_count = 0;
     auto flush = [&] {
       if (run_count > 0) s.next_contacts.copy_range(s.contacts, run_from, run_count, run_to);
@@ -97,6 +142,7 @@ void regroup(State& s) {
         s.next_contacts.copy_range(s.chunk_contacts[k], pair.rebuilt_begin, pair.rebuilt_count, at);
         pair.sub_count = pair.rebuilt_count;
       } else if (pair.sub_count > 0) {
+        if (run_count > 0 && pair.sub_begin != run_from + run_count) flush();  // after a dead range, or appended
         if (run_count == 0) run_from = pair.sub_begin, run_to = at;
         run_count += pair.sub_count;
       }
@@ -106,16 +152,30 @@ void regroup(State& s) {
     flush();
   });
   std::swap(s.contacts, s.next_contacts);
+  s.contacts_dead = 0;
 }
 
 }  // namespace
 
+void compact_contacts(const Model& m, State& s) {
+  if (s.contacts_dead == 0) return;
+  if (!s.pair_index_valid) update_pair_index(m, s);
+  for (Pair& pair : s.pairs) pair.rebuilt_count = -1;  // every pair kept where it lies
+  regroup(s);
+}
+
 void update_contacts(const Model& m, State& s, bool first_detection, double dt_s) {
   if (!s.pair_index_valid) update_pair_index(m, s);  // the pair list changed: its chunks
+  const bool pair_list_changed = s.pairs_changed;
   switch (build_manifolds(m, s, first_detection, dt_s)) {
     case Layout::unchanged: return;  // every pair updated in place (or still apart)
     case Layout::same: return overwrite_rebuilt(s);
-    case Layout::regroup: return regroup(s);
+    case Layout::regroup:
+      ++s.profile.contact_regroups;
+      if (pair_list_changed) return regroup(s);
+      append_changed(s);
+      if (std::int64_t{s.contacts_dead} * kDeadShare > sub_contact_count(s)) regroup(s);  // nothing rebuilt left: a compaction
+      return;
   }
 }
 

@@ -27,6 +27,9 @@ std::vector<Pair> brute_force_pairs(const Model& model, const State& state);
 // contact, the only ones that may carry a bond. dt_s: the step that led to the current
 // pose (s), for how far re-clipped points moved.
 void update_contacts(const Model& model, State& state, bool first_detection, double dt_s);
+// The sub-contact arrays laid out densely in pair order, without dead entries (the
+// narrowphase does it itself when they pile up; what it moves changes no result).
+void compact_contacts(const Model& model, State& state);
 // World::form_bonds (contact_history.cpp).
 int form_bonds(const Model& model, State& state);
 

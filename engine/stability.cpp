@@ -16,7 +16,7 @@ void block_stiffness_damping(const Model& m, const State& s, std::vector<Vec6>& 
   stiffness.assign(m.block_count, Vec6::Zero());
   damping.assign(m.block_count, Vec6::Zero());
   const SubContacts& c = s.contacts;
-  for (std::size_t i = 0; i < c.size(); ++i) {
+  for_each_sub_contact(s, [&](int i) {
     const SpringConstants k = c.constants(i);
     const Vec3& n = c.normal[i];
     const Vec3 t1 = n.unitOrthogonal(), t2 = n.cross(t1);
@@ -41,7 +41,7 @@ void block_stiffness_damping(const Model& m, const State& s, std::vector<Vec6>& 
       add(t1, k.ks, k.cs);
       add(t2, k.ks, k.cs);
     }
-  }
+  });
 }
 
 Vec6 block_mass(const Model& m, int b) {

@@ -57,7 +57,7 @@ enum SubContactFlag : std::uint8_t {
   X(Vec3, incident_local, "face contacts: the point on the incident face, in the incident block's frame") \
   X(std::uint8_t, flags, "SubContactFlag bits")
 
-// Sub-contacts, grouped by pair in pair order (Pair::sub_begin, sub_count). The normal
+// Sub-contacts, grouped by pair (Pair::sub_begin, sub_count; State::contacts). The normal
 // points from block_a to block_b and the force is the one that block_a exerts on block_b
 // (block_b exerts -force on block_a). Structure of arrays, one per field of the list above.
 struct SubContacts {
@@ -198,9 +198,15 @@ struct State {
 
   // ---- contacts ----
   std::vector<Pair> pairs;               // sorted by (a, b)
-  SubContacts contacts;                  // current sub-contacts, grouped by pair in pair order
-  SubContacts next_contacts;             // where the narrowphase regroups them when pairs
-                                         // gain or lose sub-contacts
+  SubContacts contacts;                  // current sub-contacts, grouped by pair (each pair's
+                                         // range at Pair::sub_begin), and contacts_dead entries
+                                         // in no pair's range: read them through
+                                         // for_each_sub_contact, not 0 .. size()
+  int contacts_dead = 0;                 // sub-contacts left behind by pairs whose new ones were
+                                         // appended (narrowphase.cpp); 0: the arrays are dense,
+                                         // in pair order
+  SubContacts next_contacts;             // where the narrowphase lays them out densely anew
+                                         // (the pair list changed, or dead entries piled up)
   std::vector<SubContacts> chunk_contacts;  // per-chunk output of re-clipped pairs
   std::vector<std::uint8_t> chunk_regroup; // per chunk: 1 a pair was rebuilt, 2 one changed its count
   bool pairs_changed = true;             // the pair list changed since the last narrowphase
@@ -244,6 +250,16 @@ struct State {
 
 // A State at the model's initial pose, at rest, with no contacts yet.
 State make_initial_state(const Model& model);
+
+// Calls fn(i) for every sub-contact i, pair by pair in pair order: the arrays' own order
+// when they are dense, whatever dead entries they hold between two compactions.
+template <class Fn>
+void for_each_sub_contact(const State& state, Fn&& fn) {
+  for (const Pair& pair : state.pairs)
+    for (int i = pair.sub_begin; i < pair.sub_begin + pair.sub_count; ++i) fn(i);
+}
+// The number of sub-contacts (those in the pairs' ranges).
+inline int sub_contact_count(const State& state) { return static_cast<int>(state.contacts.size()) - state.contacts_dead; }
 
 // A free block has fallen when its centroid is lower than at the start by more than its
 // size (cbrt of its volume).

@@ -18,7 +18,7 @@ World::World(Model model, double dt_s)
   update_contacts(model_, state_, /*first_detection=*/true, dt_s);
 
   const SubContacts& c = state_.contacts;
-  for (std::size_t i = 0; i < c.size(); ++i) {
+  for_each_sub_contact(state_, [&](int i) {
     const double overlap_limit = model_.contact_tolerance_m(c.block_a[i], c.block_b[i]);
     if (-c.gap_m[i] > overlap_limit) {
       std::ostringstream msg;
@@ -27,7 +27,7 @@ World::World(Model model, double dt_s)
           << "); initial blocks may touch but not overlap by more than " << overlap_limit << " m";
       throw ModelError(msg.str());
     }
-  }
+  });
   if (model_.options.damping == Damping::capped) update_damping_caps(model_, state_, dt_s);
   int block = -1;
   const double limit = critical_time_step_s(&block);
@@ -171,7 +171,8 @@ std::uint64_t World::state_hash() const {
     mix(state_.velocity[b].data(), sizeof(double) * 3);
     mix(state_.angular_velocity[b].data(), sizeof(double) * 3);
   }
-  mix(state_.contacts.shear_stretch_m.data(), sizeof(Vec3) * state_.contacts.size());
+  for (const Pair& pair : state_.pairs)  // in pair order: the same bytes, dense or not
+    if (pair.sub_count > 0) mix(state_.contacts.shear_stretch_m.data() + pair.sub_begin, sizeof(Vec3) * pair.sub_count);
   return h;
 }
 

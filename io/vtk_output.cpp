@@ -169,7 +169,7 @@ void write_blocks_vtu(const Model& m, const State& s, const std::filesystem::pat
 
 void write_contacts_vtu(const State& s, const std::filesystem::path& file, const Joints* joints) {
   const SubContacts& c = s.contacts;
-  const vtkIdType n = static_cast<vtkIdType>(c.size());
+  const vtkIdType n = sub_contact_count(s);
   vtkNew<vtkPoints> points;
   points->SetDataTypeToDouble();
   points->SetNumberOfPoints(n);
@@ -191,9 +191,10 @@ void write_contacts_vtu(const State& s, const std::filesystem::path& file, const
   block_b->SetName("block_b");
   vtkNew<vtkUnstructuredGrid> grid;
   grid->Allocate(n);
-  for (vtkIdType i = 0; i < n; ++i) {
-    points->SetPoint(i, c.point[i].data());
-    normal->SetTuple(i, c.normal[i].data());
+  vtkIdType id = 0;  // the point's index in the file: the sub-contacts in pair order
+  for_each_sub_contact(s, [&](int i) {
+    points->SetPoint(id, c.point[i].data());
+    normal->SetTuple(id, c.normal[i].data());
     sigma->InsertNextValue(c.normal_spring(i) / c.area_m2[i]);
     tau->InsertNextValue(c.shear_spring(i).norm() / c.area_m2[i]);
     opening->InsertNextValue(std::max(0.0, c.gap_m[i]));
@@ -221,8 +222,9 @@ void write_contacts_vtu(const State& s, const std::filesystem::path& file, const
       joint_slip->InsertNextValue(found ? joints->slip_m[j] : 0.0);
       joint_cracked->InsertNextValue(found ? joints->cracked[j] : 0);
     }
-    grid->InsertNextCell(VTK_VERTEX, 1, &i);
-  }
+    grid->InsertNextCell(VTK_VERTEX, 1, &id);
+    ++id;
+  });
   grid->SetPoints(points);
   for (vtkDataArray* a : std::initializer_list<vtkDataArray*>{normal, sigma, tau, opening, slip, damage, state, original, block_a, block_b})
     grid->GetPointData()->AddArray(a);

@@ -31,7 +31,7 @@ FrequencyAnalysis analyse_frequencies(const LoadedModel& loaded, const Frequency
   const World world(model, 1e-9);  // finds the joints in contact at the start
   FrequencyAnalysis a;
   a.modal = modal_analysis(model, world.state(), o.modes);
-  a.sub_contacts = world.state().contacts.size();
+  a.sub_contacts = sub_contact_count(world.state());
   const ModalResult& r = a.modal;
   std::filesystem::create_directories(out);
   std::ostringstream csv;

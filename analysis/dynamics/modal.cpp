@@ -48,7 +48,7 @@ ModalResult modal_analysis(const Model& m, const State& s, int modes) {
   // Each row is multiplied by M^(-1/2), so K' = M^(-1/2) K M^(-1/2) = sum k j j^T.
   std::vector<Eigen::Triplet<double>> triplets;
   const SubContacts& c = s.contacts;
-  for (std::size_t i = 0; i < c.size(); ++i) {
+  for_each_sub_contact(s, [&](int i) {
     const SpringConstants k = c.constants(i);
     const Vec3& n_dir = c.normal[i];
     const Vec3 t1 = n_dir.unitOrthogonal(), t2 = n_dir.cross(t1);
@@ -71,7 +71,7 @@ ModalResult modal_analysis(const Model& m, const State& s, int modes) {
       for (int p = 0; p < count; ++p)
         for (int q = 0; q < count; ++q) triplets.emplace_back(index[p], index[q], stiffness * value[p] * value[q]);
     }
-  }
+  });
   Eigen::SparseMatrix<double> a(n, n);
   a.setFromTriplets(triplets.begin(), triplets.end());
 

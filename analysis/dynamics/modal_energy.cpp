@@ -34,7 +34,7 @@ std::vector<JointEnergyShare> modal_energy_shares(const Model& m, const State& s
   std::map<std::string, JointEnergyShare> by_joint;
   double total = 0;
   const SubContacts& c = s.contacts;
-  for (std::size_t i = 0; i < c.size(); ++i) {
+  for_each_sub_contact(s, [&](int i) {
     const int a = c.block_a[i], b = c.block_b[i];
     const Vec3 du = displacement(b, c.point[i]) - displacement(a, c.point[i]);
     const Vec3& n = c.normal[i];
@@ -47,7 +47,7 @@ std::vector<JointEnergyShare> modal_energy_shares(const Model& m, const State& s
     share.normal += normal;
     share.shear += shear;
     total += normal + shear;
-  }
+  });
   std::vector<JointEnergyShare> out;
   if (!(total > 0)) return out;  // a rigid-body mode (a block touching nothing) strains no joint
   for (auto& [name, share] : by_joint) {

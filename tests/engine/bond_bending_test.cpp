@@ -37,23 +37,22 @@ void load_laterally(World& w, const Vec3& direction, double alpha) {
 double ramp_to_first_break(World& w, const Vec3& direction, double alpha_max, int* broken) {
   const State& s = w.state();
   const int steps = static_cast<int>(1.0 / w.dt_s());
+  *broken = -1;
   for (int i = 0; i < steps; ++i) {
     const double alpha = alpha_max * i / steps;
     load_laterally(w, direction, alpha);
     w.step();
-    for (std::size_t j = 0; j < s.contacts.size(); ++j)
-      if (s.contacts.flags[j] & SubContactFlag::broken) {
-        *broken = static_cast<int>(j);
-        return alpha;
-      }
+    for_each_sub_contact(s, [&](int j) {
+      if (*broken < 0 && (s.contacts.flags[j] & SubContactFlag::broken)) *broken = j;
+    });
+    if (*broken >= 0) return alpha;
   }
-  *broken = -1;
   return -1;
 }
 
 int bonded_points(const State& s) {
   int count = 0;
-  for (std::uint8_t flags : s.contacts.flags) count += (flags & SubContactFlag::bonded) ? 1 : 0;
+  for_each_sub_contact(s, [&](int i) { count += (s.contacts.flags[i] & SubContactFlag::bonded) ? 1 : 0; });
   return count;
 }
 
@@ -75,9 +74,9 @@ double first_crack_coefficient(int count, JointRule rule, double alpha_max, doub
   w.run(static_cast<int>(0.1 / w.dt_s()));  // settle under gravity
   State& s = w.state();
   if (bonds_when_settled) {
-    const std::size_t points = s.contacts.size();
+    const int points = sub_contact_count(s);
     EXPECT_EQ(bonded_points(s), 0);
-    EXPECT_EQ(w.form_bonds(), static_cast<int>(points)) << "every point of the stack's joints was there at the start";
+    EXPECT_EQ(w.form_bonds(), points) << "every point of the stack's joints was there at the start";
     EXPECT_EQ(w.form_bonds(), 0);
   }
   int broken = -1;
