@@ -83,12 +83,18 @@ CLI::App* add_run_command(CLI::App& app, ishibashi::RunOptions& run) {
   run_cmd->add_option("--seed", run.seed,
                       "the ensemble's seed, replacing the scenario's (member i draws from seed and i); a probe's directions")
       ->check(CLI::NonNegativeNumber);
+  CLI::Option* member_range = run_cmd->add_option("--member-range", run.member_range,
+                      "FROM:TO, run only members FROM to TO - 1 of the ensemble: a machine's share (0:4 here, 4:8 there; "
+                      "copy the member_NNN folders into one folder, and a run of the whole ensemble by the same build keeps "
+                      "them and writes the tables)")
+      ->excludes(probe);
   run_cmd->add_option("--jobs", run.jobs, "ensemble or probe members run at once (each on cores / jobs threads)")
       ->check(CLI::Range(1, 256));
   CLI::Option* resume = run_cmd->add_option(
       "--resume", run.resume, "continue the run in this output folder from its checkpoint (bit-identical to an unbroken run)");
   resume->excludes(members);
   resume->excludes(probe);
+  resume->excludes(member_range);
   resume->excludes(run_scenario_file);
   // A resumed run is the run it was: of its settings only the threads may change.
   for (CLI::Option* setting : run_settings)

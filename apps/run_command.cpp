@@ -69,6 +69,12 @@ int run_ensemble_of(const RunOptions& o, Scenario sc) {
   options.members = o.members;
   options.seed = o.seed;
   options.jobs = o.jobs;
+  if (!o.member_range.empty()) {
+    char colon = 0, extra = 0;
+    if (std::sscanf(o.member_range.c_str(), "%d %c %d %c", &options.first_member, &colon, &options.end_member, &extra) != 3 ||
+        colon != ':')
+      throw InputError("--member-range " + o.member_range + ": expected FROM:TO, two member numbers (0:4 runs members 0 to 3)");
+  }
   options.threads_per_member = sc.settings.threads;
   if (o.checkpoint_wall_s > 0) options.checkpoint_wall_s = o.checkpoint_wall_s;
   options.on_event = event_printer(o);
@@ -122,6 +128,9 @@ int run_scenario(const RunOptions& o) {
     apply_overrides(scenario.settings, o.overrides);
     if (o.probe_members > 0) return run_probe_of(o, scenario);
     if (o.members > 0 || scenario.ensemble.members > 0) return run_ensemble_of(o, std::move(scenario));
+    if (!o.member_range.empty())
+      throw InputError("--member-range " + o.member_range + ": a share of an ensemble, but " + o.scenario.string() +
+                       " has no [ensemble] table and no --members was given");
   }
   SeismicRunOptions options;
   options.out = !o.resume.empty() ? o.resume : o.out.empty() ? std::filesystem::path("out") / o.scenario.stem() : o.out;

@@ -24,6 +24,7 @@ struct RunOptions {
   int members = 0;                 // > 0: an ensemble of this many members (else the scenario's [ensemble] members)
   long seed = -1;                  // >= 0: the ensemble's seed, replacing the scenario's
   int jobs = 1;                    // ensemble or probe members at once
+  std::string member_range;        // FROM:TO: run members FROM to TO - 1 only (empty: all)
   int probe_members = 0;           // > 0: a chaos probe of this many members (chaos_probe.h)
   double perturbation_m = 1e-6;    // the probe's move of each free stone
   double branch_at_s = -1;         // >= 0: the probe's branch, seconds of shaking

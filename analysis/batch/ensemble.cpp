@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <atomic>
 #include <mutex>
+#include <numeric>
 #include <nlohmann/json.hpp>
 #include <sstream>
 
@@ -68,15 +69,22 @@ EnsembleOutcome run_ensemble(const Scenario& scenario, const EnsembleOptions& o)
   const int n = sc.ensemble.members;
   if (n <= 0)
     throw InputError(sc.file.string() + ": an ensemble needs members: [ensemble] members = N in the scenario, or --members N");
+  const int first = o.first_member, end = o.end_member < 0 ? n : o.end_member;
+  if (first < 0 || end > n || first >= end)
+    throw InputError("member range " + std::to_string(first) + ":" + std::to_string(end) + ": the ensemble of " +
+                     sc.file.string() + " has members 0 to " + std::to_string(n - 1) +
+                     "; FROM:TO runs members FROM to TO - 1, with 0 <= FROM < TO <= " + std::to_string(n));
   fs::create_directories(o.out);
-  const int workers = std::max(1, std::min(o.jobs, n));
+  const int workers = std::max(1, std::min(o.jobs, end - first));
   const int threads = decide_thread_count(o.threads_per_member, workers);
   std::mutex report_lock;  // serialises on_event; outside any time step
   auto event = [&](const std::string& text) {
     const std::lock_guard<std::mutex> lock(report_lock);
     if (o.on_event) o.on_event(text);
   };
-  event("ensemble of " + std::to_string(n) + " members (seed " + std::to_string(sc.ensemble.seed) + "), " +
+  const std::string share =
+      first == 0 && end == n ? "" : ", members " + std::to_string(first) + " to " + std::to_string(end - 1) + " here";
+  event("ensemble of " + std::to_string(n) + " members (seed " + std::to_string(sc.ensemble.seed) + ")" + share + ", " +
         std::to_string(workers) + " at a time, " + std::to_string(threads) + " threads each, outputs in " + o.out.string());
   std::array<std::atomic<int>, 4> counts{};  // by MemberStatus
   auto job = [&](int i) {
@@ -92,7 +100,9 @@ EnsembleOutcome run_ensemble(const Scenario& scenario, const EnsembleOptions& o)
         run_in_folder(member_folder(o.out, i), member_key(sc, i), "member " + std::to_string(i), options, threads, start, event);
     ++counts[static_cast<int>(status)];
   };
-  JobQueue queue(every_job(n));
+  std::vector<int> members(end - first);
+  std::iota(members.begin(), members.end(), first);
+  JobQueue queue(members);
   queue.start(workers - 1, job);
   queue.work(job);
   queue.join();

@@ -28,6 +28,8 @@ struct EnsembleOptions {
   int members = 0;                 // > 0: replaces the scenario's
   long seed = -1;                  // >= 0: replaces the scenario's
   int jobs = 1;                    // members at once
+  int first_member = 0;            // run members [first_member, end_member) only (a machine's share of
+  int end_member = -1;             //   an ensemble); -1: to the last member
   int threads_per_member = 0;      // 0: the cores shared among the jobs
   double checkpoint_wall_s = 300;  // each member's checkpoint, so that an interrupted ensemble resumes
   std::function<void(const std::string&)> on_event;  // a line per member started or finished
@@ -40,9 +42,11 @@ struct EnsembleOutcome {
   int typical_member = -1, worst_member = -1;  // of the most common and the worst outcome (member_runs.h)
 };
 
-// Runs the members not yet finished (a member's folder stamped with the same inputs is
-// kept; one with a checkpoint resumes from it), then writes ensemble.csv and
-// ensemble.json from every finished member's summary.json.
+// Runs the members of [first_member, end_member) not yet finished (a member's folder
+// stamped with the same inputs is kept; one with a checkpoint resumes from it), then
+// writes ensemble.csv and ensemble.json from every finished member's summary.json in the
+// folder, whichever run or machine ran it: members run in shares on several machines by
+// the same build are merged by copying their member_NNN folders into one folder.
 EnsembleOutcome run_ensemble(const Scenario& scenario, const EnsembleOptions& options);
 
 }  // namespace ishibashi

@@ -2,7 +2,8 @@
 // a member's draws reproducible from its seed, different between members and seeds, within
 // the tolerance; a member's run the same whatever the thread count; a perturbed bridge
 // settles without overlaps, as the preset does; `run --members` runs, resumes and keeps
-// finished members, and its row of the study's ensemble table is written.
+// finished members, runs a share (--member-range) whose folders merge with the others',
+// and its row of the study's ensemble table is written.
 #include <gtest/gtest.h>
 #include <omp.h>
 
@@ -179,9 +180,22 @@ TEST(Ensemble, RunMembersWritesProbabilitiesAndKeepsFinishedMembers) {
   std::filesystem::remove_all(out);
   const std::string command = std::string(ISHIBASHI_BINARY) + " run " + file.string() + " --jobs 2 --out " + out.string();
   int status = 0;
-  const std::string first = run_command(command, &status);
+  // Two machines' shares, members 0-1 here and 2 in another folder; merged by copying the
+  // member's folder, then the whole ensemble keeps all three and writes the tables.
+  const std::string first = run_command(command + " --member-range 0:2", &status);
   ASSERT_EQ(status, 0) << first;
-  EXPECT_NE(first.find("3 ran"), std::string::npos) << first;
+  EXPECT_NE(first.find("members 0 to 1 here"), std::string::npos) << first;
+  EXPECT_NE(first.find("2 ran"), std::string::npos) << first;
+  EXPECT_FALSE(std::filesystem::exists(out / "member_002"));
+  const auto elsewhere = tmp_dir() / "ensemble_a_elsewhere";
+  std::filesystem::remove_all(elsewhere);
+  const std::string share = std::string(ISHIBASHI_BINARY) + " run " + file.string() + " --member-range 2:3 --out " +
+                            elsewhere.string();
+  ASSERT_EQ((run_command(share, &status), status), 0);
+  std::filesystem::copy(elsewhere / "member_002", out / "member_002", std::filesystem::copy_options::recursive);
+  const std::string merged = run_command(command, &status);
+  ASSERT_EQ(status, 0) << merged;
+  EXPECT_NE(merged.find("0 ran, 3 were current"), std::string::npos) << merged;
   const std::string json = text_of(out / "ensemble.json");
   EXPECT_NE(json.find("\"finished\": 3"), std::string::npos) << json;
   EXPECT_NE(json.find("\"collapse\""), std::string::npos) << json;
@@ -215,6 +229,23 @@ TEST(Ensemble, BadEnsembleTableNamesTheKeyAndWhatIsAllowed) {
   EXPECT_NE(out.find("'amplitude' must be [lo, hi]"), std::string::npos) << out;
   EXPECT_NE(out.find("ensemble_bad.toml"), std::string::npos) << out;
 }
+
+TEST(Ensemble, MemberRangeOutsideTheEnsembleSaysWhatFits) {
+  const auto file = short_scenario("ensemble_range.toml", "[ensemble]\nmembers = 3\n");
+  const std::string run = std::string(ISHIBASHI_BINARY) + " run " + file.string() + " --out " +
+                          (tmp_dir() / "ensemble_range").string() + " --member-range ";
+  int status = 0;
+  const std::string beyond = run_command(run + "2:5 2>&1", &status);
+  EXPECT_NE(status, 0);
+  EXPECT_NE(beyond.find("member range 2:5"), std::string::npos) << beyond;
+  EXPECT_NE(beyond.find("members 0 to 2"), std::string::npos) << beyond;
+  EXPECT_NE(beyond.find("0 <= FROM < TO <= 3"), std::string::npos) << beyond;
+  const std::string garbled = run_command(run + "two 2>&1", &status);
+  EXPECT_NE(status, 0);
+  EXPECT_NE(garbled.find("--member-range two: expected FROM:TO"), std::string::npos) << garbled;
+  EXPECT_FALSE(std::filesystem::exists(tmp_dir() / "ensemble_range" / "member_000"));
+}
+
 
 }  // namespace
 }  // namespace ishibashi
