@@ -40,6 +40,12 @@ inline double capped_work(double before, double trial, double limit, double k) {
   return 0.5 * (stored * stored - limit * limit) / k + limit * (trial - stored) / k;
 }
 
+// An empty asm that takes x in an SSE register and may change it: GCC can then no longer
+// pack two of the law's energy sums into one vector whose halves it spills and reloads
+// (a 16-byte reload of two 8-byte stores waits for them: store forwarding fails). Emits
+// nothing; the sums are the same numbers.
+inline void in_own_register(double& x) { asm("" : "+x"(x)); }
+
 // A softening bond is gone once this share of its strength is lost (the last 1 % of its
 // fracture energy is released as a brittle bond's is).
 constexpr double kBondGone = 0.99;
@@ -97,7 +103,9 @@ double apply_contact_law(const Model& m, State& s, double dt) {
   // Pair by pair: what the sub-contacts of a pair share (blocks, velocities, law) is
   // loaded once, and their resultant is summed here so that the gather works on pairs.
   parallel_ranges(s.pair_chunk_begin.data(), static_cast<int>(s.pair_chunk_begin.size()) - 1, [&](std::ptrdiff_t begin, std::ptrdiff_t end, int k) {
-    EnergyParts e;
+    // The chunk's energy sums as plain locals (a struct's fields were spilled in pairs, and
+    // 16-byte reloads of two 8-byte stores stalled on store forwarding: 9 % of the law).
+    double elastic_j = 0, damping_j = 0, friction_j = 0, bond_j = 0;
     for (std::ptrdiff_t pi = begin; pi < end; ++pi) {
       const Pair& pair = s.pairs[pi];
       if (pair.sub_count == 0) {
@@ -181,7 +189,7 @@ double apply_contact_law(const Model& m, State& s, double dt) {
           bool failed;
           if (law.bond_softens()) {
             held = soften_bond(law, k, area, k.kn * c.normal_stretch_m[i], k.ks * std::sqrt(us_old2), un, en, us, es,
-                               c.bond_damage[i], e.bond);
+                               c.bond_damage[i], bond_j);
             failed = c.bond_damage[i] >= kBondGone;
           } else {  // brittle (MODEL.md section 3): gone when f_1 or f_2 reaches 0
             const double sigma = en / area, tau = es.norm() / area;
@@ -195,9 +203,9 @@ double apply_contact_law(const Model& m, State& s, double dt) {
           // Open: no spring, no dashpot. A bond that broke just now releases its springs'
           // energy; a dry joint's shear spring slips free (a dry gap stores nothing).
           if (c.flags[i] & SubContactFlag::bonded)
-            e.bond += 0.5 * (en * un + es.dot(us));
+            bond_j += 0.5 * (en * un + es.dot(us));
           else
-            e.friction += 0.5 * k.ks * us_old2;
+            friction_j += 0.5 * k.ks * us_old2;
           un = 0;
           us = Vec3::Zero();
           flags |= SubContactFlag::open;
@@ -210,7 +218,7 @@ double apply_contact_law(const Model& m, State& s, double dt) {
               const double es_norm = std::sqrt(es_norm2), es_old = k.ks * std::sqrt(us_old2);
               // Dissipated by slip: the stored spring energy above the new limit (when the
               // normal force dropped), plus force x plastic slip of this step's increment.
-              e.friction += capped_work(es_old, es_norm, limit, k.ks);
+              friction_j += capped_work(es_old, es_norm, limit, k.ks);
               c.slip_m[i] += (es_norm - limit) / k.ks;
               const double keep = limit / es_norm;
               us *= keep;
@@ -231,12 +239,12 @@ double apply_contact_law(const Model& m, State& s, double dt) {
           const double fn = en + ((held & SubContactFlag::pulling) ? 0.0 : damping_scale * k.cn * vn);
           damping_force = -(fn - en) * n + shear_damping;
           force = -fn * n + es + shear_damping;
-          e.elastic += 0.5 * (en * un + es.dot(us));
+          elastic_j += 0.5 * (en * un + es.dot(us));
         }
         c.normal_stretch_m[i] = un;
         c.shear_stretch_m[i] = us;
         if (!implicit_dashpots) {
-          e.damping -= 0.5 * dt * (damping_before + damping_force).dot(v_rel);
+          damping_j -= 0.5 * dt * (damping_before + damping_force).dot(v_rel);
           c.damping_force_n[i] = damping_force;
         } else if (!(flags & SubContactFlag::open)) {
           // For implicit_damping.cpp: none where the sub-contact is open, no shear dashpot
@@ -246,6 +254,7 @@ double apply_contact_law(const Model& m, State& s, double dt) {
           closed = true;
         }
         c.flags[i] = flags;
+        in_own_register(elastic_j), in_own_register(damping_j);
         pair_force += force;
         pair_torque += r.cross(force);
       }
@@ -263,7 +272,7 @@ double apply_contact_law(const Model& m, State& s, double dt) {
       s.pair_moment_nm[2 * pi] = -pair_torque;                         // on a, about x_a
       s.pair_moment_nm[2 * pi + 1] = pair_torque - d.cross(pair_force);  // on b, about x_b
     }
-    parts[k] = e;
+    parts[k] = {elastic_j, damping_j, friction_j, bond_j};
   });
   double elastic = 0;
   for (const EnergyParts& e : parts) {
