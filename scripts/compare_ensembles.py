@@ -6,8 +6,10 @@ a tighter one), each ensemble's members drawn alike.
 
     scripts/compare_ensembles.py ENSEMBLE_A ENSEMBLE_B [--labels "name A" "name B"]
 
-Reads each member folder's summary.json (finished members only, so an ensemble still
-running can be compared so far) and its history.csv for the first fall. Prints a Markdown
+An ENSEMBLE is the ensemble's folder: each member folder's summary.json (finished members
+only, so an ensemble still running can be compared so far) and its history.csv for the
+first fall; or its ensemble.csv, a row per finished member (what scenarios/results keeps
+of an ensemble whose folders are gone). Prints a Markdown
 table: per outcome, each ensemble's median and range (counts for the yes/no outcomes),
 and the two-sided p-value of an exact test that both come from one distribution:
 Fisher's for the yes/no outcomes, the permutation distribution of the rank sum
@@ -38,8 +40,23 @@ def first_fall_s(folder, settle_time_s):
     return None
 
 
+def csv_value(text):
+    """An ensemble.csv field as summary.json has it: yes/no as booleans, empty as None."""
+    if text in ("yes", "no"):
+        return text == "yes"
+    if text == "":
+        return None
+    try:
+        return float(text)
+    except ValueError:
+        return text
+
+
 def members(ensemble):
     """The finished members' summaries, each with its first fall."""
+    if ensemble.suffix == ".csv":
+        rows = [{k: csv_value(v) for k, v in row.items()} for row in csv.DictReader(open(ensemble))]
+        return [r for r in rows if not r.get("interrupted")]
     found = []
     for folder in sorted(ensemble.glob("member_*")):
         summary_file = folder / "summary.json"
@@ -106,11 +123,12 @@ def main():
     parser.add_argument("ensembles", type=Path, nargs=2)
     parser.add_argument("--labels", nargs=2, default=None, help="the two ensembles' names (default: their folders')")
     o = parser.parse_args()
-    labels = o.labels or [e.name for e in o.ensembles]
+    labels = o.labels or [e.stem if e.suffix == ".csv" else e.name for e in o.ensembles]
     runs = [members(e) for e in o.ensembles]
     for label, ensemble, found in zip(labels, o.ensembles, runs):
         if not found:
-            raise SystemExit(f"{ensemble}: no finished member (member_NNN/summary.json with finished true)")
+            raise SystemExit(f"{ensemble}: no finished member (member_NNN/summary.json with finished true, or a row of "
+                             "an ensemble.csv)")
     print(f"| outcome | {labels[0]} ({len(runs[0])} members) | {labels[1]} ({len(runs[1])} members) | exact p |")
     print("|---|---|---|---|")
     for _, name, test in YES_NO:

@@ -1,6 +1,7 @@
 #!/usr/bin/python3
 """scripts/compare_ensembles.py's exact tests against hand arithmetic, and its table from
-two small ensembles written here (member folders with summary.json and history.csv)."""
+two small ensembles written here (member folders with summary.json and history.csv), the
+same with one of them as an ensemble.csv."""
 import json
 import subprocess
 import sys
@@ -52,4 +53,16 @@ with tempfile.TemporaryDirectory() as tmp:
     assert "| any stone falls | 2 of 3 | 3 of 3 | 1.000 (Fisher) |" in table, table
     assert "| stones fallen | 3 (0 to 9) | 30 (20 to 40) | 0.100 (rank sum) |" in table, table
     assert "| first fall [s] | 0.40 (0.40 to 0.40) | 0.20 (0.20 to 0.20) |" in table, table
+    # B as the ensemble.csv the program writes (a row per finished member; yes/no, empty
+    # where none): the same table.
+    columns = ["member", "interrupted", "settle_time_s", "first_opening_s", "collapse", "fallen_stones",
+               "fallen_ring_stones", "joints_cracked", "largest_crown_drop_m", "first_fall_s"]
+    rows = [",".join(columns)] + [f"{m},no,0.5,{4.0 + m},yes,{fallen},{ring},{100 + fallen},{0.01 * fallen},0.2"
+                                  for m, (fallen, ring) in enumerate([(20, 5), (30, 6), (40, 7)])]
+    rows.append("3,yes,0.5,,no,0,0,0,0,")  # interrupted: left out
+    (tmp / "b.csv").write_text("\n".join(rows) + "\n")
+    from_csv = subprocess.run([sys.executable, str(ROOT / "scripts" / "compare_ensembles.py"), str(tmp / "a"),
+                               str(tmp / "b.csv"), "--labels", "A", "B"], check=True, capture_output=True,
+                              text=True).stdout
+    assert from_csv == table, from_csv + "\n" + table
 print("compare_ensembles: exact tests and table as computed by hand")
