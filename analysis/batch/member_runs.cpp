@@ -1,6 +1,7 @@
 #include "analysis/batch/member_runs.h"
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <fstream>
@@ -53,6 +54,36 @@ double first_fall_s(const fs::path& history, double settle_time_s) {
     if (f[phase_col] == "shake" && std::stoi(f[fallen_col]) > 0) return std::stod(f[time_col]) - settle_time_s;
   }
   return -1;
+}
+
+// Wraps `frame` (a run's on_frame) with a line at every tenth of the shaking: how far the
+// member is and, at its pace since it (re)started, how long it has to go. A member of a
+// long ensemble runs for hours; without these the user sees only its start and end.
+std::function<void(const State&, double)> with_progress_lines(std::function<void(const State&, double)> frame,
+                                                               const std::string& name,
+                                                               const std::function<void(const std::string&)>& event) {
+  struct Pace {  // from the first frame this process saw (settling, or a resume, before it)
+    std::chrono::steady_clock::time_point start;
+    double done_at_start = -1;
+    int next_tenth = 0;
+  };
+  return [frame = std::move(frame), name, event, pace = Pace{}](const State& s, double done) mutable {
+    if (frame) frame(s, done);
+    if (pace.done_at_start < 0) {
+      pace.start = std::chrono::steady_clock::now();
+      pace.done_at_start = done;
+      pace.next_tenth = static_cast<int>(std::floor(10 * done + 1e-9)) + 1;
+      return;
+    }
+    if (10 * done + 1e-9 < pace.next_tenth || done >= 1) return;
+    pace.next_tenth = static_cast<int>(std::floor(10 * done + 1e-9)) + 1;
+    const double elapsed = std::chrono::duration<double>(std::chrono::steady_clock::now() - pace.start).count();
+    const double left_s = elapsed * (1 - done) / (done - pace.done_at_start);
+    char line[96];
+    std::snprintf(line, sizeof line, ": %.0f %% of the shaking done, about %.0f %s to go", 100 * done,
+                  left_s < 120 ? std::ceil(left_s) : std::ceil(left_s / 60), left_s < 120 ? "s" : "min");
+    event(name + line);
+  };
 }
 
 }  // namespace
@@ -109,6 +140,7 @@ MemberStatus run_in_folder(const fs::path& folder, const std::string& key, const
   try {
     use_threads(threads);
     options.out = folder;
+    options.on_frame = with_progress_lines(std::move(options.on_frame), name, event);
     RunOverrides overrides;
     overrides.set(&RunSettings::threads, threads);
     std::unique_ptr<SeismicRun> run;

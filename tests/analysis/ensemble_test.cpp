@@ -160,12 +160,12 @@ TEST(Ensemble, PerturbedBridgeSettlesWithoutOverlapsAsThePresetDoes) {
   EXPECT_EQ(overlaps_after_settling(member_model(spec, 1)), 0);
 }
 
-// Model A, 0.05 s of settling and 0.05 s of the strongest Kobe pulses.
+// Model A, 0.05 s of settling and 0.05 s of the strongest Kobe pulses, a frame every 0.01 s.
 std::filesystem::path short_scenario(const std::string& name, const std::string& ensemble_table) {
   const auto f = tmp_dir() / name;
   const auto kobe = kRoot / "data/ground_motions/kobe_1995_jma";
   std::ofstream(f) << "[model]\nfile = \"" << (kRoot / "models/nishida_a.toml").string() << "\"\n"
-                   << "[run]\nsettle_max_s = 0.05\nduration_s = 0.05\n"
+                   << "[run]\nsettle_max_s = 0.05\nduration_s = 0.05\noutput_interval_s = 0.01\n"
                    << "[ground_motion]\nstart_s = 7.5\n"
                    << "x = { file = \"" << (kobe / "RSN1106_KOBE_KJM090.AT2").string() << "\" }\n"
                    << "y = { file = \"" << (kobe / "RSN1106_KOBE_KJM000.AT2").string() << "\" }\n"
@@ -186,6 +186,10 @@ TEST(Ensemble, RunMembersWritesProbabilitiesAndKeepsFinishedMembers) {
   ASSERT_EQ(status, 0) << first;
   EXPECT_NE(first.find("members 0 to 1 here"), std::string::npos) << first;
   EXPECT_NE(first.find("2 ran"), std::string::npos) << first;
+  // A line at every tenth of a member's shaking after its first frame (0.2 of it here).
+  EXPECT_NE(first.find("member 1: 40 % of the shaking done, about "), std::string::npos) << first;
+  EXPECT_NE(first.find("member 1: 80 % of the shaking done, about "), std::string::npos) << first;
+  EXPECT_EQ(first.find("member 1: 100 %"), std::string::npos) << first;
   EXPECT_FALSE(std::filesystem::exists(out / "member_002"));
   const auto elsewhere = tmp_dir() / "ensemble_a_elsewhere";
   std::filesystem::remove_all(elsewhere);
