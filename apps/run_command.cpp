@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <climits>
 #include <cmath>
 #include <cstdio>
 #include <functional>
@@ -19,12 +20,13 @@
 namespace ishibashi {
 namespace {
 
-// "FROM:TO" (steps FROM to TO - 1).
-std::pair<long, long> parse_step_range(const std::string& text) {
+// An option's "FROM:TO" (FROM to TO - 1, 0 <= FROM < TO); `what` and `example` for its error.
+std::pair<long, long> parse_range(const char* option, const std::string& text, const char* what, const char* example) {
   long from = 0, to = 0;
   char colon = 0, extra = 0;
   if (std::sscanf(text.c_str(), "%ld %c %ld %c", &from, &colon, &to, &extra) != 3 || colon != ':' || from < 0 || to <= from)
-    throw InputError("--trace-steps " + text + ": expected FROM:TO, two step numbers with 0 <= FROM < TO (e.g. 1000:1100)");
+    throw InputError(std::string(option) + " " + text + ": expected FROM:TO, two " + what +
+                     " numbers with 0 <= FROM < TO (e.g. " + example + ")");
   return {from, to};
 }
 
@@ -70,10 +72,9 @@ int run_ensemble_of(const RunOptions& o, Scenario sc) {
   options.seed = o.seed;
   options.jobs = o.jobs;
   if (!o.member_range.empty()) {
-    char colon = 0, extra = 0;
-    if (std::sscanf(o.member_range.c_str(), "%d %c %d %c", &options.first_member, &colon, &options.end_member, &extra) != 3 ||
-        colon != ':')
-      throw InputError("--member-range " + o.member_range + ": expected FROM:TO, two member numbers (0:4 runs members 0 to 3)");
+    const auto [from, to] = parse_range("--member-range", o.member_range, "member", "0:4 runs members 0 to 3");
+    options.first_member = static_cast<int>(from);
+    options.end_member = static_cast<int>(std::min<long>(to, INT_MAX));
   }
   options.threads_per_member = sc.settings.threads;
   if (o.checkpoint_wall_s > 0) options.checkpoint_wall_s = o.checkpoint_wall_s;
@@ -139,7 +140,7 @@ int run_scenario(const RunOptions& o) {
   options.checkpoint_every_s = o.checkpoint_every_s;
   options.checkpoint_wall_s = o.checkpoint_wall_s;
   options.time_threads = o.profile;
-  if (!o.trace.empty()) std::tie(options.trace_first_step, options.trace_last_step) = parse_step_range(o.trace_steps);
+  if (!o.trace.empty()) std::tie(options.trace_first_step, options.trace_last_step) = parse_range("--trace-steps", o.trace_steps, "step", "1000:1100");
   options.on_warning = [](const std::string& text) { std::fprintf(stderr, "\n  warning: %s\n", text.c_str()); };
   const auto shake0 = std::chrono::steady_clock::now();
   if (!o.quiet)

@@ -9,6 +9,7 @@
 #include <tuple>
 
 #include "analysis/batch/job_queue.h"
+#include "analysis/batch/study_progress.h"
 #include "engine/cores.h"
 #include "io/atomic_file.h"
 
@@ -78,11 +79,9 @@ std::function<void(const State&, double)> with_progress_lines(std::function<void
     if (10 * done + 1e-9 < pace.next_tenth || done >= 1) return;
     pace.next_tenth = static_cast<int>(std::floor(10 * done + 1e-9)) + 1;
     const double elapsed = std::chrono::duration<double>(std::chrono::steady_clock::now() - pace.start).count();
-    const double left_s = elapsed * (1 - done) / (done - pace.done_at_start);
-    char line[96];
-    std::snprintf(line, sizeof line, ": %.0f %% of the shaking done, about %.0f %s to go", 100 * done,
-                  left_s < 120 ? std::ceil(left_s) : std::ceil(left_s / 60), left_s < 120 ? "s" : "min");
-    event(name + line);
+    char share[40];
+    std::snprintf(share, sizeof share, ": %.0f %% of the shaking done", 100 * done);
+    event(name + share + ", about " + duration_text(elapsed * (1 - done) / (done - pace.done_at_start)) + " to go");
   };
 }
 
