@@ -104,6 +104,41 @@ TEST(Narrowphase, EdgeOnFace) {
   }
 }
 
+// Stones of two courses whose plan outlines meet along an edge (F's staggered fill: 2,397
+// sub-contacts): the faces touch along a segment, which carries the nominal area in two
+// equal shares at its ends, whichever block is a (whose face is the reference) and
+// whichever of the reference face's side planes cuts first. Cut from both of its ends, the
+// segment once gave its crossing twice: three points, one end with two thirds of the area.
+TEST(Narrowphase, FacesMeetingAlongAnEdgeGiveTheSegmentsEndsEqualShares) {
+  for (int quarter = 0; quarter < 4; ++quarter)
+    for (bool fixed_first : {true, false}) {
+      const Mat3 r = Eigen::AngleAxisd(quarter * M_PI / 2, Vec3::UnitZ()).toRotationMatrix();
+      // Lower stone x, y in [-0.5, 0.5]; the upper one beside it in y and half over it in x:
+      // they touch along y = 0.5, x in [-0.1, 0.5], at z = 0.
+      const Polyhedron lower = transformed(make_box(Vec3(0, 0, -0.5), Vec3(1, 1, 1)), r, Vec3::Zero());
+      const Polyhedron upper = transformed(make_box(Vec3(0.4, 1.0, 0.5), Vec3(1, 1, 1)), r, Vec3::Zero());
+      ModelBuilder b;
+      const int mat = b.add_material(test::stone());
+      for (const Polyhedron* p : fixed_first ? std::vector{&lower, &upper} : std::vector{&upper, &lower})
+        b.add_block(p->vertices, p->faces, mat, p == &lower ? Motion::fixed : Motion::free);
+      const Model m = b.build();
+      State s = make_initial_state(m);
+      update_pose(m, s);
+      update_pairs(m, s);
+      update_contacts(m, s, true, 1e-5);
+      const std::string where = "quarter turn " + std::to_string(quarter) + (fixed_first ? ", lower stone a" : ", upper stone a");
+      ASSERT_EQ(s.contacts.size(), 2u) << where;
+      const Vec3 ends[2] = {r * Vec3(-0.1, 0.5, 0), r * Vec3(0.5, 0.5, 0)};
+      const double nominal = m.point_contact_area_m2(0, 1);
+      for (int i = 0; i < 2; ++i) {
+        const Vec3& x = s.contacts.point[i];
+        EXPECT_NEAR(std::min((x - ends[0]).norm(), (x - ends[1]).norm()), 0.0, 1e-9) << where;
+        EXPECT_NEAR(s.contacts.area_m2[i], 0.5 * nominal, 1e-15) << where;
+      }
+      EXPECT_GT((s.contacts.point[0] - s.contacts.point[1]).norm(), 0.5) << where << ": both ends, not one twice";
+    }
+}
+
 TEST(Narrowphase, EdgeOnEdge) {
   // Two bars turned 45 degrees about their own axes, crossing at right angles: the lower
   // one's top edge runs along x, the upper one's bottom edge along y.
