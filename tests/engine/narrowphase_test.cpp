@@ -139,6 +139,45 @@ TEST(Narrowphase, FacesMeetingAlongAnEdgeGiveTheSegmentsEndsEqualShares) {
     }
 }
 
+// Two courses of two leaves in running bond on a slab: stones of neighbouring leaves in
+// neighbouring courses meet along edges. Numbered forwards or backwards, the stack has the
+// same sub-contacts (count, total area) and no two of a pair on one spot: the points a
+// joint gets do not depend on which block is a.
+TEST(Narrowphase, RunningBondStackHasTheSameContactsWhicheverTheNumbering) {
+  std::vector<Polyhedron> stones;
+  for (int course = 0; course < 2; ++course)
+    for (int leaf = 0; leaf < 2; ++leaf) {
+      const bool shifted = course % 2 == 1;  // both leaves alike: a stone meets the other leaf's
+                                             // stones of the next course along half its edge
+      for (double x : shifted ? std::vector<double>{1.0} : std::vector<double>{0.5, 1.5})
+        stones.push_back(make_box(Vec3(x, leaf + 0.5, course + 0.5), Vec3(1, 1, 1)));
+    }
+  auto contacts = [&](bool backwards) {
+    ModelBuilder b;
+    const int mat = b.add_material(test::stone());
+    const Polyhedron slab = make_box(Vec3(1, 1, -0.25), Vec3(4, 4, 0.5));
+    b.add_block(slab.vertices, slab.faces, mat, Motion::fixed);
+    for (std::size_t i = 0; i < stones.size(); ++i) {
+      const Polyhedron& p = stones[backwards ? stones.size() - 1 - i : i];
+      b.add_block(p.vertices, p.faces, mat);
+    }
+    const Model m = b.build();
+    State s = make_initial_state(m);
+    update_pose(m, s);
+    update_pairs(m, s);
+    update_contacts(m, s, true, 1e-5);
+    for (const Pair& pair : s.pairs)
+      for (int i = pair.sub_begin; i < pair.sub_begin + pair.sub_count; ++i)
+        for (int j = pair.sub_begin; j < i; ++j)
+          EXPECT_GT((s.contacts.point[i] - s.contacts.point[j]).norm(), 1e-9)
+              << "pair " << pair.a << "-" << pair.b << (backwards ? " (numbered backwards)" : "") << ": two points on one spot";
+    return s;
+  };
+  const State forwards = contacts(false), backwards = contacts(true);
+  EXPECT_EQ(forwards.contacts.size(), backwards.contacts.size());
+  EXPECT_NEAR(total_area(forwards), total_area(backwards), 1e-12);
+}
+
 TEST(Narrowphase, EdgeOnEdge) {
   // Two bars turned 45 degrees about their own axes, crossing at right angles: the lower
   // one's top edge runs along x, the upper one's bottom edge along y.
