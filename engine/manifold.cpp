@@ -49,8 +49,9 @@ std::uint32_t crossing_feature(std::uint32_t plane, std::uint32_t fp, std::uint3
 // keys; near-parallel edges would put the cuts anywhere along the edge).
 // A polygon of two points is a segment (faces touching along a line: stones of two courses
 // whose plan outlines meet at an edge) and has one edge, not two: cut from both ends, its
-// crossing came out twice, a second sub-contact on the same spot that took a third of the
-// edge contact's area from the other end (model F: 2,397 of 46,777 sub-contacts).
+// crossing came out twice: a second sub-contact on the same spot, so that end carried two
+// thirds of the edge contact's nominal area and the other a third (model F: 2,397 of
+// 46,777 sub-contacts).
 void clip(const Polygon& in, const Vec3& normal, double offset, double slack, std::uint32_t plane, Polygon& out) {
   out.n = 0;
   const int edges = in.n == 2 ? 1 : in.n;
