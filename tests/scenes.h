@@ -1,7 +1,12 @@
 // Small scenes for the physics tests: blocks on a fixed base, with materials whose
 // closed-form answers the tests compute independently of the engine.
 #pragma once
+#include <utility>
+#include <vector>
+
 #include "engine/model.h"
+#include "engine/pipeline.h"
+#include "engine/state.h"
 #include "geometry/shapes.h"
 
 namespace ishibashi::test {
@@ -31,6 +36,23 @@ inline ModelBuilder block_on_base(const Vec3& size, const Material& material, do
   const Polyhedron block = make_box(Vec3(0, 0, 0.5 * size.z()), size);
   b.add_block(block.vertices, block.faces, mat, Motion::free, "block");
   return b;
+}
+
+// Blocks of the stone material in the given order (block i is blocks[i]), each fixed or free.
+inline Model stones_model(const std::vector<std::pair<const Polyhedron*, Motion>>& blocks, const ModelOptions& options = {}) {
+  ModelBuilder b;
+  const int mat = b.add_material(stone());
+  for (const auto& [shape, motion] : blocks) b.add_block(shape->vertices, shape->faces, mat, motion);
+  return b.build(options);
+}
+
+// The sub-contacts the narrowphase finds for a model in its initial pose (a first search).
+inline State contacts_found(const Model& m) {
+  State s = make_initial_state(m);
+  update_pose(m, s);
+  update_pairs(m, s);
+  update_contacts(m, s, true, 1e-5);
+  return s;
 }
 
 // Normal spring of a face-face joint of area S between two blocks of the same material,

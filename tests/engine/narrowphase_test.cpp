@@ -17,18 +17,10 @@ namespace {
 
 // Block 0: unit cube with its top at z = 0 (fixed). Block 1: `top` as given.
 State contacts_of(const Polyhedron& top, int subdivision = 1, Model* model_out = nullptr) {
-  ModelBuilder b;
-  const int mat = b.add_material(test::stone());
   const Polyhedron bottom = make_box(Vec3(0, 0, -0.5), Vec3(1, 1, 1));
-  b.add_block(bottom.vertices, bottom.faces, mat, Motion::fixed);
-  b.add_block(top.vertices, top.faces, mat);
-  const Model m = b.build({.subdivision = subdivision});
-  State s = make_initial_state(m);
-  update_pose(m, s);
-  update_pairs(m, s);
-  update_contacts(m, s, true, 1e-5);
+  const Model m = test::stones_model({{&bottom, Motion::fixed}, {&top, Motion::free}}, {.subdivision = subdivision});
   if (model_out) *model_out = m;
-  return s;
+  return test::contacts_found(m);
 }
 
 double total_area(const State& s) {
@@ -117,15 +109,9 @@ TEST(Narrowphase, FacesMeetingAlongAnEdgeGiveTheSegmentsEndsEqualShares) {
       // they touch along y = 0.5, x in [-0.1, 0.5], at z = 0.
       const Polyhedron lower = transformed(make_box(Vec3(0, 0, -0.5), Vec3(1, 1, 1)), r, Vec3::Zero());
       const Polyhedron upper = transformed(make_box(Vec3(0.4, 1.0, 0.5), Vec3(1, 1, 1)), r, Vec3::Zero());
-      ModelBuilder b;
-      const int mat = b.add_material(test::stone());
-      for (const Polyhedron* p : fixed_first ? std::vector{&lower, &upper} : std::vector{&upper, &lower})
-        b.add_block(p->vertices, p->faces, mat, p == &lower ? Motion::fixed : Motion::free);
-      const Model m = b.build();
-      State s = make_initial_state(m);
-      update_pose(m, s);
-      update_pairs(m, s);
-      update_contacts(m, s, true, 1e-5);
+      const std::pair<const Polyhedron*, Motion> fixed{&lower, Motion::fixed}, free{&upper, Motion::free};
+      const Model m = test::stones_model(fixed_first ? std::vector{fixed, free} : std::vector{free, fixed});
+      const State s = test::contacts_found(m);
       const std::string where = "quarter turn " + std::to_string(quarter) + (fixed_first ? ", lower stone a" : ", upper stone a");
       ASSERT_EQ(s.contacts.size(), 2u) << where;
       const Vec3 ends[2] = {r * Vec3(-0.1, 0.5, 0), r * Vec3(0.5, 0.5, 0)};
@@ -153,19 +139,11 @@ TEST(Narrowphase, RunningBondStackHasTheSameContactsWhicheverTheNumbering) {
         stones.push_back(make_box(Vec3(x, leaf + 0.5, course + 0.5), Vec3(1, 1, 1)));
     }
   auto contacts = [&](bool backwards) {
-    ModelBuilder b;
-    const int mat = b.add_material(test::stone());
     const Polyhedron slab = make_box(Vec3(1, 1, -0.25), Vec3(4, 4, 0.5));
-    b.add_block(slab.vertices, slab.faces, mat, Motion::fixed);
-    for (std::size_t i = 0; i < stones.size(); ++i) {
-      const Polyhedron& p = stones[backwards ? stones.size() - 1 - i : i];
-      b.add_block(p.vertices, p.faces, mat);
-    }
-    const Model m = b.build();
-    State s = make_initial_state(m);
-    update_pose(m, s);
-    update_pairs(m, s);
-    update_contacts(m, s, true, 1e-5);
+    std::vector<std::pair<const Polyhedron*, Motion>> blocks{{&slab, Motion::fixed}};
+    for (std::size_t i = 0; i < stones.size(); ++i)
+      blocks.push_back({&stones[backwards ? stones.size() - 1 - i : i], Motion::free});
+    State s = test::contacts_found(test::stones_model(blocks));
     for (const Pair& pair : s.pairs)
       for (int i = pair.sub_begin; i < pair.sub_begin + pair.sub_count; ++i)
         for (int j = pair.sub_begin; j < i; ++j)
@@ -181,20 +159,12 @@ TEST(Narrowphase, RunningBondStackHasTheSameContactsWhicheverTheNumbering) {
 TEST(Narrowphase, EdgeOnEdge) {
   // Two bars turned 45 degrees about their own axes, crossing at right angles: the lower
   // one's top edge runs along x, the upper one's bottom edge along y.
-  ModelBuilder b;
-  const int mat = b.add_material(test::stone());
   const double h = 0.1 * std::sqrt(2.0);  // half-diagonal of the 0.2 x 0.2 section
   const Polyhedron lower = transformed(make_box(Vec3::Zero(), Vec3(2, 0.2, 0.2)),
                                        Eigen::AngleAxisd(M_PI / 4, Vec3::UnitX()).toRotationMatrix(), Vec3(0, 0, -h));
   const Polyhedron upper = transformed(make_box(Vec3::Zero(), Vec3(0.2, 2, 0.2)),
                                        Eigen::AngleAxisd(M_PI / 4, Vec3::UnitY()).toRotationMatrix(), Vec3(0, 0, h - 1e-5));
-  b.add_block(lower.vertices, lower.faces, mat, Motion::fixed);
-  b.add_block(upper.vertices, upper.faces, mat);
-  const Model m = b.build();
-  State s = make_initial_state(m);
-  update_pose(m, s);
-  update_pairs(m, s);
-  update_contacts(m, s, true, 1e-5);
+  const State s = test::contacts_found(test::stones_model({{&lower, Motion::fixed}, {&upper, Motion::free}}));
   ASSERT_EQ(s.contacts.size(), 1u);
   EXPECT_NEAR((s.contacts.point[0] - Vec3(0, 0, -0.5e-5)).norm(), 0.0, 1e-9);  // midway
   EXPECT_NEAR(s.contacts.normal[0].z(), 1.0, 1e-9);
@@ -261,17 +231,10 @@ TEST(Narrowphase, FaceWithTooManyCornersIsRefusedByName) {
 // corner of the polygon keeps a point.
 TEST(Narrowphase, MomentRuleCarriesThePolygonsAreaCentroidAndSecondMoments) {
   const std::vector<Vec3> base{{-0.40, -0.30, 0}, {0.35, -0.42, 0}, {0.44, 0.10, 0}, {0.05, 0.41, 0}, {-0.38, 0.22, 0}};
-  ModelBuilder b;
-  const int mat = b.add_material(test::stone());
   const Polyhedron bottom = make_box(Vec3(0, 0, -0.5), Vec3(1, 1, 1));
-  b.add_block(bottom.vertices, bottom.faces, mat, Motion::fixed);
   const Polyhedron top = make_prism(base, 0.0, 0.3);
-  b.add_block(top.vertices, top.faces, mat);
-  const Model m = b.build({.joint_rule = JointRule::moments});
-  State s = make_initial_state(m);
-  update_pose(m, s);
-  update_pairs(m, s);
-  update_contacts(m, s, true, 1e-5);
+  const State s = test::contacts_found(
+      test::stones_model({{&bottom, Motion::fixed}, {&top, Motion::free}}, {.joint_rule = JointRule::moments}));
   ASSERT_EQ(s.contacts.size(), 2 * base.size() + 1);
   // Exact moments of the polygon (Green's theorem): area, int x, int y, int x^2, int y^2, int x y.
   double area = 0, mx = 0, my = 0, ixx = 0, iyy = 0, ixy = 0;

@@ -41,15 +41,8 @@ struct PairContacts {
 
 // The sub-contacts between a fixed block `a` and a free block `b`, as the engine finds them.
 PairContacts contacts_between(const Polyhedron& a, const Polyhedron& b) {
-  ModelBuilder builder;
-  const int mat = builder.add_material(test::stone());
-  builder.add_block(a.vertices, a.faces, mat, Motion::fixed);
-  builder.add_block(b.vertices, b.faces, mat);
-  const Model m = builder.build();
-  State s = make_initial_state(m);
-  update_pose(m, s);
-  update_pairs(m, s);
-  update_contacts(m, s, true, 1e-5);
+  const Model m = test::stones_model({{&a, Motion::fixed}, {&b, Motion::free}});
+  const State s = test::contacts_found(m);
   PairContacts c;
   c.nominal_area_m2 = m.point_contact_area_m2(0, 1);
   c.slack_m = 0.1 * m.contact_tolerance_m(0, 1);
