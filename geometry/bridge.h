@@ -70,7 +70,8 @@ inline Model compile_bridge(const BridgeSpec& spec, const std::vector<BridgeBloc
 }
 
 // The unit on top of the arch crown, which the study monitors: the free ring block
-// highest up, nearest the middle of the width; -1 when the model has no free ring block.
+// highest up, nearest the middle of the width (of equal ones, the one at the smaller x:
+// found by position, whatever the numbering); -1 when the model has no free ring block.
 int crown_unit(const Model& model);
 
 // A unit off both symmetry planes of the bridge: the free ring block at the +y face next to
