@@ -19,13 +19,33 @@ double face_separation(const Model& m, const State& s, const PairWorld& w, int f
   return lowest - s.face_offset_world[f];
 }
 
-Axis best_face_axis(const Model& m, const State& s, const PairWorld& w, int owner, int other, int kind) {
+// Whether a face axis (its separation, and how squarely its a -> b normal faces from a's
+// centre to b's: the cosine) beats `best`. Faces that separate the blocks equally, within
+// `tie_m`, go by the cosine: two stones meeting along an edge touch four planes at once
+// (each one's top or bottom and its side), and the normal must come from the geometry,
+// not from which stone is a or from a block's face order. A tie in both (a joint's two
+// coplanar faces) keeps `best`.
+bool beats(double separation_m, double facing, const Axis& best, double best_facing, double tie_m) {
+  if (std::abs(separation_m - best.separation_m) > tie_m) return separation_m > best.separation_m;
+  return facing > best_facing + 1e-9;
+}
+
+// The best face axis among the faces of `owner` (a for kind 0, b for kind 1); `centres` is
+// the unit vector from a's centre to b's.
+Axis best_face_axis(const Model& m, const State& s, const PairWorld& w, int owner, int other, int kind,
+                    const Vec3& centres, double tie_m) {
   Axis best;
+  double best_facing = -2;
+  const double sign = kind == 0 ? 1.0 : -1.0;  // a -> b normal
   for (int f = m.face_begin[owner]; f < m.face_begin[owner + 1]; ++f) {
     const double sep = face_separation(m, s, w, f, other);
-    if (sep > best.separation_m) best = Axis{sep, kind, f, s.face_normal_world[f]};
+    if (sep < best.separation_m - tie_m) continue;
+    const double facing = sign * s.face_normal_world[f].dot(centres);
+    if (best.kind < 0 || beats(sep, facing, best, best_facing, tie_m)) {
+      best = Axis{sep, kind, f, sign * s.face_normal_world[f]};
+      best_facing = facing;
+    }
   }
-  if (kind == 1) best.normal = -best.normal;
   return best;
 }
 
@@ -110,17 +130,19 @@ bool pair_manifold(const Model& m, const State& s, Pair& pair, PairWorld& w, Man
   const double centre_gap = (s.position[a] - s.position[b]).norm() - m.radius_m[a] - m.radius_m[b];
   if (centre_gap > tol) return apart(centre_gap), true;
   w.set(m, s, a, b);
-  const Axis face_a = best_face_axis(m, s, w, a, b, 0);
+  const double tie = 1e-3 * tol;
+  const Vec3 centres = (s.position[b] - s.position[a]).normalized();
+  const Axis face_a = best_face_axis(m, s, w, a, b, 0, centres, tie);
   if (face_a.separation_m > tol) return apart(face_a.separation_m), true;
-  const Axis face_b = best_face_axis(m, s, w, b, a, 1);
+  const Axis face_b = best_face_axis(m, s, w, b, a, 1, centres, tie);
   if (face_b.separation_m > tol) return apart(face_b.separation_m), true;
   const Axis edge = best_edge_axis(m, w, a, b);
   if (edge.separation_m > tol) return apart(edge.separation_m), true;
 
-  // Prefer a face of a over one of b, and last step's face over both, unless clearly
+  // Of a's face and b's, the better (beats); last step's face over both unless clearly
   // worse: exactly touching faces tie, and a flip would change every key.
   const double bias = 0.1 * tol;
-  Axis face = face_a.separation_m >= face_b.separation_m - 1e-3 * tol ? face_a : face_b;
+  Axis face = beats(face_b.separation_m, face_b.normal.dot(centres), face_a, face_a.normal.dot(centres), tie) ? face_b : face_a;
   if (pair.axis_kind == 0 || pair.axis_kind == 1) {
     const int f = pair.axis_feature;
     const double sep = face_separation(m, s, w, f, pair.axis_kind == 0 ? b : a);

@@ -156,6 +156,29 @@ TEST(Narrowphase, RunningBondStackHasTheSameContactsWhicheverTheNumbering) {
   EXPECT_NEAR(total_area(forwards), total_area(backwards), 1e-12);
 }
 
+// Two stones that meet only along an edge touch four planes at once (each stone's top or
+// bottom and its side). The contact normal is the one that points most nearly from one
+// centre to the other, whichever stone is a: here the tall stone's centre lies 1.5 m up
+// and 1 m across, so the normal is vertical (the one the manifold found depended on which
+// stone was a: a's first face of the four, in the block's own face order).
+TEST(Narrowphase, StonesMeetingAlongAnEdgeTakeTheNormalFacingTheCentresWhicheverTheNumbering) {
+  const Polyhedron low = make_box(Vec3(0, 0, 0.5), Vec3(1, 1, 1)), tall = make_box(Vec3(0, 1, 2), Vec3(1, 1, 2));
+  const Polyhedron base = make_box(Vec3(0, 0.5, -0.25), Vec3(4, 4, 0.5));
+  for (bool tall_first : {false, true}) {
+    const Polyhedron* first = tall_first ? &tall : &low;
+    const Polyhedron* second = tall_first ? &low : &tall;
+    const State s = test::contacts_found(
+        test::stones_model({{&base, Motion::fixed}, {first, Motion::free}, {second, Motion::free}}));
+    int between = 0;
+    for (const Pair& pair : s.pairs) {
+      if (pair.a == 0) continue;  // the base
+      for (int i = pair.sub_begin; i < pair.sub_begin + pair.sub_count; ++i, ++between)
+        EXPECT_NEAR(std::abs(s.contacts.normal[i].z()), 1.0, 1e-12) << (tall_first ? "tall stone a" : "low stone a");
+    }
+    EXPECT_EQ(between, 2) << "the edge's two ends";
+  }
+}
+
 TEST(Narrowphase, EdgeOnEdge) {
   // Two bars turned 45 degrees about their own axes, crossing at right angles: the lower
   // one's top edge runs along x, the upper one's bottom edge along y.

@@ -10,6 +10,7 @@
 #include "geometry/bridge.h"
 #include "geometry/validate.h"
 #include "io/model_file.h"
+#include "scenes.h"
 
 namespace ishibashi {
 namespace {
@@ -75,6 +76,27 @@ TEST_P(Presets, MonitoredUnitsDoNotDependOnTheNumbering) {
     ASSERT_GE(unit(m), 0);
     EXPECT_EQ(m.initial_position[unit(m)], reversed.initial_position[unit(reversed)]);
   }
+}
+
+// Numbered the other way round, each preset's bridge has the same joints: as many
+// sub-contacts, the same total area, and the same stable step (whose limit each joint's
+// normal and points set; an edge contact's normal once went with which stone was a).
+TEST_P(Presets, ContactsAndStableStepDoNotDependOnTheNumbering) {
+  const ModelFile file = read_model_file(std::filesystem::path(ISHIBASHI_SOURCE_DIR) / "models" / GetParam().file);
+  std::vector<BridgeBlock> blocks = generate_bridge(file.bridge);
+  auto found = [&] {
+    const Model m = compile_bridge(file.bridge, blocks);
+    const State s = test::contacts_found(m);
+    double area = 0;
+    for (std::size_t i = 0; i < s.contacts.size(); ++i) area += s.contacts.area_m2[i];
+    return std::tuple(s.contacts.size(), area, stability_limit_s(m, s, true, nullptr));
+  };
+  const auto [count, area, limit] = found();
+  std::reverse(blocks.begin(), blocks.end() - 1);  // the ground slab stays last
+  const auto [reversed_count, reversed_area, reversed_limit] = found();
+  EXPECT_EQ(count, reversed_count);
+  EXPECT_NEAR(area, reversed_area, 1e-9 * area);
+  EXPECT_NEAR(limit, reversed_limit, 1e-9 * limit);
 }
 
 TEST(Bridge, SoilBackfillHasStoneFaceWallsAndSoilInside) {
