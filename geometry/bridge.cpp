@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "geometry/block_order.h"
 #include "geometry/bridge_fill.h"
 #include "geometry/bridge_outline.h"
 #include "geometry/materials.h"
@@ -82,6 +83,7 @@ std::vector<BridgeBlock> generate_bridge(const BridgeSpec& s) {
                                           Vec3(length, s.ring.width_m + 2 * margin, s.ground_thickness_m)),
                                  Part::ground, 0, true});
   }
+  order_blocks_for_locality(blocks);
   return blocks;
 }
 
