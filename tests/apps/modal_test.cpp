@@ -24,8 +24,8 @@ TEST(Modal, WritesModesWithBlockLabelsAndThePictureOfEachFirstMode) {
   ASSERT_EQ(std::system(cmd.c_str()), 0) << cmd;
   std::stringstream printed;
   printed << std::ifstream(log).rdbuf();
-  // Model A's first modes along x, y and z by modal analysis: 22.58, 21.02, 42.00 Hz.
-  EXPECT_NE(printed.str().find("x 22.57"), std::string::npos) << printed.str();
+  // Model A's first modes along x, y and z by modal analysis: 22.53, 20.99, 41.91 Hz.
+  EXPECT_NE(printed.str().find("x 22.52"), std::string::npos) << printed.str();
   EXPECT_NE(printed.str().find("mode shapes: "), std::string::npos) << printed.str();
 
   vtkUnstructuredGrid* modes = read_vtu(out / "modes.vtu");
