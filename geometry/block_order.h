@@ -4,7 +4,7 @@
 // their data between the cores' caches every step. Numbered part by part (rings, then the
 // fill, then the walls), model F's neighbours were a median 110 numbers apart, and on 16
 // threads 59 % of its pairs crossed two ranges (15 % on 2); numbered so that every range
-// is a compact piece of the bridge, 22 % (3 % on 2).
+// is a compact piece of the bridge, 24 % (4 % on 2).
 #pragma once
 #include <vector>
 
