@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <cstring>
 #include <map>
 
 #include "engine/pipeline.h"
@@ -19,11 +20,35 @@ MemberDraw draw_member(const EnsembleSpec& spec, int member) {
   return d;
 }
 
+namespace {
+
+// SplitMix64's finaliser: every bit of x moves about half the bits of the result.
+std::uint64_t mixed(std::uint64_t x) {
+  x = (x ^ (x >> 30)) * 0xBF58476D1CE4E5B9ull;
+  x = (x ^ (x >> 27)) * 0x94D049BB133111EBull;
+  return x ^ (x >> 31);
+}
+
+// Where a stone stands, as a key for its own stream of draws: the bits of its centroid
+// (computed from its own vertices, so the same whatever the block's number).
+std::uint64_t place_key(const Vec3& centroid) {
+  std::uint64_t key = 0;
+  for (int i = 0; i < 3; ++i) {
+    const double x = centroid[i] + 0.0;  // -0 and +0 alike
+    std::uint64_t bits;
+    std::memcpy(&bits, &x, sizeof bits);
+    key = mixed(key ^ bits);
+  }
+  return key;
+}
+
+}  // namespace
+
 void perturb_model(Model& m, const EnsembleSpec& spec, const MemberDraw& draw) {
   if (draw.friction_angle_deg > 0)
     for (PairLaw& law : m.pair_law) law.tan_friction = std::tan(draw.friction_angle_deg * M_PI / 180.0);
-  DrawStream draws(spec.seed, draw.member, kPoseDraws);
   const double t = spec.position_tolerance_m;
+  if (t == 0) return;  // the scenario's own blocks and poses, bit for bit
   struct Placement {
     Vec3 shift = Vec3::Zero(), axis = Vec3::UnitZ();
     double angle = 0;  // rad
@@ -32,12 +57,12 @@ void perturb_model(Model& m, const EnsembleSpec& spec, const MemberDraw& draw) {
   std::vector<int> moved;  // the free blocks
   for (int b = 0; b < m.block_count; ++b) {
     if (m.motion[b] != Motion::free) continue;
-    // Seven draws a block, whatever the tolerance: block b's depend on (seed, member, b) alone.
+    // Seven draws a stone from its own stream: (seed, member, where it stands).
+    DrawStream draws(spec.seed, draw.member, kPoseDraws ^ place_key(m.initial_position[b]));
     const double cut = t * draws.uniform();
     Placement& p = placement[b];
     p.shift = Vec3(draws.between(-0.5, 0.5), draws.between(-0.5, 0.5), draws.between(-0.5, 0.5)) * t;
     const double z = draws.between(-1, 1), phi = 2 * M_PI * draws.uniform(), fraction = draws.uniform();
-    if (t == 0) continue;  // the scenario's own blocks and poses, bit for bit
     moved.push_back(b);
     // Cut smaller: scaled about its centroid so that its nearest face moves in by `cut`. Its
     // mass, inertia and size stay as drawn (the cut is a fit, not less stone).
