@@ -34,14 +34,13 @@ bool beats(double separation_m, double facing, const Axis& best, double best_fac
 // the unit vector from a's centre to b's.
 Axis best_face_axis(const Model& m, const State& s, const PairWorld& w, int owner, int other, int kind,
                     const Vec3& centres, double tie_m) {
-  Axis best;
+  Axis best;  // separation -1e300: the first face beats it
   double best_facing = -2;
   const double sign = kind == 0 ? 1.0 : -1.0;  // a -> b normal
   for (int f = m.face_begin[owner]; f < m.face_begin[owner + 1]; ++f) {
     const double sep = face_separation(m, s, w, f, other);
-    if (sep < best.separation_m - tie_m) continue;
     const double facing = sign * s.face_normal_world[f].dot(centres);
-    if (best.kind < 0 || beats(sep, facing, best, best_facing, tie_m)) {
+    if (beats(sep, facing, best, best_facing, tie_m)) {
       best = Axis{sep, kind, f, sign * s.face_normal_world[f]};
       best_facing = facing;
     }

@@ -12,9 +12,9 @@ int crown_unit(const Model& m) {
   auto height = [&](int b) { return m.initial_position[b].z() - 1e-3 * std::abs(m.initial_position[b].y()); };
   // Mirror units at the same height (a ring of an even number of voussoirs, the crowns of
   // equal spans) go by position, not by number: the smaller x (the first span), then y.
-  auto before = [&](int b, int best) {
-    if (std::abs(height(b) - height(best)) > 1e-9) return height(b) > height(best);
-    const Vec3 &p = m.initial_position[b], &q = m.initial_position[best];
+  auto before = [&](int b, int other) {
+    if (std::abs(height(b) - height(other)) > 1e-9) return height(b) > height(other);
+    const Vec3 &p = m.initial_position[b], &q = m.initial_position[other];
     return p.x() < q.x() - 1e-9 || (p.x() < q.x() + 1e-9 && p.y() < q.y() - 1e-9);
   };
   for (int b = 0; b < m.block_count; ++b)

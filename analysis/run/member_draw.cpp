@@ -22,13 +22,6 @@ MemberDraw draw_member(const EnsembleSpec& spec, int member) {
 
 namespace {
 
-// SplitMix64's finaliser: every bit of x moves about half the bits of the result.
-std::uint64_t mixed(std::uint64_t x) {
-  x = (x ^ (x >> 30)) * 0xBF58476D1CE4E5B9ull;
-  x = (x ^ (x >> 27)) * 0x94D049BB133111EBull;
-  return x ^ (x >> 31);
-}
-
 // Where a stone stands, as a key for its own stream of draws: the bits of its centroid
 // (computed from its own vertices, so the same whatever the block's number).
 std::uint64_t place_key(const Vec3& centroid) {
@@ -37,7 +30,7 @@ std::uint64_t place_key(const Vec3& centroid) {
     const double x = centroid[i] + 0.0;  // -0 and +0 alike
     std::uint64_t bits;
     std::memcpy(&bits, &x, sizeof bits);
-    key = mixed(key ^ bits);
+    key = splitmix_mixed(key ^ bits);
   }
   return key;
 }

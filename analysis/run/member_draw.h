@@ -11,6 +11,13 @@
 
 namespace ishibashi {
 
+// SplitMix64's finaliser: each bit of x moves about half the bits of the result.
+inline std::uint64_t splitmix_mixed(std::uint64_t z) {
+  z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ull;
+  z = (z ^ (z >> 27)) * 0x94D049BB133111EBull;
+  return z ^ (z >> 31);
+}
+
 // SplitMix64 (Steele, Lea and Flood 2014): a fully specified generator, so that a member's
 // draws are the same with every compiler and library (the standard's distributions are
 // not specified to the bit). One stream per (seed, member, purpose).
@@ -19,12 +26,7 @@ class DrawStream {
   DrawStream(long seed, int member, std::uint64_t purpose)
       : state_(static_cast<std::uint64_t>(seed) * 0x9E3779B97F4A7C15ull ^ (static_cast<std::uint64_t>(member) + 1) * 0xD1B54A32D192ED03ull ^
                purpose * 0xBF58476D1CE4E5B9ull) {}
-  std::uint64_t next() {
-    std::uint64_t z = (state_ += 0x9E3779B97F4A7C15ull);
-    z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ull;
-    z = (z ^ (z >> 27)) * 0x94D049BB133111EBull;
-    return z ^ (z >> 31);
-  }
+  std::uint64_t next() { return splitmix_mixed(state_ += 0x9E3779B97F4A7C15ull); }
   double uniform() { return static_cast<double>(next() >> 11) * 0x1.0p-53; }  // [0, 1)
   double between(double lo, double hi) { return lo + (hi - lo) * uniform(); }
 
