@@ -4,8 +4,7 @@
 # file (view.pvsm) from a copy of the folder elsewhere and renders its last frame:
 #   bash scripts/paraview_check.sh RUN_DIR [PNG_DIR]
 # Debian's python3-paraview cannot be installed beside libvtk9-dev, so ParaView lives in
-# a minimal Debian chroot made with debootstrap (PARAVIEW_ROOT, default
-# /srv/ishibashi-paraview; about 1.5 GiB, made once in a few minutes; needs root).
+# a minimal Debian chroot made with debootstrap (scripts/paraview_chroot.sh, once).
 # Fails when ParaView cannot read a file (as it could not read VTK's appended mode with
 # the patched libexpat) or an array is missing.
 set -euo pipefail
@@ -16,18 +15,7 @@ chroot_dir=${PARAVIEW_ROOT:-/srv/ishibashi-paraview}
 sudo=""
 if [ "$(id -u)" -ne 0 ]; then sudo="sudo"; fi
 
-if [ ! -x "$chroot_dir/usr/bin/pvbatch" ]; then
-  echo "paraview_check: making a Debian 12 chroot with ParaView in $chroot_dir (once)"
-  export DEBIAN_FRONTEND=noninteractive
-  if ! command -v debootstrap > /dev/null; then
-    $sudo apt-get update -q
-    $sudo apt-get install -y -q --no-install-recommends debootstrap
-  fi
-  $sudo debootstrap --variant=minbase bookworm "$chroot_dir" http://deb.debian.org/debian > "$chroot_dir.log" 2>&1 ||
-    { tail -20 "$chroot_dir.log"; exit 1; }
-  $sudo chroot "$chroot_dir" apt-get install -y -q --no-install-recommends paraview python3-paraview xvfb xauth \
-    >> "$chroot_dir.log" 2>&1 || { tail -20 "$chroot_dir.log"; exit 1; }
-fi
+bash "$root/scripts/paraview_chroot.sh"
 
 # The run goes in a copy inside the chroot; the pictures come back.
 work=$($sudo mktemp -d "$chroot_dir/tmp/check.XXXXXX")
