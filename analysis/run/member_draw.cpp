@@ -1,9 +1,9 @@
 #include "analysis/run/member_draw.h"
 
 #include <algorithm>
+#include <bit>
 #include <cmath>
 #include <cstdint>
-#include <cstring>
 #include <map>
 
 #include "engine/pipeline.h"
@@ -28,9 +28,7 @@ std::uint64_t place_key(const Vec3& centroid) {
   std::uint64_t key = 0;
   for (int i = 0; i < 3; ++i) {
     const double x = centroid[i] + 0.0;  // -0 and +0 alike
-    std::uint64_t bits;
-    std::memcpy(&bits, &x, sizeof bits);
-    key = splitmix_mixed(key ^ bits);
+    key = splitmix_mixed(key ^ std::bit_cast<std::uint64_t>(x));
   }
   return key;
 }

@@ -18,8 +18,8 @@
 #include "command_line.h"
 #include "engine/world.h"
 #include "geometry/bridge.h"
-#include "io/model_file.h"
 #include "geometry/validate.h"
+#include "io/model_file.h"
 
 namespace ishibashi {
 namespace {
