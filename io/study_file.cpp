@@ -40,7 +40,7 @@ void read_reference(const std::filesystem::path& file, const toml::table& root, 
       std::array<double, 3> hz{};
       for (int axis = 0; axis < 3; ++axis) {
         const auto v = (*a)[axis].value<double>();
-        if (!v || *v <= 0) frequency_reader.fail(node, "'" + stem + "' must hold three frequencies > 0, in Hz");
+        if (!v || !(*v > 0 && std::isfinite(*v))) frequency_reader.fail(node, "'" + stem + "' must hold three frequencies > 0, in Hz");
         hz[axis] = *v;
       }
       s.reference_frequencies_hz[stem] = hz;

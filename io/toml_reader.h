@@ -5,6 +5,7 @@
 
 #include <array>
 #include <climits>
+#include <cmath>
 #include <filesystem>
 #include <set>
 #include <sstream>
@@ -34,8 +35,12 @@ class TableReader {
 
   void number(const char* key, double& out) {
     if (const toml::node* n = find(key)) {
-      if (auto v = n->value<double>()) out = *v;
-      else fail(*n, std::string("'") + key + "' must be a number");
+      const auto v = n->value<double>();
+      if (!v) fail(*n, std::string("'") + key + "' must be a number");
+      // TOML has nan and inf, and every range check below lets a NaN through.
+      if (!std::isfinite(*v))
+        fail(*n, std::string("'") + key + "' is " + (std::isnan(*v) ? "nan" : *v > 0 ? "inf" : "-inf") + "; it must be a finite number");
+      out = *v;
     }
   }
   // A number that must lie in a range: the error names the line and the range.
@@ -113,7 +118,7 @@ class TableReader {
       expected << "'" << key << "' must be [lo, hi], two numbers with " << min << " <= lo <= hi <= " << max;
       if (!a || a->size() != 2) fail(*n, expected.str());
       const auto lo = (*a)[0].value<double>(), hi = (*a)[1].value<double>();
-      if (!lo || !hi || *lo < min || *hi > max || *lo > *hi) fail(*n, expected.str());
+      if (!lo || !hi || !(*lo >= min && *hi <= max && *lo <= *hi)) fail(*n, expected.str());  // NaN fails too
       out = {*lo, *hi};
     }
   }
@@ -125,7 +130,7 @@ class TableReader {
       out.clear();
       for (const toml::node& e : *a) {
         auto v = e.value<double>();
-        if (!v || *v < 0) fail(e, std::string("'") + key + "' must hold numbers >= 0");
+        if (!v || !(*v >= 0 && std::isfinite(*v))) fail(e, std::string("'") + key + "' must hold finite numbers >= 0");
         out.push_back(*v);
       }
     }

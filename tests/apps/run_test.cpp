@@ -201,5 +201,20 @@ TEST(Run, ProfileTableAndTraceOfAShortRun) {
   std::filesystem::remove(trace);
 }
 
+// A number flag given nan or inf is refused before anything runs: CLI11's own checks
+// (PositiveNumber, Range) compare, and every comparison with a NaN is false.
+TEST(Run, NanOrInfinityOnTheCommandLineIsRefused) {
+  for (const char* flag : {"--dt nan", "--duration inf", "--start nan", "--dt-factor nan", "--settle-max -inf"}) {
+    int status = 0;
+    const std::string output = test::run_command(std::string(ISHIBASHI_BINARY) + " run --quiet " +
+                                                     short_scenario(0.05).string() + " " + flag + " --out " +
+                                                     (test::tmp_dir() / "ishibashi_run_nan").string(), &status);
+    EXPECT_NE(status, 0) << flag;
+    const std::string value = std::string(flag).substr(std::string(flag).find(' ') + 1);
+    EXPECT_NE(output.find(value + " is not a finite number"), std::string::npos) << flag << ": " << output;
+    EXPECT_FALSE(std::filesystem::exists(test::tmp_dir() / "ishibashi_run_nan")) << flag;
+  }
+}
+
 }  // namespace
 }  // namespace ishibashi

@@ -52,6 +52,9 @@ TEST(ModelFile, NumbersOutOfRangeNameTheirLine) {
   EXPECT_THAT(error_of("[stone]\n\npoisson = 0.7\n"), HasSubstr(":3: 'poisson' is 0.7; it must be >= 0 and <= 0.4999"));
   EXPECT_THAT(error_of("[bridge]\nmortar_pa = -1\n"), HasSubstr(":2: 'mortar_pa' is -1; it must be >= 0"));
   EXPECT_THAT(error_of("[bridge]\n\nground_margin_m = -2\n"), HasSubstr(":3: 'ground_margin_m' is -2; it must be >= 0"));
+  // TOML's nan and inf pass no range check either (a NaN would fail none of them silently).
+  EXPECT_THAT(error_of("[bridge]\nmortar_pa = nan\n"), HasSubstr(":2: 'mortar_pa' is nan; it must be a finite number"));
+  EXPECT_THAT(error_of("[ring]\n\nspan_m = inf\n"), HasSubstr(":3: 'span_m' is inf; it must be a finite number"));
   EXPECT_THAT(error_of("[bridge]\nmortar_pa = 2e5\nmortar_tension_fracture_j_m2 = 12\n"),
               HasSubstr("[bridge] mortar_tension_fracture_j_m2 and mortar_shear_fracture_j_m2 must both be > 0"));
 }
@@ -87,6 +90,39 @@ TEST(ScenarioFile, DampingIsStudyCappedOrImplicitAndABadChoiceNamesItsLine) {
   } catch (const InputError& e) {
     EXPECT_THAT(e.what(), HasSubstr("ishibashi_scenario_damping.toml:5"));
     EXPECT_THAT(e.what(), HasSubstr("allowed: \"study\", \"capped\""));
+  }
+}
+
+// A scenario's own numbers are finite: its mortar_pa = nan once meant "as the model file
+// says" (a dry bridge run without a word), and nan in [run] or [ground_motion] is refused
+// at its line as well.
+TEST(ScenarioFile, NanOrInfinityIsRefusedAtItsLine) {
+  const auto file = std::filesystem::temp_directory_path() / "ishibashi_scenario_nan.toml";
+  const auto root = std::filesystem::path(ISHIBASHI_SOURCE_DIR);
+  const std::string record = (root / "data/ground_motions/kobe_1995_jma/RSN1106_KOBE_KJM090.AT2").string();
+  for (const auto& [text, message] :
+       {std::pair<std::string, std::string>{"[model]\nfile = \"" + (root / "models/nishida_a.toml").string() +
+                                                "\"\nmortar_pa = nan\n[run]\nduration_s = 1\n[ground_motion]\nx = { file = \"" +
+                                                record + "\" }\n",
+                                            ":3: 'mortar_pa' is nan; it must be a finite number"}}) {
+    std::ofstream(file) << text;
+    try {
+      read_scenario(file);
+      ADD_FAILURE() << message << ": accepted";
+    } catch (const InputError& e) {
+      EXPECT_THAT(e.what(), HasSubstr(message));
+    }
+  }
+  for (const auto& [line, message] : {std::pair<std::string, std::string>{"settle_kinetic_j = nan", ":5: 'settle_kinetic_j' is nan"},
+                                      {"output_interval_s = inf", ":5: 'output_interval_s' is inf"},
+                                      {"dt_s = -inf", ":5: 'dt_s' is -inf"}}) {
+    write_scenario(file, line);
+    try {
+      read_scenario(file);
+      ADD_FAILURE() << line << " was accepted";
+    } catch (const InputError& e) {
+      EXPECT_THAT(e.what(), HasSubstr(message + "; it must be a finite number"));
+    }
   }
 }
 
