@@ -1,0 +1,79 @@
+#!/usr/bin/env bash
+# The long measurements under way (issue 45 items 2-3, issue 48 item 5): hours of one core
+# each, run niced in the background across sessions. Each job is resumed from its
+# checkpoints or skipped when finished, so `bash scripts/long_runs.sh LANE` (LANE: one of the
+# lanes below, or `list`) only ever continues where the last session stopped. Each job runs
+# the program of its commit, frozen in out/bin/ishibashi_COMMIT (built from that commit in a
+# temporary worktree when missing), so that a later build never changes a comparison half
+# way. The results and what they mean: scenarios/results/README.md.
+#
+#   nohup nice -n 19 bash scripts/long_runs.sh ensemble > out/long_runs_ensemble.log 2>&1 &
+#   nohup nice -n 19 bash scripts/long_runs.sh dt > out/long_runs_dt.log 2>&1 &
+set -euo pipefail
+root=$(cd "$(dirname "$0")/.." && pwd)
+cd "$root"
+
+# lane | commit | output folder | the run's arguments (scenario first)
+jobs=(
+  # Issue 45 item 3: model B dry's explicit ensemble, the same seed as the fast path's
+  # (scenarios/results/ensembles/b_dry_implicit_4e-5_ensemble.csv); --jobs 2 keeps both cores.
+  "ensemble|be8e1f2|out/ensembles/b_dry_explicit|scenarios/nishida_b_kobe_dry.toml --members 5 --seed 1 --jobs 2 --threads 1"
+  # Issue 45 item 2: model C with mortar through the first strong pulse against dt, the
+  # program of C dry's runs (9863251).
+  "dt|9863251|out/dt_c_mortar/explicit|scenarios/nishida_c_kobe_mortar.toml --duration 3.6 --threads 1"
+  "dt|9863251|out/dt_c_mortar/implicit_2e-5|scenarios/nishida_c_kobe_mortar.toml --duration 3.6 --threads 1 --damping implicit --dt 2e-5"
+  "dt|9863251|out/dt_c_mortar/implicit_4e-5|scenarios/nishida_c_kobe_mortar.toml --duration 3.6 --threads 1 --damping implicit --dt 4e-5"
+  # The explicit reference's own sensitivity to its step, for C dry (B dry's moved 6-18 %).
+  "dt|9863251|out/dt_c_dry/explicit_half|scenarios/nishida_c_kobe_dry.toml --duration 3.6 --threads 1 --dt-factor 0.5"
+)
+
+frozen_binary() {  # out/bin/ishibashi_COMMIT, built when missing
+  local commit=$1 bin="out/bin/ishibashi_$1"
+  if [[ ! -x $bin ]]; then
+    local tree
+    tree=$(mktemp -d /tmp/ishibashi_"$commit"_XXXX)
+    git worktree add --detach "$tree" "$commit" > /dev/null
+    cmake -S "$tree" -B "$tree/build" -G Ninja -DCMAKE_BUILD_TYPE=Release -DISHIBASHI_BUILD_TESTS=OFF \
+      -DISHIBASHI_BUILD_PERF=OFF > /dev/null
+    cmake --build "$tree/build" --target ishibashi > /dev/null
+    mkdir -p out/bin
+    cp "$tree/build/apps/ishibashi" "$bin"
+    git worktree remove --force "$tree"
+  fi
+  echo "$bin"
+}
+
+finished() { [[ -f $1/summary.json ]] && grep -q '"finished": true' "$1/summary.json"; }
+
+lane=${1:-list}
+if [[ $lane != list ]]; then
+  # One process per lane: two would write the same folders.
+  mkdir -p out
+  exec 9> "out/long_runs_$lane.lock"
+  flock -n 9 || { echo "lane $lane is already running (out/long_runs_$lane.lock)" >&2; exit 1; }
+fi
+for job in "${jobs[@]}"; do
+  IFS='|' read -r job_lane commit out args <<< "$job"
+  if [[ $lane == list ]]; then
+    state="not started"
+    if finished "$out"; then state=finished; elif [[ -e $out ]]; then state="under way"; fi
+    printf '%-9s %s  %-40s %s\n' "$job_lane" "$commit" "$out" "$state"
+    continue
+  fi
+  [[ $job_lane == "$lane" ]] || continue
+  bin=$(frozen_binary "$commit")
+  # shellcheck disable=SC2086  # the arguments are words
+  if [[ $args == *--members* ]]; then
+    # An ensemble keeps its finished members and resumes the others from their checkpoints.
+    echo "$(date -u +%FT%TZ) $out: ensemble"
+    "$bin" run $args --out "$out" --quiet
+  elif finished "$out"; then
+    echo "$(date -u +%FT%TZ) $out: finished"
+  elif [[ -f $out/checkpoint.bin ]]; then
+    echo "$(date -u +%FT%TZ) $out: resumed"
+    "$bin" run --resume "$out" --checkpoint-wall 300 --quiet
+  else
+    echo "$(date -u +%FT%TZ) $out: started"
+    "$bin" run $args --out "$out" --checkpoint-wall 300 --quiet
+  fi
+done
