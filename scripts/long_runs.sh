@@ -25,6 +25,10 @@ jobs=(
   "dt|9863251|out/dt_c_mortar/implicit_4e-5|scenarios/nishida_c_kobe_mortar.toml --duration 3.6 --threads 1 --damping implicit --dt 4e-5"
   # The explicit reference's own sensitivity to its step, for C dry (B dry's moved 6-18 %).
   "dt|9863251|out/dt_c_dry/explicit_half|scenarios/nishida_c_kobe_dry.toml --duration 3.6 --threads 1 --dt-factor 0.5"
+  # Issue 45 item 3's second model, B with mortar, both schemes on one program, the same
+  # seed (about 1 hour a member on the fast path and 2 explicit, on a free core).
+  "b_mortar|ff7154d|out/ensembles/b_mortar_implicit_4e-5|scenarios/nishida_b_kobe_mortar.toml --members 5 --seed 1 --jobs 2 --threads 1 --damping implicit --dt 4e-5"
+  "b_mortar|ff7154d|out/ensembles/b_mortar_explicit|scenarios/nishida_b_kobe_mortar.toml --members 5 --seed 1 --jobs 2 --threads 1"
 )
 
 frozen_binary() {  # out/bin/ishibashi_COMMIT, built when missing
@@ -43,7 +47,8 @@ frozen_binary() {  # out/bin/ishibashi_COMMIT, built when missing
   echo "$bin"
 }
 
-finished() { [[ -f $1/summary.json ]] && grep -q '"finished": true' "$1/summary.json"; }
+# A run's summary says so; an ensemble writes ensemble.json once every member has finished.
+finished() { [[ -f $1/ensemble.json ]] || { [[ -f $1/summary.json ]] && grep -q '"finished": true' "$1/summary.json"; }; }
 
 lane=${1:-list}
 if [[ $lane != list ]]; then
