@@ -19,7 +19,7 @@ namespace ishibashi {
 int run_build(const BuildOptions& o) {
   const auto t0 = std::chrono::steady_clock::now();
   const ModelFile file = read_model_file(o.model_file);
-  std::printf("%s: %s\n", file.name.c_str(), file.description.c_str());
+  std::printf("%s%s%s\n", file.name.c_str(), file.description.empty() ? "" : ": ", file.description.c_str());
   RunSettings settings;  // a run's defaults, with the command line's joint settings
   apply_overrides(settings, o.overrides);
   const ModelOptions options = model_options(settings);
@@ -64,13 +64,17 @@ int run_build(const BuildOptions& o) {
   // through the stiffest block's rocking on its corner sub-contacts.
   int limiting = -1;
   const double limit_s = World(model, 1e-9).critical_time_step_s(&limiting);
-  std::printf("time step: stability limit %.3g s with the %s joint rule, set by %s (mass %.0f kg); runs use 0.8 of it "
-              "unless the scenario sets dt_s\n", limit_s, joint_rule_name(options.joint_rule),
-              model.block_label(limiting).c_str(), model.mass_kg[limiting]);
-  ModelOptions implicit = options;
-  implicit.damping = Damping::implicit;
-  const double springs_s = World(compiled.builder.build(implicit), 1e-9).critical_time_step_s();
-  std::printf("  with implicit dashpots (damping = \"implicit\") the springs' limit %.3g s; runs use 0.4 of it\n", springs_s);
+  if (limiting < 0) {
+    std::printf("time step: no two blocks touch, so no contact sets a stability limit (a run needs dt_s)\n");
+  } else {
+    std::printf("time step: stability limit %.3g s with the %s joint rule, set by %s (mass %.0f kg); runs use 0.8 of it "
+                "unless the scenario sets dt_s\n", limit_s, joint_rule_name(options.joint_rule),
+                model.block_label(limiting).c_str(), model.mass_kg[limiting]);
+    ModelOptions implicit = options;
+    implicit.damping = Damping::implicit;
+    const double springs_s = World(compiled.builder.build(implicit), 1e-9).critical_time_step_s();
+    std::printf("  with implicit dashpots (damping = \"implicit\") the springs' limit %.3g s; runs use 0.4 of it\n", springs_s);
+  }
 
   if (!o.export_file.empty()) {
     std::vector<Polyhedron> shapes_out;

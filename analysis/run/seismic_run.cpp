@@ -79,6 +79,9 @@ SeismicRun::SeismicRun(const Scenario& scenario, SeismicRunOptions options)
       if (component) component->scale *= draw.amplitude;
   }
   limit_s_ = World(model, 1e-9).critical_time_step_s(&limiting_block_);
+  if (limiting_block_ < 0 && !(settings.dt_s > 0))
+    throw InputError(scenario_.file.string() + ": no two blocks of its model " +
+                     "touch at the start, so no contact sets the time step; set dt_s in [run] (or --dt)");
   const double share = settings.damping == Damping::capped     ? kCappedDtShare
                        : settings.damping == Damping::implicit ? kImplicitDtShare
                                                                : kStudyDtShare;

@@ -216,5 +216,31 @@ TEST(Run, NanOrInfinityOnTheCommandLineIsRefused) {
   }
 }
 
+
+// A model whose blocks touch nothing has no contact to set the time step: a run says so
+// and asks for dt_s (it said "dt must be a positive number"), and `build` prints no limit
+// (it printed "inf s, set by block -1", reading a mass at index -1).
+TEST(Run, ModelWithoutContactsAsksForATimeStep) {
+  const auto dir = test::tmp_dir() / "ishibashi_no_contacts";
+  std::filesystem::create_directories(dir);
+  std::ofstream(dir / "cube.off") << "OFF\n8 6 0\n0 0 0\n1 0 0\n1 1 0\n0 1 0\n0 0 1\n1 0 1\n1 1 1\n0 1 1\n"
+                                  << "4 0 3 2 1\n4 4 5 6 7\n4 0 1 5 4\n4 1 2 6 5\n4 2 3 7 6\n4 3 0 4 7\n";
+  std::ofstream(dir / "cube.toml") << "[model]\nname = \"cube\"\n[import]\nfiles = [\"cube.off\"]\n";
+  std::ofstream(dir / "shake.toml") << "[model]\nfile = \"cube.toml\"\n[run]\nduration_s = 0.01\n[ground_motion]\nx = { file = \""
+                                    << (kRoot / "data/ground_motions/kobe_1995_jma/RSN1106_KOBE_KJM090.AT2").string() << "\" }\n";
+  int status = 0;
+  const std::string run = test::run_command(std::string(ISHIBASHI_BINARY) + " run --quiet " + (dir / "shake.toml").string() +
+                                                " --out " + (dir / "out").string(), &status);
+  EXPECT_NE(status, 0);
+  EXPECT_NE(run.find("shake.toml: no two blocks of its model touch at the start, so no contact sets the time step; set dt_s"),
+            std::string::npos) << run;
+  const std::string build = test::run_command(std::string(ISHIBASHI_BINARY) + " build " + (dir / "cube.toml").string() +
+                                                  " --out " + (dir / "build").string(), &status);
+  EXPECT_EQ(status, 0) << build;
+  EXPECT_NE(build.find("no two blocks touch, so no contact sets a stability limit"), std::string::npos) << build;
+  EXPECT_EQ(build.find("inf s"), std::string::npos) << build;
+  std::filesystem::remove_all(dir);
+}
+
 }  // namespace
 }  // namespace ishibashi
