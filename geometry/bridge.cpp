@@ -2,6 +2,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <iomanip>
+#include <sstream>
 
 #include "geometry/block_order.h"
 #include "geometry/bridge_fill.h"
@@ -41,6 +43,18 @@ std::vector<BridgeBlock> generate_bridge(const BridgeSpec& s) {
   require_spec(s.fill_height_m >= 0 && s.length_m >= 0, "fill_height_m and length_m must be >= 0");
   require_spec(s.side_wall_width_m >= 0 && s.ground_thickness_m >= 0 && s.ground_margin_m >= 0,
                "side_wall_width_m, ground_thickness_m and ground_margin_m must be >= 0");
+  // A stone size in the wrong unit (millimetres for metres) would cut the bridge into
+  // billions of blocks and exhaust the memory before any message: the ring's stones are
+  // counted, the fill's and walls' bounded by their box over a stone's cube.
+  const double ring_stones = double{g.along} * g.across * s.spans;
+  const double fill_stones = s.length_m * s.fill_height_m * (s.ring.width_m + 2 * s.side_wall_width_m) / (stone * stone * stone);
+  if (ring_stones + fill_stones > kMaxGeneratedBlocks) {
+    std::ostringstream msg;
+    msg << "stone_m = " << stone << " m cuts the bridge into about " << std::setprecision(2) << ring_stones + fill_stones
+        << " blocks (" << g.across << " across the ring's width); the generator makes at most " << kMaxGeneratedBlocks
+        << " (is stone_m in metres?)";
+    require_spec(false, msg.str());
+  }
   const std::vector<double> centres = span_centres(s, g);
   const double bridge_half = centres.back() + g.springer_half_width;
   const bool filled = s.fill_height_m > 0;

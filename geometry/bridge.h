@@ -55,6 +55,11 @@ struct BridgeBlock {
   bool fixed;
 };
 
+// The most blocks generate_bridge makes: far above any masonry bridge (model F: 2,003;
+// a million blocks' contacts take several GB), far below what a stone size in the wrong
+// unit asks for.
+constexpr int kMaxGeneratedBlocks = 1'000'000;
+
 // Generates the blocks. Throws ModelError naming the parameter for impossible input.
 std::vector<BridgeBlock> generate_bridge(const BridgeSpec& spec);
 

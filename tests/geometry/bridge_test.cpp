@@ -220,6 +220,12 @@ TEST(Bridge, ImpossibleParametersAreClearErrors) {
   s = BridgeSpec{};
   s.ground_margin_m = -1.0;
   EXPECT_THAT(error(s), HasSubstr("ground_margin_m must be >= 0"));
+  s = BridgeSpec{};  // stones in millimetres: 10^9 fill blocks, refused before any is made
+  s.fill_height_m = 5.8;
+  s.length_m = 24.0;
+  s.ring.stone_m = 0.004;
+  EXPECT_THAT(error(s), HasSubstr("stone_m = 0.004 m cuts the bridge into about"));
+  EXPECT_THAT(error(s), HasSubstr("is stone_m in metres?"));
 }
 
 // The Python readers of the outputs (analysis/report/run_outputs.py, PART) name every part
