@@ -24,7 +24,8 @@ extern "C" void on_interrupt(int) { stop_flag = 1; }
 
 using Clock = std::chrono::steady_clock;
 
-constexpr char kCheckpointMagic[] = "ishibashi checkpoint 10\n";
+// 11: the body's FNV-1a checksum after the header (a damaged byte was resumed from silently).
+constexpr char kCheckpointMagic[] = "ishibashi checkpoint 11\n";
 
 // What the checkpoint's run was: the program, the input files and the run's settings
 // (command-line overrides included, dt_s the step it used), so that a resume rebuilds the same run.
@@ -113,7 +114,9 @@ std::unique_ptr<SeismicRun> SeismicRun::resume(SeismicRunOptions options, const 
   try {
     CheckpointReader reader(in);
     h = read_header(reader, file);
+    const auto checksum = reader.value<std::uint64_t>();
     body.assign(std::istreambuf_iterator<char>(in), {});
+    if (fnv1a(body) != checksum) throw CheckpointError("its contents differ from the checksum written with them");
   } catch (const CheckpointError& e) {
     throw InputError(file.string() + ": damaged checkpoint (" + e.what() + ")");
   }
@@ -209,12 +212,17 @@ void SeismicRun::write_checkpoint(Progress& p) {
   h.settings.dt_s = dt_;  // the step used (dt_factor applied)
   p.result.wall_s = p.wall_s();  // the work so far, what a resumed run's wall time goes on from
   write_atomically(options_.out / "checkpoint.bin", [&](const std::filesystem::path& tmp) {
+    std::ostringstream body;  // checksummed: a resume must not go on from a damaged state
+    CheckpointWriter body_writer(body);
+    p.visit(body_writer);
+    write_state(body_writer, s);
+    const std::string bytes = body.str();
     std::ofstream file(tmp, std::ios::binary);
     CheckpointWriter w(file);
     w.text(kCheckpointMagic);
     visit_header(w, h);
-    p.visit(w);
-    write_state(w, s);
+    w.value<std::uint64_t>(fnv1a(bytes));
+    file.write(bytes.data(), static_cast<std::streamsize>(bytes.size()));
     if (!file.flush()) throw std::runtime_error("cannot write " + tmp.string());
   });
   p.checkpoint_time_s = s.time_s;

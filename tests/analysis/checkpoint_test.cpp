@@ -6,6 +6,7 @@
 #include <sys/wait.h>
 
 #include <chrono>
+#include <cstdint>
 #include <csignal>
 #include <cstdio>
 #include <filesystem>
@@ -15,6 +16,7 @@
 #include <sstream>
 #include <string>
 
+#include "analysis/model/fingerprint.h"
 #include "command_line.h"
 #include "io/run_settings.h"
 
@@ -134,22 +136,35 @@ TEST(Checkpoint, CheckpointOfAnotherBuildOrOfChangedInputsIsRefused) {
   const std::string good = text_of(out / "checkpoint.bin");
 
   std::string other_build = good;
-  const std::string magic = "ishibashi checkpoint 10\n";
+  const std::string magic = "ishibashi checkpoint 11\n";
   other_build[magic.size() + 8] ^= 1;  // the program's fingerprint
   std::ofstream(out / "checkpoint.bin", std::ios::binary) << other_build;
   std::string message = run_command(kRun + "--resume " + out.string(), &status);
   EXPECT_NE(status, 0);
   EXPECT_NE(message.find("written by another build of ishibashi"), std::string::npos) << message;
 
-  // The first byte after the header is the phase flag: a byte other than 0 or 1 is damage.
-  // magic, program and inputs, scenario path, each run setting (io/run_settings.h), the
-  // ensemble member
+  // The header (magic, program and inputs, scenario path, each run setting of
+  // io/run_settings.h, the ensemble member), then the body's checksum, then the body, whose
+  // first byte is the phase flag. Any byte of the body changed: refused by the checksum.
   std::size_t settings_bytes = 0;
   for_each_run_setting([&](const SettingInfo&, auto member) { settings_bytes += sizeof(RunSettings{}.*member); });
   const std::size_t header =
       8 + magic.size() + 16 + 8 + std::filesystem::absolute(file).string().size() + settings_bytes + sizeof(int);
+  const std::size_t body = header + 8;
+  for (const std::size_t at : {body, body + (good.size() - body) / 2, good.size() - 1}) {
+    std::string damaged = good;
+    damaged[at] ^= 1;
+    std::ofstream(out / "checkpoint.bin", std::ios::binary) << damaged;
+    message = run_command(kRun + "--resume " + out.string(), &status);
+    EXPECT_NE(status, 0) << "byte " << at;
+    EXPECT_NE(message.find("damaged checkpoint (its contents differ from the checksum written with them)"), std::string::npos)
+        << "byte " << at << ": " << message;
+  }
+  // A body that matches its checksum is still read with care: a flag byte other than 0 or 1.
   std::string bad_flag = good;
-  bad_flag[header] = 7;
+  bad_flag[body] = 7;
+  const std::uint64_t checksum = fnv1a(bad_flag.substr(body));
+  bad_flag.replace(header, 8, reinterpret_cast<const char*>(&checksum), 8);
   std::ofstream(out / "checkpoint.bin", std::ios::binary) << bad_flag;
   message = run_command(kRun + "--resume " + out.string(), &status);
   EXPECT_NE(status, 0);
