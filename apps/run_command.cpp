@@ -163,6 +163,9 @@ int run_scenario(const RunOptions& o) {
               "%.2f s of the record)\n", sc.model.name.c_str(), m.block_count, sub_contact_count(run.world().state()),
               joint_rule_name(sc.settings.joint_rule), run.dt_s(), run.world().thread_tuner().max_threads(),
               run.ground_motion().duration_s(), sc.settings.start_s);
+  if (sc.settings.duration_s > run.ground_motion().duration_s() + run.dt_s())
+    std::printf("  the record ends %.2f s after start_s: the run shakes for that long, not the %.2f s asked\n",
+                run.ground_motion().duration_s(), sc.settings.duration_s);
   std::printf("  stability limit %.3g s, set by %s and its joints%s\n", run.stability_limit_s(),
               m.block_label(run.limiting_block()).c_str(),
               sc.settings.damping == Damping::capped     ? " (springs alone: dashpots capped where dt would not resolve them)"

@@ -242,5 +242,18 @@ TEST(Run, ModelWithoutContactsAsksForATimeStep) {
   std::filesystem::remove_all(dir);
 }
 
+
+// A duration past the record's end is cut to the record, and the run says so.
+TEST(Run, DurationPastTheRecordsEndIsSaid) {
+  int status = 0;
+  const auto out = test::tmp_dir() / "ishibashi_run_past_end";
+  const std::string output = test::run_command(std::string(ISHIBASHI_BINARY) + " run --quiet " + short_scenario(1.0, 0.01).string() +
+                                                   " --start 149.9 --out " + out.string(), &status);
+  EXPECT_EQ(status, 0) << output;
+  EXPECT_NE(output.find("the record ends 0.08 s after start_s: the run shakes for that long, not the 1.00 s asked"),
+            std::string::npos) << output;
+  std::filesystem::remove_all(out);
+}
+
 }  // namespace
 }  // namespace ishibashi
