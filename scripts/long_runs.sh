@@ -25,6 +25,16 @@ jobs=(
   "dt|9863251|out/dt_c_mortar/implicit_4e-5|scenarios/nishida_c_kobe_mortar.toml --duration 3.6 --threads 1 --damping implicit --dt 4e-5"
   # The explicit reference's own sensitivity to its step, for C dry (B dry's moved 6-18 %).
   "dt|9863251|out/dt_c_dry/explicit_half|scenarios/nishida_c_kobe_dry.toml --duration 3.6 --threads 1 --dt-factor 0.5"
+  # The same for D and F with mortar (the study's other bonded rings).
+  "dt|9863251|out/dt_d_mortar/explicit|scenarios/nishida_d_kobe_mortar.toml --duration 3.6 --threads 1"
+  "dt|9863251|out/dt_d_mortar/implicit_2e-5|scenarios/nishida_d_kobe_mortar.toml --duration 3.6 --threads 1 --damping implicit --dt 2e-5"
+  "dt|9863251|out/dt_d_mortar/implicit_4e-5|scenarios/nishida_d_kobe_mortar.toml --duration 3.6 --threads 1 --damping implicit --dt 4e-5"
+  "dt|9863251|out/dt_f_mortar/explicit|scenarios/nishida_f_kobe_mortar.toml --duration 3.6 --threads 1"
+  "dt|9863251|out/dt_f_mortar/implicit_2e-5|scenarios/nishida_f_kobe_mortar.toml --duration 3.6 --threads 1 --damping implicit --dt 2e-5"
+  "dt|9863251|out/dt_f_mortar/implicit_4e-5|scenarios/nishida_f_kobe_mortar.toml --duration 3.6 --threads 1 --damping implicit --dt 4e-5"
+  # F dry's third step (its 4e-5 s and 2e-5 s runs: program faf220e, 30 % and 3 % off the
+  # explicit crown at 3.5 s): does the error keep halving?
+  "dt|faf220e|out/dt_f_dry/implicit_1e-5|scenarios/nishida_f_kobe_dry.toml --duration 3.6 --threads 1 --damping implicit --dt 1e-5"
   # Issue 45 item 3's second model, B with mortar, both schemes on one program, the same
   # seed (about 1 hour a member on the fast path and 2 explicit, on a free core).
   "b_mortar|ff7154d|out/ensembles/b_mortar_implicit_4e-5|scenarios/nishida_b_kobe_mortar.toml --members 5 --seed 1 --jobs 2 --threads 1 --damping implicit --dt 4e-5"
