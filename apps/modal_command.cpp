@@ -1,5 +1,6 @@
 #include "apps/modal_command.h"
 
+#include <algorithm>
 #include <chrono>
 #include <cstdio>
 
@@ -38,6 +39,12 @@ int run_modal(const ModalOptions& o) {
   }
   std::printf("first natural frequency (effective mass above 5 %%): x %.3f Hz, y %.3f Hz, z %.3f Hz (%.1f s)\n",
               a.first_mode_hz[0], a.first_mode_hz[1], a.first_mode_hz[2], seconds);
+  // A mode at 0 Hz moves blocks that no joint holds: the frequencies above it describe a
+  // structure that is not supported, which a user should hear of rather than read as 0 Hz.
+  const long free_modes = std::count_if(r.frequency_hz.begin(), r.frequency_hz.end(), [](double f) { return f < 1e-3; });
+  if (free_modes > 0)
+    std::printf("  warning: %ld modes at 0 Hz: blocks move as rigid bodies that no joint holds (is a fixed block, e.g. the "
+                "ground, touching them?)\n", free_modes);
   // Which joints hold each first mode's strain energy: the stiffness its frequency rests on.
   for (int axis = 0; axis < 3; ++axis) {
     if (a.first_mode[axis] < 0) continue;
