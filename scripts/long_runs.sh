@@ -79,9 +79,10 @@ for job in "${jobs[@]}"; do
   bin=$(frozen_binary "$commit")
   # shellcheck disable=SC2086  # the arguments are words
   if [[ $args == *--members* ]]; then
-    # An ensemble keeps its finished members and resumes the others from their checkpoints.
+    # An ensemble keeps its finished members and resumes the others from their checkpoints
+    # (the same arguments: they make the members' keys).
     echo "$(date -u +%FT%TZ) $out: ensemble"
-    "$bin" run $args --out "$out" --quiet
+    "$bin" run $args --out "$out"
   elif finished "$out"; then
     echo "$(date -u +%FT%TZ) $out: finished"
   elif [[ -f $out/checkpoint.bin ]]; then
