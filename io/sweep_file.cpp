@@ -1,5 +1,6 @@
 #include "io/sweep_file.h"
 
+#include <cstdio>
 #include <set>
 
 #include "io/scenario_file.h"
@@ -15,6 +16,12 @@ bool is_folder_name(const std::string& name) {
 }
 
 }  // namespace
+
+std::string level_label(double level) {
+  char text[32];
+  std::snprintf(text, sizeof text, "%g", level);
+  return text;
+}
 
 SweepFile read_sweep(const std::filesystem::path& file) {
   const toml::table root = parse_toml_file(file, {"sweep", "failure", "record"});
@@ -50,8 +57,13 @@ SweepFile read_sweep(const std::filesystem::path& file) {
     throw InputError(file.string() + ": [sweep] needs either pga_g = [...] (target PGAs, g) or scale = [...] (factors)");
   s.scale_to_pga = !pga.empty();
   s.levels = s.scale_to_pga ? pga : scale;
-  for (double level : s.levels)
+  std::set<std::string> labels;
+  for (double level : s.levels) {
     if (!(level > 0)) throw InputError(file.string() + ": [sweep] intensity levels must be > 0");
+    if (!labels.insert(level_label(level)).second)
+      throw InputError(file.string() + ": [sweep] lists the level " + level_label(level) +
+                       " twice (a level names its runs' folders; for more runs per level, use members = N)");
+  }
 
   TableReader failure(file, root, "failure");
   failure.boolean("collapse", s.failure.collapse);

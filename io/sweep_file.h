@@ -59,4 +59,8 @@ struct SweepFile {
 
 SweepFile read_sweep(const std::filesystem::path& file);
 
+// An intensity level as it names its runs' folders and the rows of sweep.csv ("%g": 0.25,
+// 1.5, 1e-05); read_sweep refuses two levels of one label.
+std::string level_label(double level);
+
 }  // namespace ishibashi

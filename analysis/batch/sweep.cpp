@@ -36,12 +36,6 @@ struct Case {
   std::string key;  // "scenario,record,level,member": the first four fields of its row
 };
 
-std::string level_label(double level) {
-  char text[32];
-  std::snprintf(text, sizeof text, "%g", level);
-  return text;
-}
-
 std::string host_name() {
   char name[256] = "";
   gethostname(name, sizeof name - 1);

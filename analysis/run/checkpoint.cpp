@@ -1,6 +1,11 @@
 #include "analysis/run/checkpoint.h"
 
 #include <algorithm>
+#include <fstream>
+#include <iterator>
+
+#include "analysis/model/fingerprint.h"
+#include "io/input_error.h"
 
 namespace ishibashi {
 
@@ -37,6 +42,47 @@ void read_state(CheckpointReader& in, State& s) {
   s.pair_index_valid = false;  // the pair indices follow the restored pair list
   s.contacts_dead = static_cast<int>(s.contacts.size());  // the entries in no pair's range
   for (const Pair& pair : s.pairs) s.contacts_dead -= pair.sub_count;
+}
+
+namespace {
+
+// 11: the body's FNV-1a checksum after the header (a damaged byte was resumed from silently).
+constexpr char kCheckpointMagic[] = "ishibashi checkpoint 11\n";
+
+template <class Archive, class H>
+void visit_header(Archive& a, H& h) {
+  a.field(h.program), a.field(h.inputs), a.field(h.scenario_file);
+  for_each_run_setting([&](const SettingInfo&, auto member) { a.field(h.settings.*member); });
+  a.field(h.member);
+}
+
+}  // namespace
+
+void write_checkpoint_file(const std::filesystem::path& file, const CheckpointHeader& header, const std::string& body) {
+  std::ofstream out(file, std::ios::binary);
+  CheckpointWriter w(out);
+  w.text(kCheckpointMagic);
+  visit_header(w, header);
+  w.value<std::uint64_t>(fnv1a(body));
+  out.write(body.data(), static_cast<std::streamsize>(body.size()));
+  if (!out.flush()) throw std::runtime_error("cannot write " + file.string());
+}
+
+CheckpointHeader read_checkpoint_file(const std::filesystem::path& file, std::string* body) {
+  std::ifstream in(file, std::ios::binary);
+  if (!in) throw InputError(file.string() + ": no checkpoint to resume from (run with --checkpoint-every or --checkpoint-wall)");
+  CheckpointHeader h;
+  try {
+    CheckpointReader reader(in);
+    if (reader.text() != kCheckpointMagic) throw InputError(file.string() + ": not a checkpoint of this program");
+    visit_header(reader, h);
+    const auto checksum = reader.value<std::uint64_t>();
+    body->assign(std::istreambuf_iterator<char>(in), {});
+    if (fnv1a(*body) != checksum) throw CheckpointError("its contents differ from the checksum written with them");
+  } catch (const CheckpointError& e) {
+    throw InputError(file.string() + ": damaged checkpoint (" + e.what() + ")");
+  }
+  return h;
 }
 
 }  // namespace ishibashi

@@ -5,6 +5,7 @@
 // (the caller checks that; analysis/seismic_run.cpp).
 #pragma once
 #include <cstdint>
+#include <filesystem>
 #include <istream>
 #include <ostream>
 #include <string>
@@ -13,6 +14,7 @@
 
 #include "engine/joints.h"
 #include "engine/state.h"
+#include "io/run_settings.h"
 
 namespace ishibashi {
 
@@ -125,6 +127,23 @@ void visit_joints(Archive& a, J& j) {
 void write_state(CheckpointWriter& out, const State& state);
 // Overwrites what write_state stored; marks the derived buffers for rebuilding.
 void read_state(CheckpointReader& in, State& state);
+
+// What the checkpoint's run was: the program, the input files and the run's settings
+// (command-line overrides included, dt_s the step it used), so that a resume rebuilds the same run.
+struct CheckpointHeader {
+  std::uint64_t program = 0, inputs = 0;
+  std::string scenario_file;
+  RunSettings settings;
+  int member = -1;  // of the scenario's ensemble
+};
+
+// checkpoint.bin: a magic line, the header, the body's FNV-1a checksum (a resume must not
+// go on from a damaged state), then the body (the run's progress and its State, written by
+// the caller). Writes to `file` as it is (the caller writes it atomically).
+void write_checkpoint_file(const std::filesystem::path& file, const CheckpointHeader& header, const std::string& body);
+// Reads one back into *body; throws InputError naming `file` when it is another program's,
+// or damaged (cut short, or its body no longer matches the checksum written with it).
+CheckpointHeader read_checkpoint_file(const std::filesystem::path& file, std::string* body);
 
 
 }  // namespace ishibashi

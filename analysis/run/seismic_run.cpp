@@ -24,32 +24,6 @@ extern "C" void on_interrupt(int) { stop_flag = 1; }
 
 using Clock = std::chrono::steady_clock;
 
-// 11: the body's FNV-1a checksum after the header (a damaged byte was resumed from silently).
-constexpr char kCheckpointMagic[] = "ishibashi checkpoint 11\n";
-
-// What the checkpoint's run was: the program, the input files and the run's settings
-// (command-line overrides included, dt_s the step it used), so that a resume rebuilds the same run.
-struct CheckpointHeader {
-  std::uint64_t program = 0, inputs = 0;
-  std::string scenario_file;
-  RunSettings settings;
-  int member = -1;  // of the scenario's ensemble
-};
-
-template <class Archive, class H>
-void visit_header(Archive& a, H& h) {
-  a.field(h.program), a.field(h.inputs), a.field(h.scenario_file);
-  for_each_run_setting([&](const SettingInfo&, auto member) { a.field(h.settings.*member); });
-  a.field(h.member);
-}
-
-CheckpointHeader read_header(CheckpointReader& in, const std::filesystem::path& file) {
-  if (in.text() != kCheckpointMagic) throw InputError(file.string() + ": not a checkpoint of this program");
-  CheckpointHeader h;
-  visit_header(in, h);
-  return h;
-}
-
 }  // namespace
 
 void request_stop() { stop_flag = 1; }
@@ -107,19 +81,8 @@ SeismicRun::~SeismicRun() = default;
 
 std::unique_ptr<SeismicRun> SeismicRun::resume(SeismicRunOptions options, const RunOverrides& overrides) {
   const std::filesystem::path file = options.out / "checkpoint.bin";
-  std::ifstream in(file, std::ios::binary);
-  if (!in) throw InputError(file.string() + ": no checkpoint to resume from (run with --checkpoint-every or --checkpoint-wall)");
-  CheckpointHeader h;
   std::string body;
-  try {
-    CheckpointReader reader(in);
-    h = read_header(reader, file);
-    const auto checksum = reader.value<std::uint64_t>();
-    body.assign(std::istreambuf_iterator<char>(in), {});
-    if (fnv1a(body) != checksum) throw CheckpointError("its contents differ from the checksum written with them");
-  } catch (const CheckpointError& e) {
-    throw InputError(file.string() + ": damaged checkpoint (" + e.what() + ")");
-  }
+  const CheckpointHeader h = read_checkpoint_file(file, &body);
   if (h.program != program_fingerprint())
     throw InputError(file.string() + ": written by another build of ishibashi; resume it with that build, or start the run again");
   if (!std::filesystem::exists(h.scenario_file))
@@ -211,20 +174,12 @@ void SeismicRun::write_checkpoint(Progress& p) {
                      std::filesystem::absolute(scenario_.file).string(), scenario_.settings, options_.member};
   h.settings.dt_s = dt_;  // the step used (dt_factor applied)
   p.result.wall_s = p.wall_s();  // the work so far, what a resumed run's wall time goes on from
-  write_atomically(options_.out / "checkpoint.bin", [&](const std::filesystem::path& tmp) {
-    std::ostringstream body;  // checksummed: a resume must not go on from a damaged state
-    CheckpointWriter body_writer(body);
-    p.visit(body_writer);
-    write_state(body_writer, s);
-    const std::string bytes = body.str();
-    std::ofstream file(tmp, std::ios::binary);
-    CheckpointWriter w(file);
-    w.text(kCheckpointMagic);
-    visit_header(w, h);
-    w.value<std::uint64_t>(fnv1a(bytes));
-    file.write(bytes.data(), static_cast<std::streamsize>(bytes.size()));
-    if (!file.flush()) throw std::runtime_error("cannot write " + tmp.string());
-  });
+  std::ostringstream body;
+  CheckpointWriter w(body);
+  p.visit(w);
+  write_state(w, s);
+  write_atomically(options_.out / "checkpoint.bin",
+                   [&](const std::filesystem::path& tmp) { write_checkpoint_file(tmp, h, body.str()); });
   p.checkpoint_time_s = s.time_s;
   p.checkpoint_wall = Clock::now();
 }

@@ -187,8 +187,9 @@ TEST(Sweep, MembersAreMoreSamplesPerLevel) {
   EXPECT_NE(text_of(out / "fragility_fit.csv").find(",8,"), std::string::npos) << text_of(out / "fragility_fit.csv");
 }
 
-// A sweep file with both `scenario` and `scenarios`, two variants of one name, or a name
-// with a comma (names are run folders and fields of the rows) is refused with what is wrong.
+// A sweep file with both `scenario` and `scenarios`, two variants of one name, a name with
+// a comma or two levels of one label (names are run folders and fields of the rows) is
+// refused with what is wrong.
 TEST(Sweep, AmbiguousScenariosAreRefused) {
   const auto dry = scenario_file("ishibashi_sweep_dry", 0);
   auto message = [](const std::filesystem::path& file) {
@@ -210,6 +211,13 @@ TEST(Sweep, AmbiguousScenariosAreRefused) {
   std::filesystem::copy_file(dry, comma, std::filesystem::copy_options::overwrite_existing);
   const std::string named = message(sweep_file("scenarios = [\"" + comma.string() + "\"]"));
   EXPECT_NE(named.find("must be letters, digits"), std::string::npos) << named;
+  // Two levels of one label ("%g": 0.5 and 0.5000001) would name the same runs' folders.
+  const auto file = sweep_file();
+  std::string text = text_of(file);
+  text.replace(text.find("scale = [0.5, 1.0]"), 18, "scale = [0.5, 0.5000001]");
+  std::ofstream(file) << text;
+  const std::string level = message(file);
+  EXPECT_NE(level.find("lists the level 0.5 twice"), std::string::npos) << level;
 }
 
 }  // namespace
