@@ -134,7 +134,7 @@ CLI::App* add_study_command(CLI::App& app, ishibashi::StudyCommandOptions& study
   study_cmd->add_flag("--quick", study.quick, "the study file's short version ([quick]): what CI runs");
   study_cmd->add_option("--jobs", study.jobs, "analyses run at once")->check(CLI::Range(1, 256));
   study_cmd->add_option("--threads-per-job", study.threads_per_job, "threads of each analysis (default: cores / jobs)")
-      ->check(CLI::Range(0, 1024));
+      ->check(CLI::Range(0, ishibashi::kMaxThreads));
   study_cmd->add_option("--members", study.members,
                          "run each seismic run as an ensemble of N members (replacing the study file's members; "
                          "0 or 1: single runs); the report gives each run's probabilities")
@@ -157,7 +157,7 @@ CLI::App* add_sweep_command(CLI::App& app, ishibashi::SweepCommandOptions& sweep
   sweep_cmd->add_option("--jobs", sweep.jobs, "runs at once on this machine (under mpirun: one per rank)")
       ->check(CLI::Range(1, 256));
   sweep_cmd->add_option("--threads-per-job", sweep.threads_per_job, "threads of each run (default: the node's cores shared)")
-      ->check(CLI::Range(0, 1024));
+      ->check(CLI::Range(0, ishibashi::kMaxThreads));
   return sweep_cmd;
 }
 
@@ -168,7 +168,8 @@ int main(int argc, char** argv) {
   app.set_version_flag("--version", std::string("ishibashi ") + ISHIBASHI_VERSION);
   app.require_subcommand(1);
   int threads = 0;
-  app.add_option("--threads", threads, "OpenMP threads (default: OMP_NUM_THREADS, else every core this process may use, CPU quota included)")->check(CLI::NonNegativeNumber);
+  app.add_option("--threads", threads, "OpenMP threads (default: OMP_NUM_THREADS, else every core this process may use, CPU quota included)")
+      ->check(CLI::Range(0, ishibashi::kMaxThreads));
 
   ishibashi::DemoOptions demo;
   CLI::App* demo_cmd = add_demo_command(app, demo);

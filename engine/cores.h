@@ -16,6 +16,9 @@ int cores_in_quota(long long quota_us, long long period_us);
 // the file-system root holding proc/ and sys/ (a fake tree in the tests).
 int usable_cores(const std::filesystem::path& root = "/");
 
+// The largest team a run's loops use (engine/team.h): more threads than this is a typo.
+constexpr int kMaxThreads = 256;
+
 // The one decision of how many threads an analysis runs on. `requested` > 0 (a --threads
 // option, a scenario's [run] threads, a study's threads per job) is taken as given;
 // otherwise OMP_NUM_THREADS when it is set, else every usable core, shared among `jobs`

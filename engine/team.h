@@ -24,6 +24,8 @@
 #include <thread>
 #include <vector>
 
+#include "engine/cores.h"
+
 namespace ishibashi {
 
 // One thread's share of the loops since the last Team::clear_times: seconds on the team's
@@ -40,7 +42,7 @@ class Team {
  public:
   using ChunkFn = void (*)(const void* context, int chunk);
   static constexpr int kMaxChunks = 1024;
-  static constexpr int kMaxThreads = 256;
+  static constexpr int kMaxThreads = ishibashi::kMaxThreads;
 
   // The team of the calling thread: its workers start on first use and stop when the
   // thread exits (each `study --jobs` job has its own).

@@ -11,6 +11,7 @@
 #include <string>
 #include <type_traits>
 
+#include "engine/cores.h"
 #include "engine/model.h"
 
 namespace ishibashi {
@@ -63,7 +64,7 @@ void for_each_run_setting(Fn&& fn) {
   fn(SettingInfo{"run", "output_interval_s", "--output-interval", "ParaView frames and history rows every this many s", 0, inf,
                  true},
      &S::output_interval_s);
-  fn(SettingInfo{"run", "threads", "--threads", "threads (0: every usable core)", 0, inf}, &S::threads);
+  fn(SettingInfo{"run", "threads", "--threads", "threads (0: every usable core)", 0, kMaxThreads}, &S::threads);
   fn(SettingInfo{"run", "subdivision", "--subdivision", "contact subdivision", 1, kMaxSubdivision}, &S::subdivision);
   fn(SettingInfo{"run", "joint_rule", "--joint-rule",
                  "joint points: \"corners\" (the study's corner contacts) or \"moments\" (corners, centroid and fan "

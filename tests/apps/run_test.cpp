@@ -202,7 +202,8 @@ TEST(Run, ProfileTableAndTraceOfAShortRun) {
 }
 
 // A number flag given nan or inf is refused before anything runs: CLI11's own checks
-// (PositiveNumber, Range) compare, and every comparison with a NaN is false.
+// (PositiveNumber, Range) compare, and every comparison with a NaN is false. So is a
+// thread count beyond what a team holds.
 TEST(Run, NanOrInfinityOnTheCommandLineIsRefused) {
   for (const char* flag : {"--dt nan", "--duration inf", "--start nan", "--dt-factor nan", "--settle-max -inf"}) {
     int status = 0;
@@ -214,6 +215,13 @@ TEST(Run, NanOrInfinityOnTheCommandLineIsRefused) {
     EXPECT_NE(output.find(value + " is not a finite number"), std::string::npos) << flag << ": " << output;
     EXPECT_FALSE(std::filesystem::exists(test::tmp_dir() / "ishibashi_run_nan")) << flag;
   }
+  // More threads than a team holds (engine/cores.h kMaxThreads) is a typo, not a request.
+  int status = 0;
+  const std::string threads = test::run_command(std::string(ISHIBASHI_BINARY) + " run --quiet " + short_scenario(0.05).string() +
+                                                    " --threads 1000 --out " + (test::tmp_dir() / "ishibashi_run_nan").string(),
+                                                &status);
+  EXPECT_NE(status, 0);
+  EXPECT_NE(threads.find("--threads: Value 1000 not in range 0 to 256"), std::string::npos) << threads;
 }
 
 
