@@ -25,7 +25,6 @@ std::vector<CLI::Option*> add_run_setting_flags(CLI::App* cmd, RunOverrides& ove
     } else {
       CLI::Option* option = cmd->add_option_function<T>(
           info.flag, [&overrides, member](const T& value) { overrides.set(member, value); }, help);
-      if constexpr (std::is_floating_point_v<T>) option->check(finite_number());
       if (info.open_min) option->check(CLI::PositiveNumber);
       else if (std::isinf(info.max) && info.min == 0) option->check(CLI::NonNegativeNumber);
       else option->check(CLI::Range(static_cast<T>(info.min), std::isinf(info.max) ? std::numeric_limits<T>::max() : static_cast<T>(info.max)));

@@ -1,8 +1,5 @@
 #include "io/study_file.h"
 
-#include <set>
-#include <string>
-
 #include "io/toml_reader.h"
 
 namespace ishibashi {
@@ -12,8 +9,8 @@ namespace {
 void read_common(TableReader& t, const std::filesystem::path& file, StudyFile& s) {
   const std::filesystem::path base = std::filesystem::absolute(file).parent_path();
   std::vector<std::filesystem::path> models, scenarios;
-  t.paths("models", base, models);
-  t.paths("scenarios", base, scenarios);
+  t.paths_of_distinct_stems("models", base, models);
+  t.paths_of_distinct_stems("scenarios", base, scenarios);
   if (!models.empty()) s.models = models;
   if (!scenarios.empty()) s.scenarios = scenarios;
   t.non_negative_numbers("snapshot_times_s", s.snapshot_times_s);
@@ -100,15 +97,6 @@ StudyFile read_study(const std::filesystem::path& file, bool quick) {
     throw InputError(file.string() + ": [study] lists no models and no scenarios (models = [\"...\"], scenarios = [\"...\"])");
   if (s.modes < 1 || s.modes > 500) throw InputError(file.string() + ": modes must be 1 to 500, not " + std::to_string(s.modes));
   if (s.impulse_s < 0) throw InputError(file.string() + ": impulse_s must be >= 0 (0: no impulse responses)");
-  // Each analysis writes to a folder named by its file's stem: two files of one stem would
-  // write into one folder, at once when the study runs jobs side by side.
-  for (const auto* list : {&s.models, &s.scenarios}) {
-    std::set<std::string> stems;
-    for (const auto& p : *list)
-      if (!stems.insert(p.stem().string()).second)
-        throw InputError(file.string() + ": " + (list == &s.models ? "models" : "scenarios") + " lists '" +
-                         p.stem().string() + "' twice (each one's outputs go to a folder of that name)");
-  }
   for (const auto& p : s.models)
     if (!std::filesystem::exists(p)) throw InputError(file.string() + ": model file " + p.string() + " does not exist");
   for (const auto& p : s.scenarios)

@@ -32,7 +32,7 @@ SweepFile read_sweep(const std::filesystem::path& file) {
   TableReader sweep(file, root, "sweep");
   std::string scenario;
   sweep.text("scenario", scenario);
-  sweep.paths("scenarios", base, s.scenarios);
+  sweep.paths_of_distinct_stems("scenarios", base, s.scenarios);
   sweep.number("duration_s", s.duration_s);
   sweep.integer_at_least("members", s.members, 1);
   std::vector<double> pga, scale;
@@ -43,15 +43,11 @@ SweepFile read_sweep(const std::filesystem::path& file) {
     throw InputError(file.string() + ": [sweep] needs either scenario = \"...\" (the model and how to run it) or scenarios = "
                      "[\"...\", ...] (variants to compare on the same records)");
   if (!scenario.empty()) s.scenarios.push_back(base / scenario);
-  std::set<std::string> stems;
   for (const std::filesystem::path& sc : s.scenarios) {
     if (!std::filesystem::exists(sc)) throw InputError(file.string() + ": scenario " + sc.string() + " does not exist");
     if (!is_folder_name(sc.stem().string()))
       throw InputError(file.string() + ": scenario file name " + sc.filename().string() +
                        " must be letters, digits, '_', '-' or '.' before .toml (it names folders and rows of sweep.csv)");
-    if (!stems.insert(sc.stem().string()).second)
-      throw InputError(file.string() + ": two scenarios are named '" + sc.stem().string() +
-                       "' (a variant is named by its file name, which names its runs' folders)");
   }
   if (pga.empty() == scale.empty())
     throw InputError(file.string() + ": [sweep] needs either pga_g = [...] (target PGAs, g) or scale = [...] (factors)");

@@ -165,6 +165,19 @@ class TableReader {
       }
     }
   }
+  // The same for files whose stems name folders (a study's or a sweep's runs): two files of
+  // one stem would write into one folder, at once when jobs run side by side.
+  void paths_of_distinct_stems(const char* key, const std::filesystem::path& base, std::vector<std::filesystem::path>& out) {
+    const std::size_t first = out.size();
+    paths(key, base, out);
+    std::set<std::string> stems;
+    for (std::size_t i = first; i < out.size(); ++i) {
+      const std::string stem = out[i].stem().string();
+      if (!stems.insert(stem).second)
+        fail(*find(key)->as_array()->get(i - first),
+             std::string("'") + key + "' names '" + stem + "' twice (each one's outputs go to a folder of that name)");
+    }
+  }
   void boolean(const char* key, bool& out) {
     if (const toml::node* n = find(key)) {
       if (auto v = n->value_exact<bool>()) out = *v;  // value<bool> would take 0 and 1

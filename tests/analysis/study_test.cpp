@@ -170,7 +170,7 @@ TEST(Study, BadStudyFileNamesTheFileAndLine) {
   EXPECT_NE(members.find(file.string() + ":3: "), std::string::npos) << members;
   // Two files of one stem would write one folder (at once, with --jobs 2).
   const std::string twice = refused("[study]\nscenarios = [\"a/run.toml\", \"b/run.toml\"]\n");
-  EXPECT_NE(twice.find(file.string() + ": scenarios lists 'run' twice"), std::string::npos) << twice;
+  EXPECT_NE(twice.find(file.string() + ":2: 'scenarios' names 'run' twice"), std::string::npos) << twice;
   const std::string nan = refused("[study]\nscenarios = [\"nowhere.toml\"]\nduration_s = nan\n");
   EXPECT_NE(nan.find(file.string() + ":3: 'duration_s' is nan; it must be a finite number"), std::string::npos) << nan;
 }

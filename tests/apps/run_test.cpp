@@ -215,8 +215,12 @@ TEST(Run, NanOrInfinityOnTheCommandLineIsRefused) {
     EXPECT_NE(output.find(value + " is not a finite number"), std::string::npos) << flag << ": " << output;
     EXPECT_FALSE(std::filesystem::exists(test::tmp_dir() / "ishibashi_run_nan")) << flag;
   }
-  // More threads than a team holds (engine/cores.h kMaxThreads) is a typo, not a request.
   int status = 0;
+  const std::string word = test::run_command(std::string(ISHIBASHI_BINARY) + " run --quiet " + short_scenario(0.05).string() +
+                                                 " --duration ten", &status);
+  EXPECT_NE(status, 0);
+  EXPECT_NE(word.find("--duration: ten is not a number"), std::string::npos) << word;
+  // More threads than a team holds (engine/cores.h kMaxThreads) is a typo, not a request.
   const std::string threads = test::run_command(std::string(ISHIBASHI_BINARY) + " run --quiet " + short_scenario(0.05).string() +
                                                     " --threads 1000 --out " + (test::tmp_dir() / "ishibashi_run_nan").string(),
                                                 &status);
