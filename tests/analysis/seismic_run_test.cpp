@@ -67,14 +67,14 @@ TEST(SeismicRun, BridgeRunIsBitIdenticalOnOneTwoAndFourThreadsAndBesideAnotherRu
 }
 
 // Model B (1,000 blocks: walls and a stone fill on the ring), 0.02 s settling and 0.02 s
-// of the strongest pulses: the same state on 1, 2, 3 and 4 threads and run twice.
-TEST(SeismicRun, ModelBIsBitIdenticalOnOneToFourThreadsAndRunTwice) {
+// of the strongest pulses: the same state on 1, 2, 3 and 4 threads. (Runs one after another
+// in one process leave nothing behind: the test above runs model A five times.)
+TEST(SeismicRun, ModelBIsBitIdenticalOnOneToFourThreads) {
   const SeismicRunResult one = run_into("ishibashi_analysis_b1", strong_pulses(1, "nishida_b", 0.02, 0.02));
   EXPECT_GT(one.joints, 1000);
   for (int threads : {2, 3, 4})
     expect_identical(one, run_into("ishibashi_analysis_b" + std::to_string(threads), strong_pulses(threads, "nishida_b", 0.02, 0.02)),
                      std::to_string(threads) + " threads");
-  expect_identical(one, run_into("ishibashi_analysis_b1_again", strong_pulses(1, "nishida_b", 0.02, 0.02)), "again");
 }
 
 }  // namespace

@@ -127,7 +127,7 @@ void expect_valid_outputs(const std::filesystem::path& out) {
 TEST(Run, ShortSeismicRunWritesOutputsVtkReads) {
   const auto out = std::filesystem::temp_directory_path() / "ishibashi_run";
   std::filesystem::remove_all(out);
-  const std::string cmd = std::string(ISHIBASHI_BINARY) + " run --quiet " + short_scenario(0.1).string() + " --out " + out.string();
+  const std::string cmd = std::string(ISHIBASHI_BINARY) + " run --quiet " + short_scenario(0.05, 0.05).string() + " --out " + out.string();
   ASSERT_EQ(std::system(cmd.c_str()), 0) << cmd;
   expect_valid_outputs(out);
 }
@@ -260,9 +260,9 @@ TEST(Run, DurationPastTheRecordsEndIsSaid) {
   int status = 0;
   const auto out = test::tmp_dir() / "ishibashi_run_past_end";
   const std::string output = test::run_command(std::string(ISHIBASHI_BINARY) + " run --quiet " + short_scenario(1.0, 0.01).string() +
-                                                   " --start 149.9 --out " + out.string(), &status);
+                                                   " --start 149.97 --out " + out.string(), &status);
   EXPECT_EQ(status, 0) << output;
-  EXPECT_NE(output.find("the record ends 0.08 s after start_s: the run shakes for that long, not the 1.00 s asked"),
+  EXPECT_NE(output.find("the record ends 0.01 s after start_s: the run shakes for that long, not the 1.00 s asked"),
             std::string::npos) << output;
   std::filesystem::remove_all(out);
 }
