@@ -18,6 +18,11 @@ jobs=(
   # Issue 45 item 3: model B dry's explicit ensemble, the same seed as the fast path's
   # (scenarios/results/ensembles/b_dry_implicit_4e-5_ensemble.csv); --jobs 2 keeps both cores.
   "ensemble|be8e1f2|out/ensembles/b_dry_explicit|scenarios/nishida_b_kobe_dry.toml --members 5 --seed 1 --jobs 2 --threads 1"
+  # Issue 48 item 5's other marginal runs on the explicit reference (the fast path is not
+  # verified): model E dry and with mortar, five members each, the seed of A's and B's
+  # ensembles; ff7154d's program (every preset's hash as today's).
+  "ensemble|ff7154d|out/ensembles/e_dry_explicit|scenarios/nishida_e_kobe_dry.toml --members 5 --seed 1 --jobs 2 --threads 1"
+  "ensemble|ff7154d|out/ensembles/e_mortar_explicit|scenarios/nishida_e_kobe_mortar.toml --members 5 --seed 1 --jobs 2 --threads 1"
   # Issue 45 item 2: model C with mortar through the first strong pulse against dt, the
   # program of C dry's runs (9863251).
   "dt|9863251|out/dt_c_mortar/explicit|scenarios/nishida_c_kobe_mortar.toml --duration 3.6 --threads 1"
