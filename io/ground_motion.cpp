@@ -235,65 +235,94 @@ Record read_columns(const std::filesystem::path& file, AccelerationUnit unit, do
   return r;
 }
 
-GroundMotion prepare_ground_motion(const GroundMotionSpec& spec, double dt_s) {
-  std::array<Record, 3> records;
+GroundMotionStream::GroundMotionStream(const GroundMotionSpec& spec, double dt_s) : dt_s_(dt_s), start_s_(spec.start_s) {
   double end = INFINITY;
   bool any = false;
   for (int c = 0; c < 3; ++c) {
     if (!spec.component[c]) continue;
     const ComponentSpec& cs = *spec.component[c];
-    if (cs.format == "at2") records[c] = read_at2(cs.file);
-    else if (cs.format == "knet") records[c] = read_knet(cs.file);
-    else if (cs.format == "columns") records[c] = read_columns(cs.file, cs.unit, cs.dt_s);
+    Record r;
+    if (cs.format == "at2") r = read_at2(cs.file);
+    else if (cs.format == "knet") r = read_knet(cs.file);
+    else if (cs.format == "columns") r = read_columns(cs.file, cs.unit, cs.dt_s);
     else throw InputError(cs.file.string() + ": unknown format '" + cs.format + "' (at2, knet or columns)");
-    for (double& a : records[c].accel_m_s2) a *= cs.scale;
-    end = std::min(end, records[c].dt_s * (records[c].accel_m_s2.size() - 1));
+    for (double& a : r.accel_m_s2) a *= cs.scale;
+    end = std::min(end, r.dt_s * (r.accel_m_s2.size() - 1));
+    record_[c] = std::move(r);
     any = true;
   }
   if (!any) throw InputError("ground motion: no component given (x, y or z)");
   if (spec.start_s < 0 || spec.start_s >= end)
     throw InputError("ground motion: start_s must lie in [0, " + std::to_string(end) + ") s");
   const double duration = spec.duration_s > 0 ? std::min(spec.duration_s, end - spec.start_s) : end - spec.start_s;
+  steps_ = static_cast<long>(std::floor(duration / dt_s));
 
-  GroundMotion g;
-  g.dt_s = dt_s;
-  const std::size_t n = static_cast<std::size_t>(std::floor(duration / dt_s)) + 1;
-  g.accel_m_s2.assign(n, Vec3::Zero());
-  for (int c = 0; c < 3; ++c) {
-    if (!spec.component[c]) continue;
-    const Record& r = records[c];
-    // Linear interpolation of the record at the engine's steps.
-    for (std::size_t k = 0; k < n; ++k) {
-      const double t = (spec.start_s + k * dt_s) / r.dt_s;
-      const std::size_t i = std::min(static_cast<std::size_t>(t), r.accel_m_s2.size() - 2);
-      const double f = t - i;
-      g.accel_m_s2[k][c] = (1 - f) * r.accel_m_s2[i] + f * r.accel_m_s2[i + 1];
-    }
-    if (spec.baseline_correction) {
-      // Remove the least-squares linear trend of the velocity (a constant offset of the
-      // acceleration), so that the ground does not drift away at the end of the record.
-      std::vector<double> v(n, 0.0);
-      for (std::size_t k = 1; k < n; ++k) v[k] = v[k - 1] + 0.5 * (g.accel_m_s2[k - 1][c] + g.accel_m_s2[k][c]) * dt_s;
+  if (spec.baseline_correction) {
+    // Remove the least-squares linear trend of the velocity (a constant offset of the
+    // acceleration), so that the ground does not drift away at the end of the record.
+    const long n = steps_ + 1;
+    for (int c = 0; c < 3; ++c) {
+      if (!record_[c]) continue;
+      double v = 0, a = acceleration_at(0)[c];
       double st = 0, sv = 0, stt = 0, stv = 0;
-      for (std::size_t k = 0; k < n; ++k) {
+      for (long k = 0; k < n; ++k) {
+        if (k > 0) {
+          const double next = acceleration_at(k)[c];
+          v = v + 0.5 * (a + next) * dt_s;
+          a = next;
+        }
         const double t = k * dt_s;
         st += t;
-        sv += v[k];
+        sv += v;
         stt += t * t;
-        stv += t * v[k];
+        stv += t * v;
       }
-      const double slope = (n * stv - st * sv) / (n * stt - st * st);
-      for (std::size_t k = 0; k < n; ++k) g.accel_m_s2[k][c] -= slope;
+      baseline_m_s2_[c] = (n * stv - st * sv) / (n * stt - st * st);
     }
   }
-  // Velocity and displacement by the trapezoidal rule, starting from rest.
-  g.velocity_m_s.assign(n, Vec3::Zero());
-  g.displacement_m.assign(n, Vec3::Zero());
-  for (std::size_t k = 1; k < n; ++k) {
-    g.velocity_m_s[k] = g.velocity_m_s[k - 1] + 0.5 * (g.accel_m_s2[k - 1] + g.accel_m_s2[k]) * dt_s;
-    g.displacement_m[k] = g.displacement_m[k - 1] + 0.5 * (g.velocity_m_s[k - 1] + g.velocity_m_s[k]) * dt_s;
+  rewind_to(0);
+}
+
+Vec3 GroundMotionStream::acceleration_at(long step) const {
+  Vec3 a = Vec3::Zero();
+  for (int c = 0; c < 3; ++c) {
+    if (!record_[c]) continue;
+    const std::vector<double>& r = record_[c]->accel_m_s2;
+    const double t = (start_s_ + step * dt_s_) / record_[c]->dt_s;
+    const std::size_t i = std::min(static_cast<std::size_t>(t), r.size() - 2);
+    const double f = t - i;
+    a[c] = (1 - f) * r[i] + f * r[i + 1];
+    a[c] -= baseline_m_s2_[c];
   }
-  return g;
+  return a;
+}
+
+void GroundMotionStream::advance() {
+  const Vec3 accel = acceleration_at(step_ + 1);
+  const Vec3 velocity = velocity_ + 0.5 * (accel_ + accel) * dt_s_;
+  displacement_ = displacement_ + 0.5 * (velocity_ + velocity) * dt_s_;
+  velocity_ = velocity;
+  accel_ = accel;
+  ++step_;
+}
+
+void GroundMotionStream::rewind_to(long step) {
+  step_ = 0;
+  accel_ = acceleration_at(0);
+  velocity_ = displacement_ = Vec3::Zero();
+  while (step_ < step) advance();
+}
+
+GroundMotion prepare_ground_motion(const GroundMotionSpec& spec, double dt_s) {
+  GroundMotionStream stream(spec, dt_s);
+  GroundMotion g;
+  g.dt_s = dt_s;
+  for (;; stream.advance()) {
+    g.accel_m_s2.push_back(stream.accel_m_s2());
+    g.velocity_m_s.push_back(stream.velocity_m_s());
+    g.displacement_m.push_back(stream.displacement_m());
+    if (stream.step() == stream.steps()) return g;
+  }
 }
 
 double horizontal_pga_m_s2(const GroundMotionSpec& spec) {

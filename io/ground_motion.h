@@ -51,7 +51,41 @@ struct GroundMotionSpec {
   bool baseline_correction = true;
 };
 
-// The ground's motion at the engine's time step: sample k is at time k * dt_s.
+// The ground's motion at the engine's steps (step k at time k * dt_s from the window's
+// start), computed as a run reaches each step: it keeps the records, not a table per
+// step, so a run's memory does not grow with its duration (a table of 10 s at 4e-6 s is
+// 180 MB, of a whole record GBs, per ensemble member). The acceleration is the records
+// interpolated linearly, scaled, less the baseline's constant; velocity and displacement
+// are their trapezoidal sums from rest, the same additions in the same order at any step.
+class GroundMotionStream {
+ public:
+  GroundMotionStream() = default;
+  GroundMotionStream(const GroundMotionSpec& spec, double dt_s);
+
+  double dt_s() const { return dt_s_; }
+  long steps() const { return steps_; }  // the last step: the motion lasts steps() * dt_s()
+  double duration_s() const { return dt_s_ * steps_; }
+
+  long step() const { return step_; }  // where the stream is; the values below are there
+  const Vec3& accel_m_s2() const { return accel_; }
+  const Vec3& velocity_m_s() const { return velocity_; }
+  const Vec3& displacement_m() const { return displacement_; }
+
+  void advance();             // to step() + 1 (at most steps())
+  void rewind_to(long step);  // from step 0 again (a resumed run): O(step), a few ms a million steps
+
+ private:
+  Vec3 acceleration_at(long step) const;
+
+  double dt_s_ = 0.0, start_s_ = 0.0;
+  long steps_ = 0, step_ = 0;
+  std::array<std::optional<Record>, 3> record_;  // x, y, z, scaled
+  Vec3 baseline_m_s2_ = Vec3::Zero();            // the constant removed from each component
+  Vec3 accel_ = Vec3::Zero(), velocity_ = Vec3::Zero(), displacement_ = Vec3::Zero();
+};
+
+// The same motion as a table (sample k at time k * dt_s), for analyses at a coarse step:
+// spectra, Arias intensity, the report's plots.
 struct GroundMotion {
   double dt_s = 0.0;
   std::vector<Vec3> accel_m_s2, velocity_m_s, displacement_m;

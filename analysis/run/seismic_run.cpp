@@ -62,7 +62,7 @@ SeismicRun::SeismicRun(const Scenario& scenario, SeismicRunOptions options)
                                                                : kStudyDtShare;
   dt_ = (settings.dt_s > 0 ? settings.dt_s : share * limit_s_) * options_.dt_factor;
   steps_per_frame_ = std::max(1L, std::lround(settings.output_interval_s / dt_));
-  ground_ = prepare_ground_motion(motion, dt_);
+  ground_ = GroundMotionStream(motion, dt_);
   world_ = std::make_unique<World>(model, dt_);
   world_->set_adaptive_threads(options_.adaptive_threads);
   world_->set_thread_timing(options_.time_threads);
@@ -245,18 +245,21 @@ void SeismicRun::shake(Progress& p) {
   const Model& m = world.model();
   State& s = world.state();
   SeismicRunResult& r = p.result;
-  const GroundMotion& ground = ground_;
-  const long n = static_cast<long>(ground.accel_m_s2.size()) - 1;
+  GroundMotionStream& ground = ground_;
+  const long n = ground.steps();
   const int crown = monitored_block();
-  if (p.shake_step > 0) p.ground_accel = ground.accel_m_s2[p.shake_step], p.ground_displacement = ground.displacement_m[p.shake_step];
+  if (ground.step() != p.shake_step) ground.rewind_to(p.shake_step);  // a resumed run
+  if (p.shake_step > 0) p.ground_accel = ground.accel_m_s2(), p.ground_displacement = ground.displacement_m();
   const JointThresholds thresholds;
   for (long k = p.shake_step; p.shaking && k < n && !stop_requested(); ++k) {
-    const Vec3 v = 0.5 * (ground.velocity_m_s[k] + ground.velocity_m_s[k + 1]);  // exact displacement per step
+    const Vec3 velocity_before = ground.velocity_m_s();
+    ground.advance();
+    const Vec3 v = 0.5 * (velocity_before + ground.velocity_m_s());  // exact displacement per step
     for (int b = 0; b < m.block_count; ++b)
       if (m.motion[b] == Motion::prescribed) s.velocity[b] = v;
     world.step();
-    p.ground_accel = ground.accel_m_s2[k + 1];
-    p.ground_displacement = ground.displacement_m[k + 1];
+    p.ground_accel = ground.accel_m_s2();
+    p.ground_displacement = ground.displacement_m();
     if (r.first_opening_s < 0 && (k + 1) % 50 == 0 && count_damage(m, s, thresholds, p.joints).joints.cracked > 0)
       r.first_opening_s = s.time_s - r.settle_time_s;
     if (crown >= 0)  // the crown's drop relative to the ground since settling

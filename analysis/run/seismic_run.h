@@ -86,7 +86,7 @@ class SeismicRun {
   double dt_s() const { return dt_; }
   double stability_limit_s() const { return limit_s_; }
   int limiting_block() const { return limiting_block_; }
-  const GroundMotion& ground_motion() const { return ground_; }
+  const GroundMotionStream& ground_motion() const { return ground_; }
   int monitored_block() const { return monitors_.empty() ? -1 : monitors_.front(); }
 
   // Settles, then shakes; returns when the ground motion ends or a stop is requested.
@@ -106,7 +106,7 @@ class SeismicRun {
   double limit_s_ = 0, dt_ = 0;
   long steps_per_frame_ = 1;  // steps between output frames
   int limiting_block_ = -1;
-  GroundMotion ground_;
+  GroundMotionStream ground_;
   std::unique_ptr<World> world_;
   std::vector<int> monitors_;
   std::string resume_from_;  // the checkpoint's body (after its header); empty: a new run
