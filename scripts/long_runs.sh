@@ -9,6 +9,7 @@
 #
 #   nohup nice -n 19 bash scripts/long_runs.sh ensemble > out/long_runs_ensemble.log 2>&1 &
 #   nohup nice -n 19 bash scripts/long_runs.sh dt > out/long_runs_dt.log 2>&1 &
+#   nohup nice -n 19 bash scripts/long_runs.sh probe > out/long_runs_probe.log 2>&1 &
 set -euo pipefail
 root=$(cd "$(dirname "$0")/.." && pwd)
 cd "$root"
@@ -44,6 +45,12 @@ jobs=(
   # seed (about 1 hour a member on the fast path and 2 explicit, on a free core).
   "b_mortar|ff7154d|out/ensembles/b_mortar_implicit_4e-5|scenarios/nishida_b_kobe_mortar.toml --members 5 --seed 1 --jobs 2 --threads 1 --damping implicit --dt 4e-5"
   "b_mortar|ff7154d|out/ensembles/b_mortar_explicit|scenarios/nishida_b_kobe_mortar.toml --members 5 --seed 1 --jobs 2 --threads 1"
+  # Issue 48 item 2's other marginal runs (A dry's probe: scenarios/results, "Chaos alone"):
+  # each branched 1 micrometre apart where the strong motion begins, the reference and
+  # three perturbed members, one at a time (a third lane beside two), explicit dashpots.
+  "probe|ff7154d|out/probes/b_dry|scenarios/nishida_b_kobe_dry.toml --probe 4 --seed 1 --jobs 1 --threads 1"
+  "probe|ff7154d|out/probes/b_mortar|scenarios/nishida_b_kobe_mortar.toml --probe 4 --seed 1 --jobs 1 --threads 1"
+  "probe|ff7154d|out/probes/e_dry|scenarios/nishida_e_kobe_dry.toml --probe 4 --seed 1 --jobs 1 --threads 1"
 )
 
 frozen_binary() {  # out/bin/ishibashi_COMMIT, built when missing
@@ -62,8 +69,11 @@ frozen_binary() {  # out/bin/ishibashi_COMMIT, built when missing
   echo "$bin"
 }
 
-# A run's summary says so; an ensemble writes ensemble.json once every member has finished.
-finished() { [[ -f $1/ensemble.json ]] || { [[ -f $1/summary.json ]] && grep -q '"finished": true' "$1/summary.json"; }; }
+# A run's summary says so; an ensemble writes ensemble.json, a probe probe.json, once every
+# member has finished.
+finished() {
+  [[ -f $1/ensemble.json || -f $1/probe.json ]] || { [[ -f $1/summary.json ]] && grep -q '"finished": true' "$1/summary.json"; }
+}
 
 lane=${1:-list}
 if [[ $lane != list ]]; then
@@ -83,10 +93,10 @@ for job in "${jobs[@]}"; do
   [[ $job_lane == "$lane" ]] || continue
   bin=$(frozen_binary "$commit")
   # shellcheck disable=SC2086  # the arguments are words
-  if [[ $args == *--members* ]]; then
-    # An ensemble keeps its finished members and resumes the others from their checkpoints
-    # (the same arguments: they make the members' keys).
-    echo "$(date -u +%FT%TZ) $out: ensemble"
+  if [[ $args == *--members* || $args == *--probe* ]]; then
+    # An ensemble or a probe keeps its finished members and resumes the others from their
+    # checkpoints (the same arguments: they make the members' keys).
+    echo "$(date -u +%FT%TZ) $out: members"
     "$bin" run $args --out "$out"
   elif finished "$out"; then
     echo "$(date -u +%FT%TZ) $out: finished"
