@@ -3,9 +3,14 @@
 place of that model and variant's row (the others kept, rows sorted):
    study_ensemble_row.py ENSEMBLE_DIR MODEL VARIANT DAMPING COMMIT [CSV]
 ENSEMBLE_DIR holds the ensemble.json of `ishibashi run --members N`; MODEL a-f, VARIANT
-dry|mortar, DAMPING study|implicit|capped, COMMIT the program that ran it."""
+dry|mortar, DAMPING study|implicit|capped, COMMIT the program that ran it.
+   study_ensemble_row.py --single-runs STUDY_RUNS_CSV [CSV]
+gives each run of the study that has no ensemble row yet a row of its single run
+(scenarios/results/study_runs.csv: members 1, its outcome's Wilson interval of one sample),
+so that the table has a row per run and says which are single runs."""
 import csv
 import json
+import math
 import sys
 from pathlib import Path
 
@@ -30,7 +35,43 @@ def row_of(ensemble, model, variant, damping, commit):
     return row
 
 
+def wilson(successes, n, z=1.959963984540054):
+    """The 95 % Wilson score interval of a proportion (as analysis/batch/member_runs.cpp)."""
+    p = successes / n
+    centre = (p + z * z / (2 * n)) / (1 + z * z / n)
+    half = z / (1 + z * z / n) * math.sqrt(p * (1 - p) / n + z * z / (4 * n * n))
+    return p, max(0.0, centre - half), min(1.0, centre + half)
+
+
+def single_run_row(run):
+    """A study run's row as an ensemble of one (study_runs.csv's columns)."""
+    row = {"model": run["model"], "variant": run["variant"], "members": 1, "damping": "study", "commit": run["commit"]}
+    fallen = int(run["fallen_stones"])
+    for name, happened in (("p_collapse", run["collapse"] == "1"), ("p_stones_fall", fallen > 0),
+                           ("p_ring_stones_fall", int(run["fallen_ring_stones"]) > 0)):
+        row[name], row[name + "_lo"], row[name + "_hi"] = (f"{x:.3f}" for x in wilson(int(happened), 1))
+    row["fallen_median"] = row["fallen_min"] = row["fallen_max"] = str(fallen)
+    row["first_opening_median_s"] = run["first_opening_s"]
+    return row
+
+
+def write_rows(table, rows):
+    rows.sort(key=lambda r: (r["model"], r["variant"]))
+    with table.open("w", newline="") as f:
+        writer = csv.DictWriter(f, fieldnames=COLUMNS, lineterminator="\n")
+        writer.writeheader()
+        writer.writerows(rows)
+
+
 def main(argv):
+    if len(argv) in (3, 4) and argv[1] == "--single-runs":
+        table = Path(argv[3]) if len(argv) == 4 else DEFAULT_CSV
+        rows = list(csv.DictReader(table.open())) if table.exists() else []
+        have = {(r["model"], r["variant"]) for r in rows}
+        added = [single_run_row(run) for run in csv.DictReader(open(argv[2])) if (run["model"], run["variant"]) not in have]
+        write_rows(table, rows + added)
+        print(f"{table}: {len(added)} single runs added")
+        return
     if len(argv) not in (6, 7) or argv[3] not in ("dry", "mortar") or argv[2] not in "abcdef" or len(argv[2]) != 1:
         sys.exit(__doc__)
     folder, model, variant, damping, commit = argv[1:6]
@@ -40,12 +81,7 @@ def main(argv):
         sys.exit(f"{source}: no ensemble.json (run `ishibashi run SCENARIO --members N --out {folder}` first)")
     new = row_of(json.loads(source.read_text()), model, variant, damping, commit)
     rows = list(csv.DictReader(table.open())) if table.exists() else []
-    rows = [r for r in rows if (r["model"], r["variant"]) != (model, variant)] + [new]
-    rows.sort(key=lambda r: (r["model"], r["variant"]))
-    with table.open("w", newline="") as f:
-        writer = csv.DictWriter(f, fieldnames=COLUMNS, lineterminator="\n")
-        writer.writeheader()
-        writer.writerows(rows)
+    write_rows(table, [r for r in rows if (r["model"], r["variant"]) != (model, variant)] + [new])
     print(f"{table}: {model} {variant}, {new['members']} members")
 
 
