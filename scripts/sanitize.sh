@@ -35,7 +35,7 @@ build="$root/build-sanitize"
 # ISHIBASHI_SANITIZE: -O1 -g1 with both sanitizers.
 cmake -S "$root" -B "$build" -G Ninja -DCMAKE_BUILD_TYPE=None -DISHIBASHI_BUILD_PERF=OFF \
   -DISHIBASHI_SANITIZE=ON -DISHIBASHI_PLAIN_OBJECTS="$root/build" > /dev/null
-cmake --build "$build" --target engine_tests io_tests analysis_tests replay_corpus ishibashi
+cmake --build "$build" --target engine_tests step_allocation_tests io_tests analysis_tests replay_corpus ishibashi
 export ASAN_OPTIONS=detect_leaks=1:abort_on_error=1
 export UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1
 cd "$build" && ctest --output-on-failure --timeout 600 -j 2 \
