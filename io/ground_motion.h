@@ -72,7 +72,7 @@ class GroundMotionStream {
   const Vec3& displacement_m() const { return displacement_; }
 
   void advance();             // to step() + 1 (at most steps())
-  void rewind_to(long step);  // from step 0 again (a resumed run): O(step), a few ms a million steps
+  void rewind_to(long step);  // from step 0 again (a resumed run): about 16 ms a million steps
 
  private:
   Vec3 acceleration_at(long step) const;
