@@ -46,11 +46,14 @@ jobs=(
   "b_mortar|ff7154d|out/ensembles/b_mortar_implicit_4e-5|scenarios/nishida_b_kobe_mortar.toml --members 5 --seed 1 --jobs 2 --threads 1 --damping implicit --dt 4e-5"
   "b_mortar|ff7154d|out/ensembles/b_mortar_explicit|scenarios/nishida_b_kobe_mortar.toml --members 5 --seed 1 --jobs 2 --threads 1"
   # Issue 48 item 2's other marginal runs (A dry's probe: scenarios/results, "Chaos alone"):
-  # each branched 1 micrometre apart where the strong motion begins, the reference and
-  # three perturbed members, one at a time (a third lane beside two), explicit dashpots.
-  "probe|ff7154d|out/probes/b_dry|scenarios/nishida_b_kobe_dry.toml --probe 4 --seed 1 --jobs 1 --threads 1"
-  "probe|ff7154d|out/probes/b_mortar|scenarios/nishida_b_kobe_mortar.toml --probe 4 --seed 1 --jobs 1 --threads 1"
-  "probe|ff7154d|out/probes/e_dry|scenarios/nishida_e_kobe_dry.toml --probe 4 --seed 1 --jobs 1 --threads 1"
+  # each branched 1 micrometre apart where the strong motion begins (3.51 s of shaking),
+  # the reference and three perturbed members one at a time (a third lane beside two),
+  # explicit dashpots. How fast runs part, not their outcomes: 2 s past the branch (A's
+  # parted to 1 cm in 0.3 s), a quarter of a whole probe's cost. The branch as A's (where 10 s
+  # of shaking reach 5 % of their Arias intensity; a 5.5 s window would put it at 3.35 s).
+  "probe|ff7154d|out/probes/b_dry|scenarios/nishida_b_kobe_dry.toml --probe 4 --seed 1 --jobs 1 --threads 1 --duration 5.5 --branch-at 3.513"
+  "probe|ff7154d|out/probes/e_dry|scenarios/nishida_e_kobe_dry.toml --probe 4 --seed 1 --jobs 1 --threads 1 --duration 5.5 --branch-at 3.513"
+  "probe|ff7154d|out/probes/b_mortar|scenarios/nishida_b_kobe_mortar.toml --probe 4 --seed 1 --jobs 1 --threads 1 --duration 5.5 --branch-at 3.513"
 )
 
 frozen_binary() {  # out/bin/ishibashi_COMMIT, built when missing
@@ -75,6 +78,24 @@ finished() {
   [[ -f $1/ensemble.json || -f $1/probe.json ]] || { [[ -f $1/summary.json ]] && grep -q '"finished": true' "$1/summary.json"; }
 }
 
+# How far a job under way has shaken: each run's (each member's) seconds of shaking and wall
+# seconds so far, from its summary.json.
+progress() {
+  python3 - "$1" << 'PY'
+import json, pathlib, sys
+runs = sorted(p.parent for p in pathlib.Path(sys.argv[1]).glob("**/summary.json"))
+parts = []
+for run in runs:
+    try:
+        s = json.loads((run / "summary.json").read_text())
+    except ValueError:
+        continue
+    state = "done" if s.get("finished") else f"{s.get('shaking_time_s', 0):.2f} s shaken"
+    parts.append(f"{run.name}: {state}, {s.get('wall_s', 0) / 3600:.1f} h")
+print(": " + "; ".join(parts) if parts else "")
+PY
+}
+
 lane=${1:-list}
 if [[ $lane != list ]]; then
   # One process per lane: two would write the same folders.
@@ -86,7 +107,7 @@ for job in "${jobs[@]}"; do
   IFS='|' read -r job_lane commit out args <<< "$job"
   if [[ $lane == list ]]; then
     state="not started"
-    if finished "$out"; then state=finished; elif [[ -e $out ]]; then state="under way"; fi
+    if finished "$out"; then state=finished; elif [[ -e $out ]]; then state="under way$(progress "$out")"; fi
     printf '%-9s %s  %-40s %s\n' "$job_lane" "$commit" "$out" "$state"
     continue
   fi
