@@ -64,19 +64,21 @@ Window shaken_wall_window(Damping damping, int warm_up, int steps) {
   spec.options.damping = damping;
   World w(make_wall_model(spec), damping == Damping::study ? 1e-5 : 3e-5);
   State& s = w.state();
-  Window window;
+  const auto counts_now = [&] {
+    return Window{allocations.load(), s.profile.broadphase_rebuilds, s.profile.contact_regroups};
+  };
+  Window at_warm_up;
   for (int i = 0; i < steps; ++i) {
-    if (i == warm_up) window = {-allocations.load(), -s.profile.broadphase_rebuilds, -s.profile.contact_regroups};
+    if (i == warm_up) at_warm_up = counts_now();
     s.velocity[0].x() += 0.8 * 9.81 * std::sin(2 * M_PI * 5.0 * s.time_s) * w.dt_s();
     counting = true;
     w.step();
     counting = false;
   }
-  window.allocations += allocations.load();
-  window.rebuilds += s.profile.broadphase_rebuilds;
-  window.regroups += s.profile.contact_regroups;
+  const Window end = counts_now();
   omp_set_num_threads(saved);
-  return window;
+  return {end.allocations - at_warm_up.allocations, end.rebuilds - at_warm_up.rebuilds,
+          end.regroups - at_warm_up.regroups};
 }
 
 TEST(StepAllocation, NoneOnceTheBuffersHaveGrown) {

@@ -96,11 +96,10 @@ TEST(GroundMotion, KnetAndColumnsReadWithUnits) {
   EXPECT_NEAR(one.accel_m_s2[2], 0.3 * 9.80665, 1e-12);
 }
 
-TEST(GroundMotion, ResampledAndIntegratedConsistently) {
-  // A 2 Hz sine of 1 m/s^2 sampled at 0.01 s, resampled to 1e-3 s: the velocity and
-  // displacement follow the closed-form integrals.
+// x: a 2 Hz sine of 1 m/s^2 plus `offset_m_s2`, 2 s (four periods) sampled at 0.01 s.
+GroundMotionSpec sine_spec(double offset_m_s2, bool baseline_correction) {
   std::string text;
-  for (int i = 0; i <= 200; ++i) text += std::to_string(std::sin(2 * M_PI * 2.0 * i * 0.01)) + "\n";
+  for (int i = 0; i <= 200; ++i) text += std::to_string(offset_m_s2 + std::sin(2 * M_PI * 2.0 * i * 0.01)) + "\n";
   GroundMotionSpec spec;
   ComponentSpec cs;
   cs.file = write("gm_sine.txt", text);
@@ -108,16 +107,37 @@ TEST(GroundMotion, ResampledAndIntegratedConsistently) {
   cs.unit = AccelerationUnit::m_s2;
   cs.dt_s = 0.01;
   spec.component[0] = cs;
-  spec.baseline_correction = false;
-  const GroundMotion g = prepare_ground_motion(spec, 1e-3);
-  EXPECT_EQ(g.accel_m_s2.size(), 2001u);
+  spec.baseline_correction = baseline_correction;
+  return spec;
+}
+
+// The sine's closed-form velocity (1 - cos wt) / w and displacement t / w - sin(wt) / w^2.
+void expect_sine_integrals(const GroundMotion& g) {
   const double w = 2 * M_PI * 2.0;
   for (std::size_t k : {250u, 1000u, 1730u}) {
     const double t = k * 1e-3;
     // Linear interpolation between samples 25 per period costs ~(w h)^2 / 8 = 0.2 %.
+    EXPECT_NEAR(g.accel_m_s2[k].x(), std::sin(w * t), 0.01) << t;
     EXPECT_NEAR(g.velocity_m_s[k].x(), (1 - std::cos(w * t)) / w, 0.005 * (2 / w)) << t;
     EXPECT_NEAR(g.displacement_m[k].x(), t / w - std::sin(w * t) / (w * w), 0.005 * (t / w)) << t;
   }
+}
+
+TEST(GroundMotion, ResampledAndIntegratedConsistently) {
+  // Resampled to 1e-3 s: the velocity and displacement follow the closed-form integrals.
+  const GroundMotion g = prepare_ground_motion(sine_spec(0.0, false), 1e-3);
+  EXPECT_EQ(g.accel_m_s2.size(), 2001u);
+  expect_sine_integrals(g);
+}
+
+TEST(GroundMotion, BaselineCorrectionRemovesAConstantOffset) {
+  // The sine plus 0.3 m/s^2 (a record's offset: 0.6 m/s of drift by 2 s, four times the
+  // sine's velocity). Over whole periods the sine's velocity has no linear trend, so the
+  // least-squares trend removed is the offset's, and the sine's integrals are left.
+  expect_sine_integrals(prepare_ground_motion(sine_spec(0.3, true), 1e-3));
+  // Without the correction the offset stays (what the check above must catch).
+  const GroundMotion raw = prepare_ground_motion(sine_spec(0.3, false), 1e-3);
+  EXPECT_NEAR(raw.velocity_m_s[2000].x(), 0.3 * 2.0, 0.01);
 }
 
 GroundMotionSpec kobe_spec(double start_s, double duration_s) {
