@@ -42,20 +42,21 @@ std::pair<long, long> parse_range(const char* option, const std::string& text, c
 void print_profile(const World& world, long steps) {
   const Profile& p = world.state().profile;
   const double total = p.wall_s();
-  std::printf("stage          seconds   share   work µs/step   working  waiting   serial  imbalance\n");
+  std::printf("stage          seconds   share   work µs/step   working  waiting   serial  imbalance  stolen\n");
   for (int k = 0; k < kStageCount; ++k) {
     const StageTime& t = p.stages[k];
     if (t.wall_s == 0) continue;
-    std::printf("%-13s %8.2f %6.1f %%   %12.1f  %6.1f %%  %5.1f %%  %5.1f %%  %9.2f\n", kStageNames[k], t.wall_s,
+    std::printf("%-13s %8.2f %6.1f %%   %12.1f  %6.1f %%  %5.1f %%  %5.1f %%  %9.2f  %4.1f %%\n", kStageNames[k], t.wall_s,
                 100 * t.wall_s / total, 1e6 * t.work_s / steps, 100 * t.work_s / t.team_s, 100 * t.wait_s() / t.team_s,
-                100 * t.serial_s / t.wall_s, t.imbalance());
+                100 * t.serial_s / t.wall_s, t.imbalance(), 100 * t.stolen_share());
   }
   std::printf("steps %ld, broadphase rebuilds %ld, contact regroups %ld, %.1f steps/s, mean team %.2f of %d threads\n", steps,
               p.broadphase_rebuilds, p.contact_regroups, steps / total, double(p.thread_steps) / steps,
               world.thread_tuner().max_threads());
   std::printf("  work: thread-seconds claiming and running the stage's chunks, and its serial parts (growing with the\n"
               "  threads: they slow each other through memory); waiting: the rest of the team's time in the stage; serial:\n"
-              "  share of the stage one thread runs alone; imbalance: the busiest thread's chunks against the mean\n");
+              "  share of the stage one thread runs alone; imbalance: the busiest thread's chunks against the mean;\n"
+              "  stolen: chunks a thread took from another's range, whose data lay in another core's cache\n");
   if (world.model().options.damping == Damping::implicit)
     std::printf("implicit dashpots: %.2f conjugate-gradient iterations per step (tolerance %g), %ld steps stopped unconverged\n",
                 double(p.damping_iterations) / steps, world.model().options.damping_solve_tolerance, p.damping_unconverged);

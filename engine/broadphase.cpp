@@ -37,24 +37,17 @@ std::vector<Pair> brute_force_pairs(const Model& m, const State& s) {
   return out;
 }
 
+bool update_pairs(const Model& m, State& s) {
+  bool moved = !s.pairs_valid;
+  for (int b = 0; b < m.block_count && !moved; ++b) moved = moved_half_margin(m, s, b);
+  return update_pairs(m, s, moved);
+}
+
 // One function for the rebuild's three passes (grid, candidates per chunk, merge with the
 // old list): they share the cell arrays and the chunking, and read in order.
-bool update_pairs(const Model& m, State& s) {
+bool update_pairs(const Model& m, State& s, bool moved) {
+  if (s.pairs_valid && !moved) return false;
   const int nb = m.block_count;
-  if (s.pairs_valid) {
-    // On the team for large models (alone, the calling thread's check was 2 % of model F's
-    // step on 16 threads); below kTeamCheckBlocks the check (3 ns a block) costs less than
-    // posting a loop.
-    constexpr int kTeamCheckBlocks = 1000;
-    const double limit2 = 0.25 * m.margin_m * m.margin_m;
-    std::array<std::uint8_t, kStageChunks> moved{};
-    parallel_chunks(nb, nb >= kTeamCheckBlocks ? stage_chunks(nb) : 1, [&](std::ptrdiff_t begin, std::ptrdiff_t end, int k) {
-      bool any = false;  // written once: the chunks' flags share cache lines
-      for (std::ptrdiff_t b = begin; b < end && !any; ++b) any = (s.position[b] - s.position_at_rebuild[b]).squaredNorm() > limit2;
-      moved[k] = any;
-    });
-    if (std::none_of(moved.begin(), moved.end(), [](std::uint8_t x) { return x != 0; })) return false;
-  }
 
   // Hashed uniform grid: one bucket per occupied cell (collisions only add candidates),
   // cell edge = the largest free block's inflated diameter, so overlapping spheres lie in

@@ -39,7 +39,7 @@ constexpr int kReductionChunks = 64;
 // sub-contacts): a fixed count, so the buffers keep their capacity whatever the team size.
 constexpr int kBufferChunks = 64;
 
-// Chunks of the step's long loops over blocks (pose, broadphase check, gather) and, by
+// Chunks of the step's long loops over blocks (pose with the broadphase check, gather) and, by
 // their first block, pairs (narrowphase, contact law): one per kStageChunkBlocks blocks,
 // at most kStageChunks. Model F (2,003 blocks) gets 250: on 16 threads about 16 each, so a
 // thread that ends its range early takes work in pieces of 1/250 of the stage (with 64

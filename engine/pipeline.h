@@ -11,12 +11,20 @@ namespace ishibashi {
 
 // pose.cpp: every block's rotation matrix and world-frame face planes (the narrowphase
 // makes the vertices and edge directions of the pairs it searches: narrowphase.h).
-void update_pose(const Model& model, State& state);
+// Returns whether the pair list must be rebuilt: there is none, or a block has moved more
+// than half the margin since it was built (update_pairs' check, made in the same pass).
+bool update_pose(const Model& model, State& state);
 
 // broadphase.cpp: rebuilds the sorted candidate pair list when a block has moved more
 // than half the margin since the last rebuild; keeps each surviving pair's memory.
-// Returns true when it rebuilt.
+// Returns true when it rebuilt. The second form takes the check from update_pose.
 bool update_pairs(const Model& model, State& state);
+bool update_pairs(const Model& model, State& state, bool moved);
+// Block b has moved more than half the margin since the pair list was built: the
+// inflated spheres of the list may no longer hold all its contacts.
+inline bool moved_half_margin(const Model& model, const State& state, int b) {
+  return (state.position[b] - state.position_at_rebuild[b]).squaredNorm() > 0.25 * model.margin_m * model.margin_m;
+}
 // The margin-inflated bounding spheres of blocks a and b overlap (the broadphase's test).
 bool spheres_overlap(const Model& model, const State& state, int a, int b);
 // Brute-force oracle of the broadphase: all pairs a < b whose inflated spheres overlap.

@@ -22,16 +22,21 @@ struct StageTime {
   double serial_s = 0;   // the caller's serial parts (the rest of the team waits through them)
   double mean_s = 0;     // sum over calls of work / team size
   double slowest_s = 0;  // sum over calls of the busiest thread's work
+  double chunks = 0;     // chunks run, summed over calls
+  double stolen = 0;     // of them, chunks a thread took from another's range (its data in another core's cache)
   // Threads' time waiting (at the loops' ends, or while the caller runs serial parts).
   double wait_s() const { return team_s - work_s; }
   // The busiest thread against the mean: 1 when the chunks spread evenly.
   double imbalance() const { return mean_s > 0 ? slowest_s / mean_s : 1.0; }
+  // The share of chunks run off their thread's own range: 0 when every range kept pace.
+  double stolen_share() const { return chunks > 0 ? stolen / chunks : 0.0; }
 };
 
 // One thread's part of one stage of one step, seconds on the team's clock (Team::now_s).
 struct TraceSlice {
   long step = 0;
   double begin_s = 0, end_s = 0, busy_s = 0;
+  int chunks = 0, stolen = 0;  // as ThreadTime's
   std::int16_t thread = 0;
   std::int16_t stage = -1;  // -1: the whole step (caller's track)
 };

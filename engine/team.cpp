@@ -65,7 +65,7 @@ void Team::run(int threads, int chunk_count, ChunkFn chunk, const void* context)
   if (threads <= 1 || chunk_count <= 1 || chunk_count > kMaxChunks || inside_loop) {
     const double begin = timing_ && !inside_loop ? now_s() : 0;
     for (int k = 0; k < chunk_count; ++k) chunk(context, k);
-    if (timing_ && !inside_loop && chunk_count > 0) note_time(0, begin, true);
+    if (timing_ && !inside_loop && chunk_count > 0) note_time(0, begin, true, chunk_count, false);
     return;
   }
   const int workers = threads - 1;
@@ -125,7 +125,7 @@ int Team::run_chunks(int me, std::uint32_t generation) {
     const int begin_r = range_begin(r, count, threads), size = range_begin(r + 1, count, threads) - begin_r;
     for (int k; (k = claim(r, generation, size)) >= 0; ++ran) chunk(context, begin_r + k);
     if (ran > reported) {
-      if (timing_) note_time(me, begin, reported == 0);  // before done_: the caller reads it after
+      if (timing_) note_time(me, begin, reported == 0, ran - reported, step > 0);  // before done_: the caller reads it after
       const int total = done_.fetch_add(ran - reported) + ran - reported;
       if (caller_asleep_.load()) done_.notify_one();
       reported = ran;
@@ -137,8 +137,10 @@ int Team::run_chunks(int me, std::uint32_t generation) {
   return ran;
 }
 
-void Team::note_time(int me, double begin_s, bool first_report) {
+void Team::note_time(int me, double begin_s, bool first_report, int chunks, bool stolen) {
   ThreadTime& t = slots_[me].time;
+  t.chunks += chunks;
+  if (stolen) t.stolen += chunks;
   const double end = now_s();
   const double from = first_report ? begin_s : t.end_s;  // a later report extends the loop's share
   if (first_report && t.loops++ == 0) t.begin_s = begin_s;

@@ -36,6 +36,8 @@ struct ThreadTime {
   double end_s = 0;    // its last loop's last chunk's end
   double wait_s = 0;   // the caller: waiting for the others' last chunks
   int loops = 0;       // loops in which it ran at least one chunk
+  int chunks = 0;      // chunks it ran
+  int stolen = 0;      // of them, chunks of another thread's range
 };
 
 class Team {
@@ -77,8 +79,9 @@ class Team {
   int claim(int r, std::uint32_t generation, int size);
   // The caller, after its own chunks: until every chunk of the posted loop is done.
   void wait_for_chunks(int chunk_count);
-  // Notes thread me's share of the loop that it began at begin_s, as of now.
-  void note_time(int me, double begin_s, bool first_report);
+  // Notes thread me's share of the loop that it began at begin_s, as of now, and the
+  // `chunks` it ran since its last note (`stolen`: from another thread's range).
+  void note_time(int me, double begin_s, bool first_report, int chunks, bool stolen);
   // Waits until a loop newer than `seen` is posted; false when the team stops.
   bool wait_for_loop(int index, std::uint32_t seen);
 

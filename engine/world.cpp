@@ -76,9 +76,11 @@ void World::note_stage(const Team& team, Stage stage, int threads, double begin_
     const ThreadTime& th = team.time_of(i);
     work += th.busy_s;
     slowest = std::max(slowest, th.busy_s);
+    t.chunks += th.chunks;
+    t.stolen += th.stolen;
     // The caller's slice is the whole stage (serial parts too), a worker's its loops' span.
     if (traced && (i == 0 || th.loops > 0))
-      trace_.add({state_.step, i == 0 ? begin_s : th.begin_s, i == 0 ? end : th.end_s, th.busy_s,
+      trace_.add({state_.step, i == 0 ? begin_s : th.begin_s, i == 0 ? end : th.end_s, th.busy_s, th.chunks, th.stolen,
                   static_cast<std::int16_t>(i), static_cast<std::int16_t>(stage)});
   }
   // The caller's time neither in chunks nor waiting for the team's: serial work.
@@ -111,8 +113,8 @@ void World::step() {
   team_of_thread.set_timing(p.threads_timed);  // the team of the thread stepping now
   const double step_begin = team_of_thread.now_s();
 
-  timed(Stage::pose, [&] { update_pose(m, s); });
-  const bool rebuilt = timed(Stage::broadphase, [&] { return update_pairs(m, s); });
+  const bool moved = timed(Stage::pose, [&] { return update_pose(m, s); });
+  const bool rebuilt = moved && timed(Stage::broadphase, [&] { return update_pairs(m, s, moved); });
   if (rebuilt) ++p.broadphase_rebuilds;
   timed(Stage::narrowphase, [&] { update_contacts(m, s, /*first_detection=*/false, dt_s_); });
   // Caps follow the blocks' joints as they change, checked when the pair list is rebuilt
@@ -150,7 +152,7 @@ void World::step() {
   e.left_model_j += before.left_model_j;
 
   const double step_end = team_of_thread.now_s();
-  if (trace_.covers(s.step)) trace_.add({s.step, step_begin, step_end, 0, 0, -1});
+  if (trace_.covers(s.step)) trace_.add({s.step, step_begin, step_end, 0, 0, 0, 0, -1});
   s.time_s += dt_s_;
   ++s.step;
   p.thread_steps += tuner_.threads();

@@ -50,7 +50,9 @@ void write_chrome_trace(const StageTrace& trace, const std::string& title, const
         << ", \"cat\": \"" << (step ? "step" : "stage") << "\", \"ph\": \"X\", \"pid\": 1, \"tid\": " << s.thread
         << ", \"ts\": " << microseconds(begin) << ", \"dur\": " << microseconds(end - begin)
         << ", \"args\": {\"step\": " << s.step;
-    if (!step) out << ", \"busy_us\": " << microseconds(nanoseconds(s.busy_s));
+    if (!step)
+      out << ", \"busy_us\": " << microseconds(nanoseconds(s.busy_s)) << ", \"chunks\": " << s.chunks
+          << ", \"stolen_chunks\": " << s.stolen;
     out << "}}";
   }
   out << "\n]}\n";

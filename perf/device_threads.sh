@@ -6,7 +6,10 @@
 # Writes under $OUT:
 #   f_scaling.csv + profiles.log  model F dry, 0.02 s settling and 0.05 s of the strongest
 #                                 Kobe pulses (the record's 7.3 s), fixed teams 1..16, with
-#                                 run --profile's tables; trace_f_16.json: steps 6000-6020
+#                                 run --profile's tables and the end state's hash: the study's
+#                                 explicit dashpots, then the fast path (implicit, 4e-5 s); then
+#                                 16 threads beside four busy cores, fixed and adaptive team;
+#                                 trace_f_16.json: explicit, steps 6000-6020
 #   ab.csv                        16 threads, .dev/bin/ishibashi_before (if there) and this
 #                                 program alternated twice: the same machine, back to back
 #   parallel12.csv                the study's twelve runs side by side, one thread each, 0.1 s
@@ -19,22 +22,29 @@ O=${OUT:-/tmp/device_out}; mkdir -p "$O"
 lscpu > "$O/cpu.txt"
 cd "$D/main"
 sed -e 's/^settle_max_s = .*/settle_max_s = 0.02/' scenarios/nishida_f_kobe_dry.toml > scenarios/bench_f.toml
-f_run() {  # program threads label [extra...]: prints the stepping rate
+f_run() {  # program threads label [extra...]: prints the stepping rate and the end state's hash
   local bin=$1 t=$2 label=$3; shift 3
-  timeout 150 "$D/bin/$bin" run scenarios/bench_f.toml --start 7.3 --duration 0.05 --threads "$t" --fixed-threads --quiet \
+  timeout 150 "$D/bin/$bin" run scenarios/bench_f.toml --start 7.3 --duration 0.05 --threads "$t" --quiet \
     --profile --out "/tmp/$label" "$@" > "/tmp/$label.log" 2>&1
-  { echo "=== $label: $bin, $t threads"; cat "/tmp/$label.log"; } >> "$O/profiles.log"
-  grep -o "[0-9.]* steps/s" "/tmp/$label.log" | head -1 | cut -d' ' -f1
+  { echo "=== $label: $bin, $t threads $*"; cat "/tmp/$label.log"; } >> "$O/profiles.log"
+  echo "$(grep -o "[0-9.]* steps/s" "/tmp/$label.log" | head -1 | cut -d' ' -f1),$(grep -o '"state_hash": "[0-9a-f]*"' "/tmp/$label/summary.json" | cut -d'"' -f4)"
 }
-echo "threads,steps_per_s" > "$O/f_scaling.csv"
+echo "scheme,team,threads,steps_per_s,state_hash" > "$O/f_scaling.csv"
 for t in 1 2 4 8 16; do
   extra=(); [ "$t" = 16 ] && extra=(--trace "$O/trace_f_16.json" --trace-steps 6000:6020)
-  echo "$t,$(f_run ishibashi "$t" "f_$t" "${extra[@]}")" >> "$O/f_scaling.csv"
+  echo "explicit,fixed,$t,$(f_run ishibashi "$t" "f_$t" --fixed-threads "${extra[@]}")" >> "$O/f_scaling.csv"
 done
-echo "program,threads,steps_per_s" > "$O/ab.csv"
+for t in 1 2 4 8 16; do
+  echo "implicit 4e-5,fixed,$t,$(f_run ishibashi "$t" "imp_$t" --fixed-threads --damping implicit --dt 4e-5)" >> "$O/f_scaling.csv"
+done
+for k in 1 2 3 4; do ( timeout 35 sh -c 'while :; do :; done' ) & done  # four busy cores
+echo "explicit beside 4 busy,fixed,16,$(f_run ishibashi 16 f_16_busy_fixed --fixed-threads)" >> "$O/f_scaling.csv"
+echo "explicit beside 4 busy,adaptive,16,$(f_run ishibashi 16 f_16_busy_adaptive)" >> "$O/f_scaling.csv"
+wait
+echo "program,threads,steps_per_s,state_hash" > "$O/ab.csv"
 if [ -x "$D/bin/ishibashi_before" ]; then
   for rep in 1 2; do for bin in ishibashi_before ishibashi; do
-    echo "$bin,16,$(f_run $bin 16 "ab_${bin}_$rep")" >> "$O/ab.csv"
+    echo "$bin,16,$(f_run $bin 16 "ab_${bin}_$rep" --fixed-threads)" >> "$O/ab.csv"
   done; done
 fi
 for m in a b c d e f; do for v in dry mortar; do

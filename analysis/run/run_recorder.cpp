@@ -185,6 +185,7 @@ void RunRecorder::write_summary(const RunDescription& run, const SeismicRunResul
     stage["wait_s"] = t.wait_s();
     stage["serial_s"] = t.serial_s;
     stage["imbalance"] = t.imbalance();
+    stage["stolen_share"] = t.stolen_share();
   }
   if (run.member.index >= 0) {
     Json& member = j["member"];

@@ -1,6 +1,7 @@
 // The team behind the parallel loops (engine/team.h): every chunk runs once whatever the
 // team does, workers take part, a loop inside a chunk runs inline, a team stops with its
-// thread, and a loop does not wait for a worker that is held off its core.
+// thread, the chunks taken from another's range are counted, and a loop does not wait for
+// a worker that is held off its core.
 #include <gtest/gtest.h>
 #include <pthread.h>
 #include <signal.h>
@@ -68,6 +69,31 @@ TEST(Team, StopsWithItsThread) {
   std::thread caller([&] { run_loop(4, 64, [&](int) { chunks.fetch_add(1); }); });
   caller.join();  // the thread's team joins its workers as the thread exits
   EXPECT_EQ(chunks.load(), 64);
+}
+
+// With timing on (run --profile), each thread counts the chunks it ran and those it took
+// from another thread's range: here the caller's range (chunks 0-3 of 8 on two threads)
+// holds the caller in its first chunk until the worker, its own range done, has taken one.
+TEST(Team, TimingCountsTheChunksTakenFromAnotherThreadsRange) {
+  Team& team = Team::of_this_thread();
+  team.set_timing(true);
+  team.clear_times(2);
+  const pthread_t caller = pthread_self();
+  std::atomic<int> taken_by_worker{0};
+  run_loop(2, 8, [&](int k) {
+    if (k == 0) {
+      const auto give_up = std::chrono::steady_clock::now() + std::chrono::seconds(5);
+      while (taken_by_worker == 0 && std::chrono::steady_clock::now() < give_up) std::this_thread::yield();
+    } else if (k < 4 && !pthread_equal(pthread_self(), caller)) {
+      taken_by_worker.fetch_add(1);
+    }
+  });
+  team.set_timing(false);
+  ASSERT_GT(taken_by_worker.load(), 0) << "the worker took none of the caller's chunks in 5 s";
+  EXPECT_EQ(team.time_of(0).chunks + team.time_of(1).chunks, 8);
+  EXPECT_EQ(team.time_of(1).stolen, taken_by_worker.load());
+  EXPECT_EQ(team.time_of(1).chunks, 4 + taken_by_worker.load());
+  EXPECT_EQ(team.time_of(0).stolen, 0);
 }
 
 std::atomic<bool> held{false};

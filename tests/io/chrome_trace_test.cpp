@@ -74,6 +74,13 @@ TEST(ChromeTrace, SlicesNestOnEveryThreadAndStagesLieInTheirSteps) {
     ASSERT_TRUE(e["dur"].is_number());
     ASSERT_GE(e["dur"].get<double>(), 0.0);
     const double ts = e["ts"];
+    if (e["cat"] == "stage") {  // a thread's part of a stage: the chunks it ran, some taken from another's range
+      ASSERT_TRUE(e["args"]["busy_us"].is_number());
+      ASSERT_TRUE(e["args"]["chunks"].is_number_integer());
+      ASSERT_TRUE(e["args"]["stolen_chunks"].is_number_integer());
+      EXPECT_GE(e["args"]["stolen_chunks"].get<int>(), 0);
+      EXPECT_LE(e["args"]["stolen_chunks"].get<int>(), e["args"]["chunks"].get<int>());
+    }
     tracks[e["tid"]].push_back({e["name"], e["args"]["step"], ts, ts + e["dur"].get<double>()});
   }
   EXPECT_EQ(named_threads, static_cast<int>(tracks.size()));
@@ -99,7 +106,8 @@ TEST(ChromeTrace, SlicesNestOnEveryThreadAndStagesLieInTheirSteps) {
     }
   }
 
-  // The caller's track: steps 10..209, each with the six stages of an explicit step.
+  // The caller's track: steps 10..209, each with the five stages of an explicit step (and
+  // the broadphase after pose where it rebuilt the pair list).
   std::map<long, std::vector<std::string>> stages_of_step;
   std::map<std::pair<long, std::string>, const Slice*> caller_stage;
   for (const Slice& s : tracks[0]) {
@@ -109,9 +117,10 @@ TEST(ChromeTrace, SlicesNestOnEveryThreadAndStagesLieInTheirSteps) {
   }
   ASSERT_EQ(stages_of_step.size(), 200u);
   EXPECT_EQ(stages_of_step.begin()->first, 10);
+  const std::vector<std::string> stages = {"pose", "narrowphase", "contact law", "gather", "integrate"};
+  const std::vector<std::string> rebuilding = {"pose", "broadphase", "narrowphase", "contact law", "gather", "integrate"};
   for (const auto& [step, names] : stages_of_step)
-    EXPECT_EQ(names, (std::vector<std::string>{"pose", "broadphase", "narrowphase", "contact law", "gather", "integrate"}))
-        << "step " << step;
+    EXPECT_TRUE(names == stages || names == rebuilding) << "step " << step;
   // A worker's part of a stage lies inside the caller's slice of that stage.
   for (const auto& [tid, slices] : tracks) {
     if (tid == 0) continue;
