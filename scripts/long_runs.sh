@@ -16,34 +16,21 @@ cd "$root"
 
 # lane | commit | output folder | the run's arguments (scenario first)
 jobs=(
-  # Issue 45 item 3: model B dry's explicit ensemble, the same seed as the fast path's
-  # (scenarios/results/ensembles/b_dry_implicit_4e-5_ensemble.csv); --jobs 2 keeps both cores.
-  "ensemble|be8e1f2|out/ensembles/b_dry_explicit|scenarios/nishida_b_kobe_dry.toml --members 5 --seed 1 --jobs 2 --threads 1"
+  # (Finished jobs leave this list once their results are committed: B dry's explicit
+  # ensemble, and B, C, D and F dry's runs against dt, in scenarios/results.)
   # Issue 48 item 5's other marginal runs on the explicit reference (the fast path is not
   # verified): model E dry and with mortar, five members each, the seed of A's and B's
-  # ensembles; ff7154d's program (every preset's hash as today's).
+  # ensembles; ff7154d's program (every preset's hash as today's). About 35 core-hours.
   "ensemble|ff7154d|out/ensembles/e_dry_explicit|scenarios/nishida_e_kobe_dry.toml --members 5 --seed 1 --jobs 2 --threads 1"
   "ensemble|ff7154d|out/ensembles/e_mortar_explicit|scenarios/nishida_e_kobe_mortar.toml --members 5 --seed 1 --jobs 2 --threads 1"
-  # Issue 45 item 2: model C with mortar through the first strong pulse against dt, the
-  # program of C dry's runs (9863251).
-  "dt|9863251|out/dt_c_mortar/explicit|scenarios/nishida_c_kobe_mortar.toml --duration 3.6 --threads 1"
-  "dt|9863251|out/dt_c_mortar/implicit_2e-5|scenarios/nishida_c_kobe_mortar.toml --duration 3.6 --threads 1 --damping implicit --dt 2e-5"
-  "dt|9863251|out/dt_c_mortar/implicit_4e-5|scenarios/nishida_c_kobe_mortar.toml --duration 3.6 --threads 1 --damping implicit --dt 4e-5"
-  # The explicit reference's own sensitivity to its step, for C dry (B dry's moved 6-18 %).
-  "dt|9863251|out/dt_c_dry/explicit_half|scenarios/nishida_c_kobe_dry.toml --duration 3.6 --threads 1 --dt-factor 0.5"
-  # The same for D and F with mortar (the study's other bonded rings).
-  "dt|9863251|out/dt_d_mortar/explicit|scenarios/nishida_d_kobe_mortar.toml --duration 3.6 --threads 1"
-  "dt|9863251|out/dt_d_mortar/implicit_2e-5|scenarios/nishida_d_kobe_mortar.toml --duration 3.6 --threads 1 --damping implicit --dt 2e-5"
-  "dt|9863251|out/dt_d_mortar/implicit_4e-5|scenarios/nishida_d_kobe_mortar.toml --duration 3.6 --threads 1 --damping implicit --dt 4e-5"
-  "dt|9863251|out/dt_f_mortar/explicit|scenarios/nishida_f_kobe_mortar.toml --duration 3.6 --threads 1"
-  "dt|9863251|out/dt_f_mortar/implicit_2e-5|scenarios/nishida_f_kobe_mortar.toml --duration 3.6 --threads 1 --damping implicit --dt 2e-5"
-  "dt|9863251|out/dt_f_mortar/implicit_4e-5|scenarios/nishida_f_kobe_mortar.toml --duration 3.6 --threads 1 --damping implicit --dt 4e-5"
-  # F dry's third step (its 4e-5 s and 2e-5 s runs: program faf220e, 30 % and 3 % off the
-  # explicit crown at 3.5 s): does the error keep halving?
-  "dt|faf220e|out/dt_f_dry/implicit_1e-5|scenarios/nishida_f_kobe_dry.toml --duration 3.6 --threads 1 --damping implicit --dt 1e-5"
-  # It has converged at 2e-5 s (1e-5 s within 0.5 %), 2.5-2.9 % from the explicit run: the
-  # explicit run again (session 29's history is gone; the same program gives the same run)
-  # and at half its step say on which side the converged value lies.
+  # Issue 45 item 2: model F with mortar through the first strong pulse against dt (the
+  # study's last bonded ring), on the program of F dry's runs.
+  "dt|faf220e|out/dt_f_mortar/explicit|scenarios/nishida_f_kobe_mortar.toml --duration 3.6 --threads 1"
+  "dt|faf220e|out/dt_f_mortar/implicit_2e-5|scenarios/nishida_f_kobe_mortar.toml --duration 3.6 --threads 1 --damping implicit --dt 2e-5"
+  "dt|faf220e|out/dt_f_mortar/implicit_4e-5|scenarios/nishida_f_kobe_mortar.toml --duration 3.6 --threads 1 --damping implicit --dt 4e-5"
+  # F dry's fast path has converged at 2e-5 s (1e-5 s within 0.5 %), 2.5-2.9 % from the
+  # explicit run: the explicit run again (session 29's history is gone; the same program
+  # gives the same run) and at half its step say on which side the converged value lies.
   "dt|faf220e|out/dt_f_dry/explicit|scenarios/nishida_f_kobe_dry.toml --duration 3.6 --threads 1"
   "dt|faf220e|out/dt_f_dry/explicit_half|scenarios/nishida_f_kobe_dry.toml --duration 3.6 --threads 1 --dt-factor 0.5"
   # Issue 45 item 3's second model, B with mortar, both schemes on one program, the same
