@@ -33,7 +33,10 @@ bool spin_until(Ready&& ready) {
 
 // The fields of a claim word (Slot::range) and of the loop's shape word (Team::shape_).
 std::uint32_t generation_of(std::uint64_t word) { return static_cast<std::uint32_t>(word >> 32); }
-int taken_of(std::uint64_t range) { return static_cast<int>(range & 0xFFFFFFFF); }
+// A claim word's chunks taken from the range's start (by its owner) and from its end (by
+// the others).
+int from_start_of(std::uint64_t range) { return static_cast<int>(range >> 16 & 0xFFFF); }
+int from_end_of(std::uint64_t range) { return static_cast<int>(range & 0xFFFF); }
 int threads_of(std::uint64_t shape) { return static_cast<int>(shape >> 16 & 0xFFFF); }
 int count_of(std::uint64_t shape) { return static_cast<int>(shape & 0xFFFF); }
 
@@ -102,12 +105,14 @@ void Team::wait_for_chunks(int chunk_count) {
   caller_asleep_.store(false);
 }
 
-int Team::claim(int r, std::uint32_t generation, int size) {
+int Team::claim(int r, std::uint32_t generation, int size, bool from_end) {
   std::atomic<std::uint64_t>& range = slots_[r].range;
   std::uint64_t seen = range.load(std::memory_order_relaxed);
   for (;;) {
-    if (generation_of(seen) != generation || taken_of(seen) >= size) return -1;
-    if (range.compare_exchange_weak(seen, seen + 1)) return taken_of(seen);
+    const int start = from_start_of(seen), end = from_end_of(seen);
+    if (generation_of(seen) != generation || start + end >= size) return -1;
+    if (range.compare_exchange_weak(seen, seen + (from_end ? 1 : std::uint64_t{1} << 16)))
+      return from_end ? size - 1 - end : start;
   }
 }
 
@@ -123,7 +128,7 @@ int Team::run_chunks(int me, std::uint32_t generation) {
   for (int step = 0; step < threads; ++step) {
     const int r = (me + step) % threads;
     const int begin_r = range_begin(r, count, threads), size = range_begin(r + 1, count, threads) - begin_r;
-    for (int k; (k = claim(r, generation, size)) >= 0; ++ran) chunk(context, begin_r + k);
+    for (int k; (k = claim(r, generation, size, step > 0)) >= 0; ++ran) chunk(context, begin_r + k);
     if (ran > reported) {
       if (timing_) note_time(me, begin, reported == 0, ran - reported, step > 0);  // before done_: the caller reads it after
       const int total = done_.fetch_add(ran - reported) + ran - reported;

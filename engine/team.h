@@ -2,11 +2,13 @@
 // into one contiguous range per thread, the same from one loop to the next: thread i (the
 // caller is 0) claims the chunks of range i in order, so a stage's data stays in the
 // cache of the core that used it last step (model F: about 14 MB of sub-contact state).
-// A thread that has finished its range takes chunks from the ranges of the others, the next
-// thread's first (Box2D v3's solver stages do likewise), and a loop ends when its chunks
-// are done, not when every thread has arrived: a thread the scheduler has taken off its
-// core (another process busy on the machine) misses the loop instead of holding it up,
-// and the others do its range. OpenMP's loops end at a barrier that waits for every
+// A thread that has finished its range takes chunks from the ends of the others' ranges,
+// the next thread's first, while each owner works from its range's start (Box2D v3's
+// solver stages do likewise): the chunks a lagging thread loses are its range's last, the
+// same from step to step while the same thread lags, so they too stay in one cache.
+// A loop ends when its chunks are done, not when every thread has arrived: a thread the
+// scheduler has taken off its core (another process busy on the machine) misses the loop
+// instead of holding it up, and the others do its range. OpenMP's loops end at a barrier that waits for every
 // thread, a scheduler slice each time one is descheduled: a fixed team of two beside one
 // busy core ran 4 to 100 times slower (issue 28, lever 4).
 //
@@ -43,7 +45,7 @@ struct ThreadTime {
 class Team {
  public:
   using ChunkFn = void (*)(const void* context, int chunk);
-  static constexpr int kMaxChunks = 1024;
+  static constexpr int kMaxChunks = 1024;  // < 2^16: a range's claim counts are 16-bit fields
   static constexpr int kMaxThreads = ishibashi::kMaxThreads;
 
   // The team of the calling thread: its workers start on first use and stop when the
@@ -74,9 +76,10 @@ class Team {
   // Claims and runs chunks of loop `generation` as thread `me`: its own range, then the
   // others'. Returns how many it ran.
   int run_chunks(int me, std::uint32_t generation);
-  // Claims the next of the `size` chunks of range r of loop `generation`: its index in the
-  // range, -1 when none is left.
-  int claim(int r, std::uint32_t generation, int size);
+  // Claims the next of the `size` chunks of range r of loop `generation`, its owner from
+  // the range's start, the others (from_end) from its end: its index in the range, -1 when
+  // none is left.
+  int claim(int r, std::uint32_t generation, int size, bool from_end);
   // The caller, after its own chunks: until every chunk of the posted loop is done.
   void wait_for_chunks(int chunk_count);
   // Notes thread me's share of the loop that it began at begin_s, as of now, and the
@@ -86,8 +89,8 @@ class Team {
   bool wait_for_loop(int index, std::uint32_t seen);
 
   // Per thread, a cache line of its own: the claim word of its range (generation << 32 |
-  // chunks taken; reset by the caller as it posts a loop, so a claim of a finished loop's
-  // worker never matches) and its timing.
+  // chunks taken from its start << 16 | from its end; reset by the caller as it posts a
+  // loop, so a claim of a finished loop's worker never matches) and its timing.
   struct alignas(64) Slot {
     std::atomic<std::uint64_t> range{0};
     ThreadTime time;
