@@ -8,9 +8,9 @@
 // same from step to step while the same thread lags, so they too stay in one cache.
 // A loop ends when its chunks are done, not when every thread has arrived: a thread the
 // scheduler has taken off its core (another process busy on the machine) misses the loop
-// instead of holding it up, and the others do its range. OpenMP's loops end at a barrier that waits for every
-// thread, a scheduler slice each time one is descheduled: a fixed team of two beside one
-// busy core ran 4 to 100 times slower (issue 28, lever 4).
+// instead of holding it up, and the others do its range. OpenMP's loops end at a barrier
+// that waits for every thread, a scheduler slice each time one is descheduled: a fixed
+// team of two beside one busy core ran 4 to 100 times slower (issue 28, lever 4).
 //
 // Which thread runs a chunk never changes what the chunk computes (chunks write their own
 // slots), so results do not depend on the team. No heap allocation after the workers
