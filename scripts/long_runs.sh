@@ -17,17 +17,12 @@ cd "$root"
 # lane | commit | output folder | the run's arguments (scenario first)
 jobs=(
   # (Finished jobs leave this list once their results are committed: B dry's explicit
-  # ensemble, and B, C, D and F dry's runs against dt, in scenarios/results.)
+  # ensemble, and B, C, D and F's runs against dt, dry and with mortar, in scenarios/results.)
   # Issue 48 item 5's other marginal runs on the explicit reference (the fast path is not
   # verified): model E dry and with mortar, five members each, the seed of A's and B's
   # ensembles; ff7154d's program (every preset's hash as today's). About 35 core-hours.
   "ensemble|ff7154d|out/ensembles/e_dry_explicit|scenarios/nishida_e_kobe_dry.toml --members 5 --seed 1 --jobs 2 --threads 1"
   "ensemble|ff7154d|out/ensembles/e_mortar_explicit|scenarios/nishida_e_kobe_mortar.toml --members 5 --seed 1 --jobs 2 --threads 1"
-  # Issue 45 item 2: model F with mortar through the first strong pulse against dt (the
-  # study's last bonded ring), on the program of F dry's runs.
-  "dt|faf220e|out/dt_f_mortar/explicit|scenarios/nishida_f_kobe_mortar.toml --duration 3.6 --threads 1"
-  "dt|faf220e|out/dt_f_mortar/implicit_2e-5|scenarios/nishida_f_kobe_mortar.toml --duration 3.6 --threads 1 --damping implicit --dt 2e-5"
-  "dt|faf220e|out/dt_f_mortar/implicit_4e-5|scenarios/nishida_f_kobe_mortar.toml --duration 3.6 --threads 1 --damping implicit --dt 4e-5"
   # F dry's fast path has converged at 2e-5 s (1e-5 s within 0.5 %), 2.5-2.9 % from the
   # explicit run: the explicit run again (session 29's history is gone; the same program
   # gives the same run) and at half its step say on which side the converged value lies.
