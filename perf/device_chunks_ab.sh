@@ -5,10 +5,10 @@
 # three rounds, 8 threads once, one thread once for the first two, and the fast path
 # (implicit, 4e-5 s) on 16 threads for the last two. Writes runs.csv and profiles.log.
 #   PROGRAMS="before s1 c4 c2" bash .dev/device_chunks_ab.sh
-# .dev with four programs is too large to travel beside the tree (64 MiB): pack it here,
-#   cp perf/device_chunks_ab.sh .dev/; mkdir -p .devpack; tar cf - .dev | xz > .devpack/dev.tar.xz
-# (/.devpack/ in .git/info/exclude) and give the device the command
-#   tar xJf .devpack/dev.tar.xz && PROGRAMS="..." bash .dev/device_chunks_ab.sh   carry [".devpack"]
+# .dev with several programs is too large to travel beside the tree (64 MiB): pack it with
+#   bash perf/device_pack.sh 41911c5=front        (this checkout's program is "main")
+# and give the device the command, carrying [".devpack"]:
+#   tar xJf .devpack/dev.tar.xz && PROGRAMS="front main" bash .dev/device_chunks_ab.sh
 set -u
 D=$PWD/.dev; export LD_LIBRARY_PATH=$D/lib
 O=${OUT:-/tmp/device_out}; mkdir -p "$O"

@@ -3,8 +3,8 @@
 # from the project's root there, after `bash ../shared/tools/device_bundle.sh` here:
 #   cp perf/device_threads.sh .dev/ && [cp OTHER_BUILD/apps/ishibashi .dev/bin/ishibashi_before]
 #   device: command "bash .dev/device_threads.sh", carry [".dev"]
-# (the tree and .dev travel together, at most 64 MiB: with a second program, pack .dev as
-# perf/device_chunks_ab.sh's header says)
+# (the tree and .dev travel together, at most 64 MiB: with a second program, pack them
+# with perf/device_pack.sh COMMIT=before)
 # Writes under $OUT:
 #   f_scaling.csv + profiles.log  model F dry, 0.02 s settling and 0.05 s of the strongest
 #                                 Kobe pulses (the record's 7.3 s), fixed teams 1..16, with

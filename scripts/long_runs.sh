@@ -3,9 +3,9 @@
 # each, run niced in the background across sessions. Each job is resumed from its
 # checkpoints or skipped when finished, so `bash scripts/long_runs.sh LANE` (LANE: one of the
 # lanes below, or `list`) only ever continues where the last session stopped. Each job runs
-# the program of its commit, frozen in out/bin/ishibashi_COMMIT (built from that commit in a
-# temporary worktree when missing), so that a later build never changes a comparison half
-# way. The results and what they mean: scenarios/results/README.md.
+# the program of its commit, frozen in out/bin/ishibashi_COMMIT (scripts/frozen_binary.sh),
+# so that a later build never changes a comparison half way. The results and what they
+# mean: scenarios/results/README.md.
 #
 #   nohup nice -n 19 bash scripts/long_runs.sh ensemble > out/long_runs_ensemble.log 2>&1 &
 #   nohup nice -n 19 bash scripts/long_runs.sh dt > out/long_runs_dt.log 2>&1 &
@@ -42,22 +42,6 @@ jobs=(
   "probe|ff7154d|out/probes/e_dry|scenarios/nishida_e_kobe_dry.toml --probe 4 --seed 1 --jobs 1 --threads 1 --duration 5.5 --branch-at 3.513"
   "probe|ff7154d|out/probes/b_mortar|scenarios/nishida_b_kobe_mortar.toml --probe 4 --seed 1 --jobs 1 --threads 1 --duration 5.5 --branch-at 3.513"
 )
-
-frozen_binary() {  # out/bin/ishibashi_COMMIT, built when missing
-  local commit=$1 bin="out/bin/ishibashi_$1"
-  if [[ ! -x $bin ]]; then
-    local tree
-    tree=$(mktemp -d /tmp/ishibashi_"$commit"_XXXX)
-    git worktree add --detach "$tree" "$commit" > /dev/null
-    cmake -S "$tree" -B "$tree/build" -G Ninja -DCMAKE_BUILD_TYPE=Release -DISHIBASHI_BUILD_TESTS=OFF \
-      -DISHIBASHI_BUILD_PERF=OFF > /dev/null
-    cmake --build "$tree/build" --target ishibashi > /dev/null
-    mkdir -p out/bin
-    cp "$tree/build/apps/ishibashi" "$bin"
-    git worktree remove --force "$tree"
-  fi
-  echo "$bin"
-}
 
 # A run's summary says so; an ensemble writes ensemble.json, a probe probe.json, once every
 # member has finished.
@@ -99,7 +83,7 @@ for job in "${jobs[@]}"; do
     continue
   fi
   [[ $job_lane == "$lane" ]] || continue
-  bin=$(frozen_binary "$commit")
+  bin=$(bash scripts/frozen_binary.sh "$commit")
   # shellcheck disable=SC2086  # the arguments are words
   if [[ $args == *--members* || $args == *--probe* ]]; then
     # An ensemble or a probe keeps its finished members and resumes the others from their
