@@ -42,11 +42,11 @@ std::pair<long, long> parse_range(const char* option, const std::string& text, c
 void print_profile(const World& world, long steps) {
   const Profile& p = world.state().profile;
   const double total = p.wall_s();
-  std::printf("stage          seconds   share   work µs/step   working  waiting   serial  imbalance  stolen\n");
+  std::printf("stage             seconds   share   work µs/step   working  waiting   serial  imbalance  stolen\n");
   for (int k = 0; k < kStageCount; ++k) {
     const StageTime& t = p.stages[k];
     if (t.wall_s == 0) continue;
-    std::printf("%-13s %8.2f %6.1f %%   %12.1f  %6.1f %%  %5.1f %%  %5.1f %%  %9.2f  %4.1f %%\n", kStageNames[k], t.wall_s,
+    std::printf("%-16s %8.2f %6.1f %%   %12.1f  %6.1f %%  %5.1f %%  %5.1f %%  %9.2f  %4.1f %%\n", kStageNames[k], t.wall_s,
                 100 * t.wall_s / total, 1e6 * t.work_s / steps, 100 * t.work_s / t.team_s, 100 * t.wait_s() / t.team_s,
                 100 * t.serial_s / t.wall_s, t.imbalance(), 100 * t.stolen_share());
   }

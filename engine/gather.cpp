@@ -51,43 +51,47 @@ void update_pair_index(const Model& m, State& s) {
   s.pair_index_valid = true;
 }
 
+void gather_block(const Model& m, State& s, std::ptrdiff_t b) {
+  // A prescribed block moves as the driver says, whatever its forces: not gathered.
+  // The ground slab, one block with hundreds of pairs, made one thread's chunk the
+  // stage's slowest (imbalance 1.6-1.7 on 16 threads), its pairs' forces written by
+  // every other core.
+  if (m.motion[b] == Motion::prescribed) {
+    s.force[b] = s.applied_force[b];
+    s.torque[b] = s.applied_torque[b];
+    return;
+  }
+  Vec3 f = Vec3::Zero(), t = Vec3::Zero();
+  for (int q = s.block_pair_begin[b]; q < s.block_pair_begin[b + 1]; ++q) {
+    const int entry = s.block_pair[q];  // 2p: b is the pair's a, 2p + 1: its b
+    if (entry & 1)
+      f += s.pair_force_n[entry >> 1];
+    else
+      f -= s.pair_force_n[entry >> 1];
+    t += s.pair_moment_nm[entry];
+  }
+  s.force[b] = f + s.applied_force[b];
+  s.torque[b] = t + s.applied_torque[b];
+}
+
+double prescribed_power_of_chunk(const State& s, int k) {
+  // Side by side over the chunk's pairs, whose forces the same thread's contact law wrote.
+  double power = 0.0;
+  for (int q = s.prescribed_entry_begin[k]; q < s.prescribed_entry_begin[k + 1]; ++q) {
+    const auto [entry, block] = s.prescribed_entry[q];
+    const int p = entry >> 1;
+    const Vec3 f = (entry & 1) ? s.pair_force_n[p] : Vec3(-s.pair_force_n[p]);
+    power -= f.dot(s.velocity[block]) + s.pair_moment_nm[entry].dot(s.angular_velocity[block]);
+  }
+  return power;
+}
+
 double gather_forces(const Model& m, State& s) {
   const int nb = m.block_count;
-
   std::array<double, kStageChunks> parts{};
   parallel_chunks(nb, stage_chunks(nb), [&](std::ptrdiff_t begin, std::ptrdiff_t end, int k) {
-    for (std::ptrdiff_t b = begin; b < end; ++b) {
-      // A prescribed block moves as the driver says, whatever its forces: not gathered.
-      // The ground slab, one block with hundreds of pairs, made one thread's chunk the
-      // stage's slowest (imbalance 1.6-1.7 on 16 threads), its pairs' forces written by
-      // every other core.
-      if (m.motion[b] == Motion::prescribed) {
-        s.force[b] = s.applied_force[b];
-        s.torque[b] = s.applied_torque[b];
-        continue;
-      }
-      Vec3 f = Vec3::Zero(), t = Vec3::Zero();
-      for (int q = s.block_pair_begin[b]; q < s.block_pair_begin[b + 1]; ++q) {
-        const int entry = s.block_pair[q];  // 2p: b is the pair's a, 2p + 1: its b
-        if (entry & 1)
-          f += s.pair_force_n[entry >> 1];
-        else
-          f -= s.pair_force_n[entry >> 1];
-        t += s.pair_moment_nm[entry];
-      }
-      s.force[b] = f + s.applied_force[b];
-      s.torque[b] = t + s.applied_torque[b];
-    }
-    // The power the prescribed blocks put in (minus that of the contact forces on them),
-    // side by side over this chunk's pairs, whose forces this thread's contact law wrote.
-    double power = 0.0;
-    for (int q = s.prescribed_entry_begin[k]; q < s.prescribed_entry_begin[k + 1]; ++q) {
-      const auto [entry, block] = s.prescribed_entry[q];
-      const int p = entry >> 1;
-      const Vec3 f = (entry & 1) ? s.pair_force_n[p] : Vec3(-s.pair_force_n[p]);
-      power -= f.dot(s.velocity[block]) + s.pair_moment_nm[entry].dot(s.angular_velocity[block]);
-    }
-    parts[k] = power;
+    for (std::ptrdiff_t b = begin; b < end; ++b) gather_block(m, s, b);
+    parts[k] = prescribed_power_of_chunk(s, k);
   });
   double power = 0.0;
   for (double p : parts) power += p;

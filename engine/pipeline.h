@@ -78,6 +78,10 @@ void update_pair_index(const Model& model, State& state);
 // gather.cpp: resultant force and torque on each block, race-free (block -> contacts index).
 // Returns the power that prescribed blocks put into the system (W).
 double gather_forces(const Model& model, State& state);
+// The same for block b alone (State::force and torque), and the prescribed blocks' power
+// over the sides of the pairs in chunk k of the pair loops (State::prescribed_entry_begin).
+void gather_block(const Model& model, State& state, std::ptrdiff_t b);
+double prescribed_power_of_chunk(const State& state, int k);
 
 // implicit_damping.cpp (Damping::implicit), between gather and integrate: the
 // dashpot forces at the end-of-step velocities (backward Euler), added to State::force and
@@ -104,5 +108,12 @@ struct BlockEnergy {
   double left_model_j = 0.0;     // energy taken from the blocks frozen in this step
 };
 BlockEnergy integrate(const Model& model, State& state, double dt_s);
+// integrate.cpp: the gather and integrate in one pass over the blocks, each block's
+// forces gathered just before it moves (explicit dashpots: nothing comes between them).
+struct ForcesAndMotion {
+  BlockEnergy energy;
+  double prescribed_power_w = 0.0;  // gather_forces' result
+};
+ForcesAndMotion gather_and_integrate(const Model& model, State& state, double dt_s);
 
 }  // namespace ishibashi

@@ -8,10 +8,23 @@
 namespace ishibashi {
 
 // The stages of World::step in the order it calls them.
-enum class Stage : std::uint8_t { pose, broadphase, narrowphase, damping_caps, contact_law, gather, damping_solve, integrate };
-constexpr int kStageCount = 8;
+// gather_integrate: both in one pass (explicit dashpots); with implicit ones the solve
+// comes between them.
+enum class Stage : std::uint8_t {
+  pose,
+  broadphase,
+  narrowphase,
+  damping_caps,
+  contact_law,
+  gather,
+  damping_solve,
+  integrate,
+  gather_integrate
+};
+constexpr int kStageCount = 9;
 constexpr std::array<const char*, kStageCount> kStageNames = {
-    "pose", "broadphase", "narrowphase", "damping caps", "contact law", "gather", "damping solve", "integrate"};
+    "pose", "broadphase", "narrowphase", "damping caps", "contact law", "gather", "damping solve", "integrate",
+    "gather+integrate"};
 
 // One stage's time, summed over the steps. The thread times (Team::set_timing) are
 // measured only while a run profiles or traces; wall_s always.

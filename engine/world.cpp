@@ -121,15 +121,21 @@ void World::step() {
   // (a block moved half the margin): between rebuilds a block's joints barely change.
   if (rebuilt && m.options.damping == Damping::capped) timed(Stage::damping_caps, [&] { update_damping_caps(m, s, dt_s_); });
   const double elastic = timed(Stage::contact_law, [&] { return apply_contact_law(m, s, dt_s_); });
-  const double prescribed_power = timed(Stage::gather, [&] { return gather_forces(m, s); });
+  double prescribed_power = 0;
+  BlockEnergy before;
   if (m.options.damping == Damping::implicit) {
+    prescribed_power = timed(Stage::gather, [&] { return gather_forces(m, s); });
     const DampingSolve solve = timed(Stage::damping_solve, [&] { return solve_implicit_damping(m, s, dt_s_); });
     s.energy.damping_j -= solve.work_j;
     s.energy.prescribed_work_j += solve.prescribed_power_w * dt_s_;
     p.damping_iterations += solve.iterations;
     if (!solve.converged) ++p.damping_unconverged;
+    before = timed(Stage::integrate, [&] { return integrate(m, s, dt_s_); });
+  } else {
+    const ForcesAndMotion pass = timed(Stage::gather_integrate, [&] { return gather_and_integrate(m, s, dt_s_); });
+    prescribed_power = pass.prescribed_power_w;
+    before = pass.energy;
   }
-  const BlockEnergy before = timed(Stage::integrate, [&] { return integrate(m, s, dt_s_); });
 
   // Energy at this step, i.e. of the pose and the velocities integrate started from. v
   // was last updated between the previous pose and this one, so the potential is

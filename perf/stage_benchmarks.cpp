@@ -215,6 +215,14 @@ void BM_Integrate(benchmark::State& st) {
 }
 BENCHMARK(BM_Integrate);
 
+// The two as one pass (explicit dashpots, World::step).
+void BM_GatherAndIntegrate(benchmark::State& st) {
+  World& w = wall();
+  for (auto _ : st) benchmark::DoNotOptimize(gather_and_integrate(w.model(), w.state(), 0.0));
+  st.SetItemsProcessed(st.iterations() * w.model().block_count);
+}
+BENCHMARK(BM_GatherAndIntegrate);
+
 }  // namespace
 
 BENCHMARK_MAIN();

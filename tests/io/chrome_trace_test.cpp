@@ -106,7 +106,7 @@ TEST(ChromeTrace, SlicesNestOnEveryThreadAndStagesLieInTheirSteps) {
     }
   }
 
-  // The caller's track: steps 10..209, each with the five stages of an explicit step (and
+  // The caller's track: steps 10..209, each with the four stages of an explicit step (and
   // the broadphase after pose where it rebuilt the pair list).
   std::map<long, std::vector<std::string>> stages_of_step;
   std::map<std::pair<long, std::string>, const Slice*> caller_stage;
@@ -117,8 +117,8 @@ TEST(ChromeTrace, SlicesNestOnEveryThreadAndStagesLieInTheirSteps) {
   }
   ASSERT_EQ(stages_of_step.size(), 200u);
   EXPECT_EQ(stages_of_step.begin()->first, 10);
-  const std::vector<std::string> stages = {"pose", "narrowphase", "contact law", "gather", "integrate"};
-  const std::vector<std::string> rebuilding = {"pose", "broadphase", "narrowphase", "contact law", "gather", "integrate"};
+  const std::vector<std::string> stages = {"pose", "narrowphase", "contact law", "gather+integrate"};
+  const std::vector<std::string> rebuilding = {"pose", "broadphase", "narrowphase", "contact law", "gather+integrate"};
   for (const auto& [step, names] : stages_of_step)
     EXPECT_TRUE(names == stages || names == rebuilding) << "step " << step;
   // A worker's part of a stage lies inside the caller's slice of that stage.
@@ -139,7 +139,7 @@ TEST(ChromeTrace, ProfileSplitsTheTeamsTimeIntoWorkAndWaiting) {
   const World w = shaken_wall(2, 200, true);
   omp_set_num_threads(saved);
   const Profile& p = w.state().profile;
-  for (Stage stage : {Stage::pose, Stage::narrowphase, Stage::contact_law, Stage::gather, Stage::integrate}) {
+  for (Stage stage : {Stage::pose, Stage::narrowphase, Stage::contact_law, Stage::gather_integrate}) {
     const StageTime& t = p[stage];
     EXPECT_NEAR(t.team_s, 2 * t.wall_s, 1e-9);
     EXPECT_GT(t.work_s, 0);

@@ -1,0 +1,29 @@
+#!/usr/bin/env bash
+# Model F dry's window on this machine (0.02 s of settling, 0.03 s from the record's 7.3 s,
+# the strongest pulses; the study's explicit dashpots unless EXTRA says otherwise), fixed
+# teams, --profile: programs BEFORE and AFTER alternated ROUNDS times on each thread count
+# in THREADS. One CSV row per run; the stage columns are work us a step (profile_row.awk).
+# On a shared machine pause other work first and quote medians of back-to-back runs.
+#   bash perf/window_ab.sh BEFORE AFTER [ROUNDS] ["1 2"] [EXTRA...] > perf/results/NAME.csv
+set -eu
+BEFORE=$1 AFTER=$2 ROUNDS=${3:-3} THREADS=${4:-1 2}
+shift $(($# < 4 ? $# : 4))
+EXTRA=("$@")
+PERF=$(cd "$(dirname "$0")" && pwd)
+SCENARIO=$PERF/../scenarios/nishida_f_kobe_dry.toml
+OUT=$(mktemp -d)
+trap 'rm -rf "$OUT"' EXIT
+run() {  # label program threads
+  "$2" run "$SCENARIO" --settle-max 0.02 --start 7.3 --duration 0.03 --threads "$3" --fixed-threads --profile --quiet \
+    --out "$OUT/run" "${EXTRA[@]}" > "$OUT/log" 2>&1 || { echo "window_ab.sh: $2 failed:" >&2; tail -3 "$OUT/log" >&2; exit 1; }
+  local hash
+  hash=$(python3 -c "import json, sys; print(json.load(open(sys.argv[1]))['state_hash'])" "$OUT/run/summary.json")
+  echo "$1,$round,$3,$(awk -f "$PERF/profile_row.awk" "$OUT/log"),$hash"
+}
+echo "run,round,threads,steps_per_s,pose_us,narrowphase_us,contact_law_us,gather_us,solve_us,integrate_us,regroups,state_hash"
+for round in $(seq "$ROUNDS"); do
+  for t in $THREADS; do
+    run before "$BEFORE" "$t"
+    run after "$AFTER" "$t"
+  done
+done
