@@ -43,10 +43,17 @@ jobs=(
   "probe|ff7154d|out/probes/b_mortar|scenarios/nishida_b_kobe_mortar.toml --probe 4 --seed 1 --jobs 1 --threads 1 --duration 5.5 --branch-at 3.513"
 )
 
-# A run's summary says so; an ensemble writes ensemble.json, a probe probe.json, once every
-# member has finished.
+# A run's summary says so; an ensemble's ensemble.json and a probe's probe.json count the
+# members that finished (they are written also when some were interrupted).
 finished() {
-  [[ -f $1/ensemble.json || -f $1/probe.json ]] || { [[ -f $1/summary.json ]] && grep -q '"finished": true' "$1/summary.json"; }
+  local table
+  for table in "$1/ensemble.json" "$1/probe.json"; do
+    if [[ -f $table ]]; then
+      python3 -c "import json, sys; j = json.load(open(sys.argv[1])); sys.exit(j['finished'] != j['members'])" "$table"
+      return
+    fi
+  done
+  [[ -f $1/summary.json ]] && grep -q '"finished": true' "$1/summary.json"
 }
 
 # How far a job under way has shaken: each run's (each member's) seconds of shaking and wall

@@ -68,11 +68,14 @@ void nudge_stones(const Model& m, State& s, long seed, int member, double distan
 }
 
 // The member's folder as the branch left it: its files linked (a run replaces its files,
-// never writes into them), so that the member's series continue the branch's.
+// never writes into them), so that the member's series continue the branch's. All but the
+// checkpoint: a member's folder holds only a checkpoint of its own, written after its nudge
+// (with the branch's there, a member stopped before its first checkpoint went on from it
+// unperturbed, a copy of the reference: B dry's member 2, session 40).
 void copy_branch(const fs::path& branch, const fs::path& folder) {
   for (const fs::directory_entry& e : fs::directory_iterator(branch)) {
     const std::string name = e.path().filename().string();
-    if (name == "started.key" || name == "inputs.key" || !e.is_regular_file()) continue;
+    if (name == "started.key" || name == "inputs.key" || name == "checkpoint.bin" || !e.is_regular_file()) continue;
     std::error_code linked;
     fs::create_hard_link(e.path(), folder / name, linked);
     if (linked) fs::copy_file(e.path(), folder / name, fs::copy_options::overwrite_existing);
@@ -261,7 +264,7 @@ ChaosProbeOutcome run_chaos_probe(const Scenario& scenario, const ChaosProbeOpti
       copy_branch(branch, folder);
       RunOverrides overrides;
       overrides.set(&RunSettings::threads, threads);
-      return SeismicRun::resume(member_options, overrides);
+      return SeismicRun::resume(member_options, overrides, branch / "checkpoint.bin");
     };
     const std::string name = i == 0 ? "member 0 (reference)" : "member " + std::to_string(i);
     ++counts[static_cast<int>(run_in_folder(folder, probe_key(sc, outcome.branch_s, o, i), name, options, threads, start, event))];

@@ -79,8 +79,9 @@ SeismicRun::SeismicRun(const Scenario& scenario, SeismicRunOptions options)
 
 SeismicRun::~SeismicRun() = default;
 
-std::unique_ptr<SeismicRun> SeismicRun::resume(SeismicRunOptions options, const RunOverrides& overrides) {
-  const std::filesystem::path file = options.out / "checkpoint.bin";
+std::unique_ptr<SeismicRun> SeismicRun::resume(SeismicRunOptions options, const RunOverrides& overrides,
+                                               const std::filesystem::path& checkpoint) {
+  const std::filesystem::path file = checkpoint.empty() ? options.out / "checkpoint.bin" : checkpoint;
   std::string body;
   const CheckpointHeader h = read_checkpoint_file(file, &body);
   if (h.program != program_fingerprint())

@@ -79,7 +79,10 @@ class SeismicRun {
   // to a run never stopped. Throws InputError when there is no checkpoint, or when it was
   // written by another build of the program or for other input files.
   // `overrides` may change how it runs, not what (the command line allows threads alone).
-  static std::unique_ptr<SeismicRun> resume(SeismicRunOptions options, const RunOverrides& overrides = {});
+  // `checkpoint`: another run's checkpoint to go on from instead (the chaos probe's
+  // members from its branch), into options.out.
+  static std::unique_ptr<SeismicRun> resume(SeismicRunOptions options, const RunOverrides& overrides = {},
+                                            const std::filesystem::path& checkpoint = {});
 
   const Scenario& scenario() const { return scenario_; }
   const World& world() const { return *world_; }

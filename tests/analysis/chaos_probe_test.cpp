@@ -4,6 +4,7 @@
 // position series counts a row written again after a resume once.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -107,6 +108,43 @@ TEST(ChaosProbe, BlockSlidingToRestKeepsItsMembersTogether) {
   EXPECT_EQ(status, 0) << again;
   EXPECT_NE(again.find("branch: current, kept"), std::string::npos) << again;
   EXPECT_NE(again.find("member 2: current, kept"), std::string::npos) << again;
+}
+
+// A member's folder holds no checkpoint but its own, written after its nudge: a member
+// stopped before its first checkpoint (a killed process) starts again from the branch,
+// perturbed. (With the branch's checkpoint copied in among its files, such a member went
+// on from it unperturbed, a copy of the reference: model B dry's member 2, session 40.)
+TEST(ChaosProbe, AMemberStoppedBeforeItsFirstCheckpointStartsAgainPerturbed) {
+  const fs::path out = tmp_dir() / "probe_restart";
+  fs::remove_all(out);
+  ChaosProbeOptions o;
+  o.out = out;
+  o.members = 2;
+  o.perturbation_m = 1e-7;
+  o.branch_at_s = 0.1;
+  int starts = 0;
+  o.on_event = [&](const std::string& line) {
+    if (line != "member 1: started") return;
+    ++starts;  // where a killed process leaves the folder: no checkpoint yet
+    EXPECT_FALSE(fs::exists(out / "member_001" / "checkpoint.bin"));
+  };
+  const Scenario sc = read_scenario(sliding_block_scenario());
+  ASSERT_EQ(run_chaos_probe(sc, o).finished, 2);
+  auto moved_at_branch = [&] {
+    const PositionSeries reference = read_positions(out / "member_000" / "positions.bin");
+    const PositionSeries member = read_positions(out / "member_001" / "positions.bin");
+    double largest = 0;
+    for (std::size_t i = 0; i < reference.centroid[0].size(); i += 3)
+      largest = std::max(largest, (Eigen::Map<const Vec3>(&member.centroid[0][i]) - Eigen::Map<const Vec3>(&reference.centroid[0][i])).norm());
+    return largest;
+  };
+  EXPECT_NEAR(moved_at_branch(), 1e-7, 1e-12);
+
+  // Member 1 as a kill before its first checkpoint leaves it: started, not finished.
+  fs::remove(out / "member_001" / "inputs.key");
+  ASSERT_EQ(run_chaos_probe(sc, o).finished, 2);
+  EXPECT_EQ(starts, 2);
+  EXPECT_NEAR(moved_at_branch(), 1e-7, 1e-12);
 }
 
 TEST(ChaosProbe, PositionRowsWrittenAgainAfterAResumeCountOnce) {
