@@ -39,8 +39,10 @@ jobs=(
   # parted to 1 cm in 0.3 s), a quarter of a whole probe's cost. The branch as A's (where 10 s
   # of shaking reach 5 % of their Arias intensity; a 5.5 s window would put it at 3.35 s).
   "probe|ff7154d|out/probes/b_dry|scenarios/nishida_b_kobe_dry.toml --probe 4 --seed 1 --jobs 1 --threads 1 --duration 5.5 --branch-at 3.513"
-  "probe|ff7154d|out/probes/e_dry|scenarios/nishida_e_kobe_dry.toml --probe 4 --seed 1 --jobs 1 --threads 1 --duration 5.5 --branch-at 3.513"
-  "probe|ff7154d|out/probes/b_mortar|scenarios/nishida_b_kobe_mortar.toml --probe 4 --seed 1 --jobs 1 --threads 1 --duration 5.5 --branch-at 3.513"
+  # E dry and B with mortar on 5e62f46's program or later (the same state hashes as
+  # ff7154d's): ff7154d lets a member killed before its first checkpoint go on unperturbed.
+  "probe|cba163b|out/probes/e_dry|scenarios/nishida_e_kobe_dry.toml --probe 4 --seed 1 --jobs 1 --threads 1 --duration 5.5 --branch-at 3.513"
+  "probe|cba163b|out/probes/b_mortar|scenarios/nishida_b_kobe_mortar.toml --probe 4 --seed 1 --jobs 1 --threads 1 --duration 5.5 --branch-at 3.513"
 )
 
 # A run's summary says so; an ensemble's ensemble.json and a probe's probe.json count the
