@@ -13,13 +13,12 @@ PERF=$(cd "$(dirname "$0")" && pwd)
 SCENARIO=$PERF/../scenarios/nishida_b_kobe_dry.toml
 OUT=$(mktemp -d)
 trap 'rm -rf "$OUT"' EXIT
+source "$PERF/profile_run.sh"
 run() {  # label program extra-flags...
-  local label=$1 program=$2; shift 2
-  "$program" run "$SCENARIO" --settle-max 0.05 --start 7.3 --duration "$SHAKE" --threads "$THREADS" --fixed-threads \
-    --profile --quiet --out "$OUT/run" "$@" > "$OUT/log" 2>&1
-  local hash
-  hash=$(python3 -c "import json, sys; print(json.load(open(sys.argv[1]))['state_hash'])" "$OUT/run/summary.json")
-  echo "$label,$round,$THREADS,$(awk -f "$PERF/profile_row.awk" "$OUT/log"),$hash"
+  local label=$1 program=$2 row; shift 2
+  row=$(profiled_run "$program" "$SCENARIO" --settle-max 0.05 --start 7.3 --duration "$SHAKE" --threads "$THREADS" \
+    --fixed-threads "$@")
+  echo "$label,$round,$THREADS,$row"
 }
 echo "run,round,threads,steps_per_s,pose_us,narrowphase_us,contact_law_us,gather_us,solve_us,integrate_us,regroups,state_hash"
 for round in $(seq "$ROUNDS"); do

@@ -13,12 +13,11 @@ PERF=$(cd "$(dirname "$0")" && pwd)
 SCENARIO=$PERF/../scenarios/nishida_f_kobe_dry.toml
 OUT=$(mktemp -d)
 trap 'rm -rf "$OUT"' EXIT
+source "$PERF/profile_run.sh"
 run() {  # label program threads
-  "$2" run "$SCENARIO" --settle-max 0.02 --start 7.3 --duration 0.03 --threads "$3" --fixed-threads --profile --quiet \
-    --out "$OUT/run" "${EXTRA[@]}" > "$OUT/log" 2>&1 || { echo "window_ab.sh: $2 failed:" >&2; tail -3 "$OUT/log" >&2; exit 1; }
-  local hash
-  hash=$(python3 -c "import json, sys; print(json.load(open(sys.argv[1]))['state_hash'])" "$OUT/run/summary.json")
-  echo "$1,$round,$3,$(awk -f "$PERF/profile_row.awk" "$OUT/log"),$hash"
+  local row
+  row=$(profiled_run "$2" "$SCENARIO" --settle-max 0.02 --start 7.3 --duration 0.03 --threads "$3" --fixed-threads "${EXTRA[@]}")
+  echo "$1,$round,$3,$row"
 }
 echo "run,round,threads,steps_per_s,pose_us,narrowphase_us,contact_law_us,gather_us,solve_us,integrate_us,regroups,state_hash"
 for round in $(seq "$ROUNDS"); do
