@@ -160,7 +160,9 @@ void compact_contacts(const Model& m, State& s) {
 void update_contacts(const Model& m, State& s, bool first_detection, double dt_s) {
   if (!s.pair_index_valid) update_pair_index(m, s);  // the pair list changed: its chunks
   const bool pair_list_changed = s.pairs_changed;
-  switch (build_manifolds(m, s, first_detection, dt_s)) {
+  const Layout layout = build_manifolds(m, s, first_detection, dt_s);
+  s.step_motion_read = true;  // the pairs' bounds have taken the blocks' motions in
+  switch (layout) {
     case Layout::unchanged: return;  // every pair updated or rebuilt in place (or still apart)
     case Layout::regroup:
       ++s.profile.contact_regroups;

@@ -2,6 +2,7 @@
 // of b, edge-edge directions), with hysteresis so that a resting joint keeps its axis and
 // its keys, and a cheap test that skips the search for pairs that barely moved.
 #include <algorithm>
+#include <cassert>
 #include <cmath>
 
 #include "engine/narrowphase.h"
@@ -83,7 +84,8 @@ Axis best_edge_axis(const Model& m, const PairWorld& w, int a, int b) {
 // in a's frame, and a turn by angle t moves a point at distance r by the chord
 // 2 sin(t/2) r. Also returns the current relative pose, to be stored when the search is
 // redone. Most pairs are decided without a square root (u + v <= sqrt(2 (u^2 + v^2))).
-bool moved_at_least(const Model& m, const State& s, const Pair& pair, double limit_m, Vec3& offset, Quat& relative) {
+// Sets the pair's bound to the measure found when it is below the limit.
+bool moved_exactly(const Model& m, const State& s, Pair& pair, double limit_m, Vec3& offset, Quat& relative) {
   offset = s.rotation[pair.a].transpose() * (s.position[pair.b] - s.position[pair.a]);
   relative = s.orientation[pair.a].conjugate() * s.orientation[pair.b];
   if (limit_m <= 0) return true;
@@ -92,8 +94,44 @@ bool moved_at_least(const Model& m, const State& s, const Pair& pair, double lim
   const double cos_half_turn = pair.relative_at_search.coeffs().dot(relative.coeffs());
   const double sin2_half_turn = std::max(0.0, 1.0 - cos_half_turn * cos_half_turn);
   const double chord2 = 4.0 * sin2_half_turn * m.radius_m[pair.b] * m.radius_m[pair.b];
-  if (2.0 * (shift2 + chord2) < limit_m * limit_m) return false;
-  return std::sqrt(shift2) + std::sqrt(chord2) >= limit_m;
+  if (2.0 * (shift2 + chord2) < limit_m * limit_m) {
+    pair.moved_bound_m = std::sqrt(2.0 * (shift2 + chord2));
+    return false;
+  }
+  const double measure = std::sqrt(shift2) + std::sqrt(chord2);
+  pair.moved_bound_m = measure;
+  return measure >= limit_m;
+}
+
+// The same answer, most steps without the exact test: the pair's bound on that measure
+// grows by this step's motions (pose.cpp). b's centroid moved relative to a's by at most
+// |shift_b - shift_a| (its 1-norm: no root), and a's turn by t moves a's frame under a
+// point at distance |d| <= |offset_at_search| + limit by t |d|; a point of b at r_b from
+// its centre turns relative to a by at most (t_a + t_b) r_b. While the bound stays below
+// the limit by more than the exact test's rounding (its chord's root of a difference near
+// 1: below 1e-7 r), the answer is no; else the exact test decides and resets the bound.
+// A shaken bridge moves its stones together: most pairs skip the exact test for hundreds
+// of steps (its rotation, quaternion product and roots: a fifth of a cracked bridge's step).
+bool moved_at_least(const Model& m, const State& s, Pair& pair, double limit_m, Vec3& offset, Quat& relative) {
+  if (limit_m > 0) {
+    const int a = pair.a, b = pair.b;
+    const double rb = m.radius_m[b];
+    const double lever = pair.centre_distance_at_search_m + limit_m;
+    const double grown = pair.moved_bound_m + (s.step_shift[b] - s.step_shift[a]).cwiseAbs().sum() +
+                         s.step_turn[a] * (lever + rb) + s.step_turn[b] * rb + 1e-13;
+    const double margin = 1e-6 * (limit_m + rb + lever);
+    if (grown < limit_m - margin) {
+#ifndef NDEBUG  // the skip gives the exact test's answer, and the bound covers its measure
+      Pair exact = pair;
+      assert(!moved_exactly(m, s, exact, limit_m, offset, relative));
+      const double c = pair.relative_at_search.coeffs().dot(relative.coeffs());
+      assert((offset - pair.offset_at_search).norm() + 2.0 * rb * std::sqrt(std::max(0.0, 1.0 - c * c)) <= grown + margin);
+#endif
+      pair.moved_bound_m = grown;
+      return false;
+    }
+  }
+  return moved_exactly(m, s, pair, limit_m, offset, relative);
 }
 
 }  // namespace
@@ -102,8 +140,8 @@ bool pair_manifold(const Model& m, const State& s, Pair& pair, PairWorld& w, Man
   out.clear();
   const int a = pair.a, b = pair.b;
   const double tol = m.contact_tolerance_m(a, b);
-  Vec3 offset;
-  Quat relative;
+  Vec3 offset = Vec3::Zero();  // set when the pair has moved (moved_at_least)
+  Quat relative = Quat::Identity();
   const bool face_axis = pair.axis_kind == 0 || pair.axis_kind == 1;
   // Still apart: b cannot have closed the gap (separation beyond the tolerance).
   // Barely moved: within a twentieth of the tolerance the clipped features cannot change.
@@ -121,6 +159,8 @@ bool pair_manifold(const Model& m, const State& s, Pair& pair, PairWorld& w, Man
   }
   pair.offset_at_search = offset;
   pair.relative_at_search = relative;
+  pair.centre_distance_at_search_m = offset.norm();
+  pair.moved_bound_m = 0.0;
   auto apart = [&](double separation) {
     pair.axis_kind = -1;
     pair.separation_m = separation;

@@ -1,6 +1,7 @@
 #include "engine/state.h"
 
 #include <algorithm>
+#include <limits>
 
 namespace ishibashi {
 
@@ -28,6 +29,10 @@ State make_initial_state(const Model& model) {
   s.left_model.assign(nb, 0);
   s.damping_scale.assign(nb, 1.0);
   s.rotation.resize(nb);
+  s.step_shift.assign(nb, Vec3::Zero());
+  s.step_turn.assign(nb, std::numeric_limits<double>::infinity());
+  s.position_at_pose.assign(nb, Vec3::Zero());
+  s.orientation_at_pose.assign(nb, Quat::Identity());
   s.face_normal_world.resize(model.face_normal_local.size());
   s.face_offset_world.resize(model.face_offset_local.size());
   s.position_at_rebuild = s.position;

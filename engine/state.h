@@ -4,6 +4,7 @@
 #pragma once
 #include <array>
 #include <cstdint>
+#include <limits>
 #include <vector>
 
 #include "engine/math.h"
@@ -116,6 +117,12 @@ struct Pair {
   double separation_m = -1.0;
   Vec3 offset_at_search = Vec3::Zero();
   Quat relative_at_search = Quat::Identity();
+  double centre_distance_at_search_m = 0.0;  // |offset_at_search|
+  // An upper bound on how far any point of b has moved relative to a since the search
+  // (the measure moved_at_least tests), summed from the blocks' step motions: while it
+  // stays below the pair's limit the exact test is skipped, with the same answer. inf:
+  // not known (a new pair, a restored state), so the exact test runs.
+  double moved_bound_m = std::numeric_limits<double>::infinity();
   int sub_begin = 0, sub_count = 0;  // this pair's range in State::contacts
   // This step's narrowphase: -1 when the pair's sub-contacts were updated in place,
   // else the number of rebuilt ones, at `rebuilt_begin` in its chunk's buffer.
@@ -193,6 +200,16 @@ struct State {
 
   // ---- world-frame geometry of the current pose ----
   std::vector<Mat3> rotation;            // (nb) principal frame -> world
+  // How each block moved since the last narrowphase (pose.cpp), for its bound on a pair's
+  // relative motion: the centroid's displacement (m) and an upper bound on the angle
+  // turned (rad; inf after a restore or before the first pose).
+  std::vector<Vec3> step_shift;          // (nb)
+  std::vector<double> step_turn;         // (nb)
+  std::vector<Vec3> position_at_pose;    // (nb) the pose they are measured from
+  std::vector<Quat> orientation_at_pose; // (nb)
+  bool pose_history_valid = false;       // false: the next pose has nothing to measure from
+  bool step_motion_read = true;          // a narrowphase has read step_shift and step_turn: the
+                                         // next pose starts them anew (else adds to them)
   std::vector<Vec3> face_normal_world;   // (nf)
   std::vector<double> face_offset_world; // (nf)
 

@@ -40,6 +40,8 @@ void write_state(CheckpointWriter& out, const State& s) { visit_state(out, s); }
 void read_state(CheckpointReader& in, State& s) {
   visit_state(in, s);
   s.pair_index_valid = false;  // the pair indices follow the restored pair list
+  s.pose_history_valid = false;  // the blocks' step motions restart from the next pose
+  s.step_motion_read = true;
   s.contacts_dead = static_cast<int>(s.contacts.size());  // the entries in no pair's range
   for (const Pair& pair : s.pairs) s.contacts_dead -= pair.sub_count;
 }
@@ -47,7 +49,8 @@ void read_state(CheckpointReader& in, State& s) {
 namespace {
 
 // 11: the body's FNV-1a checksum after the header (a damaged byte was resumed from silently).
-constexpr char kCheckpointMagic[] = "ishibashi checkpoint 11\n";
+// 12: each pair's bound on its relative motion (Pair::moved_bound_m).
+constexpr char kCheckpointMagic[] = "ishibashi checkpoint 12\n";
 
 template <class Archive, class H>
 void visit_header(Archive& a, H& h) {

@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <random>
 #include <string>
 #include <vector>
 
@@ -211,6 +212,53 @@ TEST(Narrowphase, KeysPersistWhileSliding) {
   update_pose(m, s);
   update_contacts(m, s, false, 1e-5);
   EXPECT_EQ(s.contacts.key, before);
+}
+
+// The narrowphase skips a pair's exact moved test while its bound on the pair's relative
+// motion stays below the limit (separating_axis.cpp). The bound must cover the measure the
+// exact test takes (b's centroid in a's frame, plus the chord its turn relative to a
+// sweeps at b's radius) through random motions of both stones, searches included; and
+// both shifted alike, however far, must leave it as it was (the skip is taken).
+TEST(Narrowphase, MotionBoundCoversThePairsRelativeMotion) {
+  const Polyhedron bottom = make_box(Vec3(0, 0, -0.5), Vec3(1, 1, 1));
+  const Polyhedron top = make_box(Vec3(0.2, 0.1, 0.5), Vec3(1, 1, 1));
+  const Model m = test::stones_model({{&bottom, Motion::free}, {&top, Motion::free}});
+  State s = test::contacts_found(m);
+  ASSERT_EQ(s.pairs.size(), 1u);
+  std::mt19937 draw(7);
+  std::uniform_real_distribution<double> unit(-1.0, 1.0);
+  auto random_vector = [&] { return Vec3(unit(draw), unit(draw), unit(draw)); };
+  auto turn = [](const Vec3& v) { return Quat(Eigen::AngleAxisd(v.norm(), v.normalized())); };
+  const double limit = 0.05 * m.contact_tolerance_m(0, 1);
+  int searches = 0;
+  for (int step = 0; step < 600; ++step) {
+    const bool rigid = step % 3 == 0;  // both stones shifted alike, 20 times the limit
+    const Vec3 common_shift = 1e-3 * random_vector();
+    for (int b : {0, 1}) {
+      if (rigid) {
+        s.position[b] += common_shift;
+      } else {
+        s.position[b] += 1e-5 * random_vector();
+        s.orientation[b] = (turn(1e-5 * random_vector()) * s.orientation[b]).normalized();
+      }
+    }
+    const Pair before = s.pairs[0];
+    update_pose(m, s);
+    update_contacts(m, s, false, 1e-5);
+    const Pair& pair = s.pairs[0];
+    if (pair.offset_at_search != before.offset_at_search) ++searches;
+    const Vec3 offset = s.orientation[0].toRotationMatrix().transpose() * (s.position[1] - s.position[0]);
+    const Quat relative = s.orientation[0].conjugate() * s.orientation[1];
+    const Eigen::Vector4d q0 = pair.relative_at_search.coeffs(), q = relative.coeffs();
+    const double half_turn = 2 * std::asin(0.5 * std::min((q0 - q).norm(), (q0 + q).norm()));
+    const double measure = (offset - pair.offset_at_search).norm() + 2 * m.radius_m[1] * std::sin(half_turn);
+    // Within the exact test's own rounding (its chord's root of 1 - cos^2 near 0: about 1e-8 m).
+    ASSERT_GE(pair.moved_bound_m, measure - 1e-7) << "step " << step;
+    if (rigid && pair.offset_at_search == before.offset_at_search) {  // skipped: added only its slack
+      EXPECT_LT(pair.moved_bound_m - before.moved_bound_m, 1e-6 * limit) << "step " << step;
+    }
+  }
+  EXPECT_GT(searches, 10);  // the random motions crossed the limit again and again
 }
 
 // A 60-gon (the most corners a face may have) on the cube at the finest subdivision:
