@@ -121,7 +121,8 @@ struct Pair {
   // An upper bound on how far any point of b has moved relative to a since the search
   // (the measure moved_at_least tests), summed from the blocks' step motions: while it
   // stays below the pair's limit the exact test is skipped, with the same answer. inf:
-  // not known (a new pair, a restored state), so the exact test runs.
+  // not known (a new pair), so the exact test runs (as after a restore, whose blocks'
+  // step turns are not known).
   double moved_bound_m = std::numeric_limits<double>::infinity();
   int sub_begin = 0, sub_count = 0;  // this pair's range in State::contacts
   // This step's narrowphase: -1 when the pair's sub-contacts were updated in place,
