@@ -17,8 +17,8 @@ cd "$root"
 # lane | commit | output folder | the run's arguments (scenario first)
 jobs=(
   # (Finished jobs leave this list once their results are committed: B dry's explicit
-  # ensemble, B, C, D and F's runs against dt, dry and with mortar, and B dry's probe, in
-  # scenarios/results.)
+  # ensemble, B, C, D and F's runs against dt, dry and with mortar, and B and E dry's
+  # probes, in scenarios/results.)
   # Issue 48 item 5's other marginal runs on the explicit reference (the fast path is not
   # verified): model E dry and with mortar, five members each, the seed of A's and B's
   # ensembles; 50b4282's program (every preset's hash as ff7154d's, 6 % faster: the
@@ -49,7 +49,6 @@ jobs=(
   # of shaking reach 5 % of their Arias intensity; a 5.5 s window would put it at 3.35 s).
   # E dry and B with mortar on 5e62f46's program or later (the same state hashes as
   # ff7154d's): ff7154d lets a member killed before its first checkpoint go on unperturbed.
-  "probe|cba163b|out/probes/e_dry|scenarios/nishida_e_kobe_dry.toml --probe 4 --seed 1 --jobs 1 --threads 1 --duration 5.5 --branch-at 3.513"
   "probe|cba163b|out/probes/b_mortar|scenarios/nishida_b_kobe_mortar.toml --probe 4 --seed 1 --jobs 1 --threads 1 --duration 5.5 --branch-at 3.513"
 )
 
