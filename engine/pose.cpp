@@ -19,14 +19,12 @@ double turn_bound_rad(double chord) {
 }
 
 // Block b's rotation matrix and world-frame face planes, and how it moved since the last
-// pose: added to what it moved before when no narrowphase has read that yet (`add`), and
-// unknown (inf) when there was no last pose.
-void pose_block(const Model& m, State& s, std::ptrdiff_t b, bool measured, bool add) {
+// pose: added to what it moved before when no narrowphase has read that yet (`add`).
+void pose_block(const Model& m, State& s, std::ptrdiff_t b, bool add) {
   const Mat3 r = s.rotation[b] = s.orientation[b].toRotationMatrix();
   const Vec3& x = s.position[b];
   const Vec3 shift = x - s.position_at_pose[b];
-  const double turn = measured ? turn_bound_rad((s.orientation[b].coeffs() - s.orientation_at_pose[b].coeffs()).norm())
-                               : std::numeric_limits<double>::infinity();
+  const double turn = turn_bound_rad((s.orientation[b].coeffs() - s.orientation_at_pose[b].coeffs()).norm());
   s.step_shift[b] = add ? s.step_shift[b] + shift : shift;
   s.step_turn[b] = add ? s.step_turn[b] + turn : turn;
   s.position_at_pose[b] = x;
@@ -43,11 +41,10 @@ bool update_pose(const Model& m, State& s) {
   // The broadphase's check rides on this pass over the blocks: as a loop of its own it
   // cost more to post to a team than its 3 ns a block (model F on 16 threads: 9 us a
   // step, against 6.7 on one thread).
-  const bool measured = s.pose_history_valid, add = !s.step_motion_read;
-  s.pose_history_valid = true;
+  const bool add = !s.step_motion_read;
   s.step_motion_read = false;
   if (!s.pairs_valid) {  // no list to check against: it is built next
-    parallel_for(m.block_count, [&](std::ptrdiff_t b) { pose_block(m, s, b, measured, add); });
+    parallel_for(m.block_count, [&](std::ptrdiff_t b) { pose_block(m, s, b, add); });
     return true;
   }
   std::array<std::uint8_t, kStageChunks> moved{};
@@ -55,7 +52,7 @@ bool update_pose(const Model& m, State& s) {
   parallel_chunks(m.block_count, chunks, [&](std::ptrdiff_t begin, std::ptrdiff_t end, int k) {
     bool any = false;  // written once: the chunks' flags share cache lines
     for (std::ptrdiff_t b = begin; b < end; ++b) {
-      pose_block(m, s, b, measured, add);
+      pose_block(m, s, b, add);
       any = any || moved_half_margin(m, s, static_cast<int>(b));
     }
     moved[k] = any;

@@ -29,14 +29,19 @@ State make_initial_state(const Model& model) {
   s.left_model.assign(nb, 0);
   s.damping_scale.assign(nb, 1.0);
   s.rotation.resize(nb);
-  s.step_shift.assign(nb, Vec3::Zero());
-  s.step_turn.assign(nb, std::numeric_limits<double>::infinity());
-  s.position_at_pose.assign(nb, Vec3::Zero());
-  s.orientation_at_pose.assign(nb, Quat::Identity());
   s.face_normal_world.resize(model.face_normal_local.size());
   s.face_offset_world.resize(model.face_offset_local.size());
   s.position_at_rebuild = s.position;
+  forget_step_motion(s);
   return s;
+}
+
+void forget_step_motion(State& s) {
+  s.position_at_pose = s.position;
+  s.orientation_at_pose = s.orientation;
+  s.step_shift.assign(s.position.size(), Vec3::Zero());
+  s.step_turn.assign(s.position.size(), std::numeric_limits<double>::infinity());
+  s.step_motion_read = false;
 }
 
 }  // namespace ishibashi

@@ -203,13 +203,13 @@ struct State {
   std::vector<Mat3> rotation;            // (nb) principal frame -> world
   // How each block moved since the last narrowphase (pose.cpp), for its bound on a pair's
   // relative motion: the centroid's displacement (m) and an upper bound on the angle
-  // turned (rad; inf after a restore or before the first pose).
+  // turned (rad; inf until a narrowphase after the first pose or a restore has read it:
+  // forget_step_motion).
   std::vector<Vec3> step_shift;          // (nb)
   std::vector<double> step_turn;         // (nb)
   std::vector<Vec3> position_at_pose;    // (nb) the pose they are measured from
   std::vector<Quat> orientation_at_pose; // (nb)
-  bool pose_history_valid = false;       // false: the next pose has nothing to measure from
-  bool step_motion_read = true;          // a narrowphase has read step_shift and step_turn: the
+  bool step_motion_read = false;         // a narrowphase has read step_shift and step_turn: the
                                          // next pose starts them anew (else adds to them)
   std::vector<Vec3> face_normal_world;   // (nf)
   std::vector<double> face_offset_world; // (nf)
@@ -268,6 +268,10 @@ struct State {
 
 // A State at the model's initial pose, at rest, with no contacts yet.
 State make_initial_state(const Model& model);
+
+// The blocks' step motions unknown (a new or restored state): measured from the current
+// pose on, with turns of inf, so that the next narrowphase runs every pair's exact test.
+void forget_step_motion(State& state);
 
 // Calls fn(i) for every sub-contact i, pair by pair in pair order: the arrays' own order
 // when they are dense, whatever dead entries they hold between two compactions.

@@ -40,8 +40,7 @@ void write_state(CheckpointWriter& out, const State& s) { visit_state(out, s); }
 void read_state(CheckpointReader& in, State& s) {
   visit_state(in, s);
   s.pair_index_valid = false;  // the pair indices follow the restored pair list
-  s.pose_history_valid = false;  // the blocks' step motions restart from the next pose
-  s.step_motion_read = true;
+  forget_step_motion(s);  // the blocks' step motions are not in the checkpoint
   s.contacts_dead = static_cast<int>(s.contacts.size());  // the entries in no pair's range
   for (const Pair& pair : s.pairs) s.contacts_dead -= pair.sub_count;
 }
