@@ -10,6 +10,7 @@
 #   nohup nice -n 19 bash scripts/long_runs.sh ensemble > out/long_runs_ensemble.log 2>&1 &
 #   nohup nice -n 19 bash scripts/long_runs.sh dt > out/long_runs_dt.log 2>&1 &
 #   nohup nice -n 19 bash scripts/long_runs.sh probe > out/long_runs_probe.log 2>&1 &
+#   nohup nice -n 19 bash scripts/long_runs.sh dt b_mortar > out/long_runs_dt.log 2>&1 &  (in turn)
 set -euo pipefail
 root=$(cd "$(dirname "$0")/.." && pwd)
 cd "$root"
@@ -83,6 +84,12 @@ print(": " + "; ".join(parts) if parts else "")
 PY
 }
 
+# Several lanes run one after the other in one process, so that a core freed by a lane's
+# last job goes on to the next lane's: `bash scripts/long_runs.sh dt b_mortar`.
+if (($# > 1)); then
+  for lane in "$@"; do bash "$0" "$lane" || true; done
+  exit 0
+fi
 lane=${1:-list}
 if [[ $lane != list ]]; then
   # One process per lane: two would write the same folders.
