@@ -87,7 +87,7 @@ PY
 # Several lanes run one after the other in one process, so that a core freed by a lane's
 # last job goes on to the next lane's: `bash scripts/long_runs.sh dt b_mortar`.
 if (($# > 1)); then
-  for lane in "$@"; do bash "$0" "$lane" || true; done
+  for lane in "$@"; do bash "$root/scripts/long_runs.sh" "$lane" || true; done
   exit 0
 fi
 lane=${1:-list}
