@@ -4,9 +4,9 @@
 // contact configuration (face-face, edge-face, vertex-face, edge-edge), re-searched and
 // re-clipped on every iteration (each includes one OpenMP region, about 1 us).
 #include <benchmark/benchmark.h>
-#include <limits>
 
 #include <cmath>
+#include <limits>
 
 #include "engine/pipeline.h"
 #include "engine/world.h"
