@@ -38,9 +38,11 @@ std::pair<long, long> parse_range(const char* option, const std::string& text, c
 
 // Per stage: its wall time and share, and how the team's threads spent it: working
 // (claiming and running chunks), waiting (at the loops' ends, or while the calling thread
-// runs a serial part), and the busiest thread's work against the mean.
-void print_profile(const World& world, long steps) {
+// runs a serial part), and the busiest thread's work against the mean. Then the run's
+// time outside the steps that recording its frames took.
+void print_profile(const World& world, const SeismicRunResult& r) {
   const Profile& p = world.state().profile;
+  const long steps = r.steps;
   const double total = p.wall_s();
   std::printf("stage             seconds   share   work µs/step   working  waiting   serial  imbalance  stolen\n");
   for (int k = 0; k < kStageCount; ++k) {
@@ -53,6 +55,8 @@ void print_profile(const World& world, long steps) {
   std::printf("steps %ld, broadphase rebuilds %ld, contact regroups %ld, %.1f steps/s, mean team %.2f of %d threads\n", steps,
               p.broadphase_rebuilds, p.contact_regroups, steps / total, double(p.thread_steps) / steps,
               world.thread_tuner().max_threads());
+  std::printf("frames: %.1f s of the run's %.1f s wall (%.1f %%) recording the counts, ParaView files and history.csv "
+              "(--output-interval sets how often)\n", r.output_wall_s, r.wall_s, 100 * r.output_wall_s / r.wall_s);
   std::printf("  work: thread-seconds claiming and running the stage's chunks, and its serial parts (growing with the\n"
               "  threads: they slow each other through memory); waiting: the rest of the team's time in the stage; serial:\n"
               "  share of the stage one thread runs alone; imbalance: the busiest thread's chunks against the mean;\n"
@@ -199,7 +203,7 @@ int run_scenario(const RunOptions& o) {
   if (const long unconverged = run.world().state().profile.damping_unconverged; unconverged > 0)
     std::printf("warning: in %ld steps the implicit dashpots' solve stopped at its iteration limit before its tolerance; "
                 "a smaller dt (--dt) makes it converge\n", unconverged);
-  if (o.profile) print_profile(run.world(), r.steps);
+  if (o.profile) print_profile(run.world(), r);
   if (!o.trace.empty()) {
     const StageTrace& trace = run.world().trace();
     write_chrome_trace(trace, sc.model.name + " (" + sc.file.filename().string() + ")", o.trace);

@@ -39,6 +39,9 @@ void write_grid(vtkUnstructuredGrid* grid, const std::filesystem::path& file) {
     // ("not well-formed (invalid token)") and renders nothing. Inline files are plain XML.
     writer->SetDataModeToBinary();
     writer->SetCompressorTypeToZLib();
+    // zlib's fastest level: a frame of model F in 0.13 s instead of 0.18 (its default 5),
+    // 3 % larger; LZ4 took 0.08 s but 55 % more disk, which an ensemble's frames feel.
+    writer->SetCompressionLevel(1);
     if (writer->Write() != 1) throw std::runtime_error("cannot write " + file.string() + " (VTK writer failed)");
   });
 }

@@ -49,7 +49,8 @@ namespace {
 
 // 11: the body's FNV-1a checksum after the header (a damaged byte was resumed from silently).
 // 12: each pair's bound on its relative motion (Pair::moved_bound_m).
-constexpr char kCheckpointMagic[] = "ishibashi checkpoint 12\n";
+// 13: the run's wall time spent recording frames (SeismicRunResult::output_wall_s).
+constexpr char kCheckpointMagic[] = "ishibashi checkpoint 13\n";
 
 template <class Archive, class H>
 void visit_header(Archive& a, H& h) {

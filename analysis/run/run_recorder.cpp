@@ -166,6 +166,7 @@ void RunRecorder::write_summary(const RunDescription& run, const SeismicRunResul
         column.value(r));
   j["simulated_time_s"] = s.time_s;
   j["wall_time_s"] = r.wall_s;  // wall_s by its earlier name, which the shared 16-core scaling script reads
+  j["output_wall_s"] = r.output_wall_s;  // of wall_s, recording frames (--output-interval sets how many)
   const int slip_joint = r.joint_counts.largest_slip_joint;
   j["largest_slip_blocks"] = slip_joint < 0 ? Json() : Json::array({joints.block_a[slip_joint], joints.block_b[slip_joint]});
   j["monitored_block"] = run.monitored_block;

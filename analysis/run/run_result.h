@@ -30,7 +30,8 @@ namespace ishibashi {
   X(double, balance_error_relative, 0) /* of the energy exchanged */                                       \
   X(long, steps, 0)                                                                                        \
   X(std::uint64_t, state_hash, 0)                                                                          \
-  X(double, wall_s, 0)
+  X(double, wall_s, 0)                                                                                     \
+  X(double, output_wall_s, 0)          /* of wall_s, recording frames: counts, ParaView files, history */
 
 struct SeismicRunResult {
 #define ISHIBASHI_DECLARE_RESULT_FIELD(type, name, initial) type name = initial;

@@ -136,7 +136,9 @@ struct SeismicRun::Progress {
   }
   // Records a frame and takes its counts into the result.
   void record(const char* phase, const Model& m, const State& s) {
+    const Clock::time_point start = Clock::now();
     const RunCounts c = recorder.record(phase, s, ground_accel, ground_displacement, joints);
+    result.output_wall_s += std::chrono::duration<double>(Clock::now() - start).count();
     result.joint_counts = c.joints;
     result.fallen_stones = c.fallen;
     result.fallen_ring_stones = c.fallen_ring;
