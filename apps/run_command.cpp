@@ -55,12 +55,12 @@ void print_profile(const World& world, const SeismicRunResult& r) {
   std::printf("steps %ld, broadphase rebuilds %ld, contact regroups %ld, %.1f steps/s, mean team %.2f of %d threads\n", steps,
               p.broadphase_rebuilds, p.contact_regroups, steps / total, double(p.thread_steps) / steps,
               world.thread_tuner().max_threads());
-  std::printf("frames: %.1f s of the run's %.1f s wall (%.1f %%) recording the counts, ParaView files and history.csv "
-              "(--output-interval sets how often)\n", r.output_wall_s, r.wall_s, 100 * r.output_wall_s / r.wall_s);
   std::printf("  work: thread-seconds claiming and running the stage's chunks, and its serial parts (growing with the\n"
               "  threads: they slow each other through memory); waiting: the rest of the team's time in the stage; serial:\n"
               "  share of the stage one thread runs alone; imbalance: the busiest thread's chunks against the mean;\n"
               "  stolen: chunks a thread took from another's range, whose data lay in another core's cache\n");
+  std::printf("frames: %.1f s of the run's %.1f s wall (%.1f %%) recording the counts, ParaView files and history.csv "
+              "(--output-interval sets how often)\n", r.output_wall_s, r.wall_s, 100 * r.output_wall_s / r.wall_s);
   if (world.model().options.damping == Damping::implicit)
     std::printf("implicit dashpots: %.2f conjugate-gradient iterations per step (tolerance %g), %ld steps stopped unconverged\n",
                 double(p.damping_iterations) / steps, world.model().options.damping_solve_tolerance, p.damping_unconverged);
