@@ -193,6 +193,11 @@ TEST(Run, ProfileTableAndTraceOfAShortRun) {
   EXPECT_EQ(steps, 5);
   const nlohmann::json summary = nlohmann::json::parse(std::ifstream(out / "summary.json"));
   EXPECT_GE(summary["stages"]["contact law"]["imbalance"].get<double>(), 1.0);
+  // The frames' share of the run's wall: some time, less than all of it.
+  EXPECT_NE(output.find("\nframes: "), std::string::npos) << output;
+  const double frames_s = summary["output_wall_s"].get<double>();
+  EXPECT_GT(frames_s, 0.0);
+  EXPECT_LT(frames_s, summary["wall_s"].get<double>());
 
   const std::string refused = test::run_command(std::string(ISHIBASHI_BINARY) + " run --quiet " + short_scenario(0.05).string() +
                                                     " --trace " + trace + " --trace-steps 15:10 --out " + out.string(), &status);
