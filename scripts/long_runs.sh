@@ -7,10 +7,8 @@
 # so that a later build never changes a comparison half way. The results and what they
 # mean: scenarios/results/README.md.
 #
-#   nohup nice -n 19 bash scripts/long_runs.sh ensemble > out/long_runs_ensemble.log 2>&1 &
-#   nohup nice -n 19 bash scripts/long_runs.sh dt > out/long_runs_dt.log 2>&1 &
-#   nohup nice -n 19 bash scripts/long_runs.sh probe > out/long_runs_probe.log 2>&1 &
-#   nohup nice -n 19 bash scripts/long_runs.sh dt b_mortar > out/long_runs_dt.log 2>&1 &  (in turn)
+#   nohup nice -n 19 bash scripts/long_runs.sh b_mortar > out/long_runs_b_mortar.log 2>&1 &
+#   nohup nice -n 19 bash scripts/long_runs.sh probe ensemble > out/long_runs_probe.log 2>&1 &  (in turn)
 set -euo pipefail
 root=$(cd "$(dirname "$0")/.." && pwd)
 cd "$root"
@@ -18,25 +16,14 @@ cd "$root"
 # lane | commit | output folder | the run's arguments (scenario first)
 jobs=(
   # (Finished jobs leave this list once their results are committed: B dry's explicit
-  # ensemble, B, C, D and F's runs against dt, dry and with mortar, and B and E dry's
-  # probes, in scenarios/results.)
+  # ensemble, B, C, D and F's runs against dt, dry and with mortar (F dry's last at 5e-6 s,
+  # session 42), and B and E dry's probes, in scenarios/results.)
   # Issue 48 item 5's other marginal runs on the explicit reference (the fast path is not
   # verified): model E dry and with mortar, five members each, the seed of A's and B's
   # ensembles; 50b4282's program (every preset's hash as ff7154d's, 6 % faster: the
   # narrowphase's motion bound). About 35 core-hours.
   "ensemble|50b4282|out/ensembles/e_dry_explicit|scenarios/nishida_e_kobe_dry.toml --members 5 --seed 1 --jobs 2 --threads 1"
   "ensemble|50b4282|out/ensembles/e_mortar_explicit|scenarios/nishida_e_kobe_mortar.toml --members 5 --seed 1 --jobs 2 --threads 1"
-  # F dry's fast path has converged at 2e-5 s (1e-5 s within 0.5 %), 2.5-2.9 % from the
-  # explicit run: the explicit run again (session 29's history is gone; the same program
-  # gives the same run) and at half its step say on which side the converged value lies.
-  "dt|faf220e|out/dt_f_dry/explicit|scenarios/nishida_f_kobe_dry.toml --duration 3.6 --threads 1"
-  "dt|faf220e|out/dt_f_dry/explicit_half|scenarios/nishida_f_kobe_dry.toml --duration 3.6 --threads 1 --dt-factor 0.5"
-  # At half its step the explicit crown moved away from the fast path's (22.4 -> 22.2 mm at
-  # 3.5 s, the fast path 23.0 at 1e-5 and 2e-5 s): the gap is between the schemes' limits.
-  # Not its solve's tolerance (1e-5 instead of 1e-3: the same +3.0 %); the fast path's own
-  # step at 0.08 of F's springs' limit (a rocking impact's error plateaus from 0.2 to 0.1).
-  "dt|faf220e|out/dt_f_dry/implicit_2e-5_tol1e-5|scenarios/nishida_f_kobe_dry.toml --duration 3.6 --threads 1 --damping implicit --dt 2e-5 --solve-tolerance 1e-5"
-  "dt|faf220e|out/dt_f_dry/implicit_5e-6|scenarios/nishida_f_kobe_dry.toml --duration 3.6 --threads 1 --damping implicit --dt 5e-6"
   # Issue 45 item 3's second model, B with mortar, both schemes on one program, the same
   # seed (about 1 hour a member on the fast path and 2 explicit, on a free core); 50b4282's
   # program, as the ensemble lane's.
