@@ -8,7 +8,8 @@
 # mean: scenarios/results/README.md.
 #
 #   nohup nice -n 19 bash scripts/long_runs.sh b_mortar > out/long_runs_b_mortar.log 2>&1 &
-#   nohup nice -n 19 bash scripts/long_runs.sh probe ensemble > out/long_runs_probe.log 2>&1 &  (in turn)
+#   nohup nice -n 19 bash scripts/long_runs.sh ensemble > out/long_runs_ensemble.log 2>&1 &
+#   nohup nice -n 19 bash scripts/long_runs.sh b_mortar ensemble > out/long_runs_b_mortar.log 2>&1 &  (in turn)
 set -euo pipefail
 root=$(cd "$(dirname "$0")/.." && pwd)
 cd "$root"
@@ -17,7 +18,8 @@ cd "$root"
 jobs=(
   # (Finished jobs leave this list once their results are committed: B dry's explicit
   # ensemble, B, C, D and F's runs against dt, dry and with mortar (F dry's last at 5e-6 s,
-  # session 42), and B and E dry's probes, in scenarios/results.)
+  # session 42), and the chaos probes of A, B and E dry and B with mortar, in
+  # scenarios/results.)
   # Issue 48 item 5's other marginal runs on the explicit reference (the fast path is not
   # verified): model E dry and with mortar, five members each, the seed of A's and B's
   # ensembles; 50b4282's program (every preset's hash as ff7154d's, 6 % faster: the
@@ -29,15 +31,6 @@ jobs=(
   # program, as the ensemble lane's.
   "b_mortar|50b4282|out/ensembles/b_mortar_implicit_4e-5|scenarios/nishida_b_kobe_mortar.toml --members 5 --seed 1 --jobs 2 --threads 1 --damping implicit --dt 4e-5"
   "b_mortar|50b4282|out/ensembles/b_mortar_explicit|scenarios/nishida_b_kobe_mortar.toml --members 5 --seed 1 --jobs 2 --threads 1"
-  # Issue 48 item 2's other marginal runs (A dry's probe: scenarios/results, "Chaos alone"):
-  # each branched 1 micrometre apart where the strong motion begins (3.51 s of shaking),
-  # the reference and three perturbed members one at a time (a third lane beside two),
-  # explicit dashpots. How fast runs part, not their outcomes: 2 s past the branch (A's
-  # parted to 1 cm in 0.3 s), a quarter of a whole probe's cost. The branch as A's (where 10 s
-  # of shaking reach 5 % of their Arias intensity; a 5.5 s window would put it at 3.35 s).
-  # E dry and B with mortar on 5e62f46's program or later (the same state hashes as
-  # ff7154d's): ff7154d lets a member killed before its first checkpoint go on unperturbed.
-  "probe|cba163b|out/probes/b_mortar|scenarios/nishida_b_kobe_mortar.toml --probe 4 --seed 1 --jobs 1 --threads 1 --duration 5.5 --branch-at 3.513"
 )
 
 # A run's summary says so; an ensemble's ensemble.json and a probe's probe.json count the
