@@ -9,7 +9,6 @@
 #
 #   nohup nice -n 19 bash scripts/long_runs.sh b_mortar > out/long_runs_b_mortar.log 2>&1 &
 #   nohup nice -n 19 bash scripts/long_runs.sh ensemble > out/long_runs_ensemble.log 2>&1 &
-#   nohup nice -n 19 bash scripts/long_runs.sh b_mortar ensemble > out/long_runs_b_mortar.log 2>&1 &  (in turn)
 set -euo pipefail
 root=$(cd "$(dirname "$0")/.." && pwd)
 cd "$root"
@@ -65,7 +64,7 @@ PY
 }
 
 # Several lanes run one after the other in one process, so that a core freed by a lane's
-# last job goes on to the next lane's: `bash scripts/long_runs.sh dt b_mortar`.
+# last job goes on to the next lane's: `bash scripts/long_runs.sh b_mortar ensemble`.
 if (($# > 1)); then
   for lane in "$@"; do bash "$root/scripts/long_runs.sh" "$lane" || true; done
   exit 0
