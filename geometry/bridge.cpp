@@ -46,7 +46,7 @@ std::vector<BridgeBlock> generate_bridge(const BridgeSpec& s) {
   // A stone size in the wrong unit (millimetres for metres) would cut the bridge into
   // billions of blocks and exhaust the memory before any message: the ring's stones are
   // counted, the fill's and walls' bounded by their box over a stone's cube.
-  const double ring_stones = double{g.along} * g.across * s.spans;
+  const double ring_stones = static_cast<double>(g.along) * g.across * s.spans;
   const double fill_stones = s.length_m * s.fill_height_m * (s.ring.width_m + 2 * s.side_wall_width_m) / (stone * stone * stone);
   if (ring_stones + fill_stones > kMaxGeneratedBlocks) {
     std::ostringstream msg;

@@ -5,6 +5,7 @@ set -euo pipefail
 
 packages=(
   g++ cmake ninja-build pkg-config     # toolchain
+  clang libomp-dev libclang-rt-14-dev  # the compiler CMakeLists.txt prefers, its OpenMP and sanitizers
   libeigen3-dev                        # linear algebra (engine)
   libcgal-dev libgmp-dev libmpfr-dev   # polyhedral geometry and validation (geometry)
   libvtk9-dev                          # ParaView output and its read-back tests (io)

@@ -153,7 +153,7 @@ TEST(Bridge, GroundReachesItsMarginBeyondTheBridge) {
       Vec3& hi = b.part == Part::ground ? ground_hi : bridge_hi;
       for (const Vec3& v : b.shape.vertices) hi = hi.cwiseMax(v);
     }
-    return std::pair(ground_hi - bridge_hi, bridge_hi.z());
+    return std::pair<Vec3, double>(ground_hi - bridge_hi, bridge_hi.z());  // Vec3: not an expression of these locals
   };
   BridgeSpec spec = file.bridge;
   const auto [beyond, height] = reach(spec);
