@@ -2,13 +2,13 @@
 # The long measurements under way (issue 45 items 2-3, issue 48 item 5): hours of one core
 # each, run niced in the background across sessions. Each job is resumed from its
 # checkpoints or skipped when finished, so `bash scripts/long_runs.sh LANE` (LANE: one of the
-# lanes below, or `list`) only ever continues where the last session stopped. Each job runs
+# lanes below, `list`, or `save`) only ever continues where the last session stopped. Each job runs
 # the program of its commit, frozen in out/bin/ishibashi_COMMIT (scripts/frozen_binary.sh),
 # so that a later build never changes a comparison half way. The results and what they
 # mean: scenarios/results/README.md.
 #
-#   nohup nice -n 19 bash scripts/long_runs.sh b_mortar > out/long_runs_b_mortar.log 2>&1 &
-#   nohup nice -n 19 bash scripts/long_runs.sh ensemble > out/long_runs_ensemble.log 2>&1 &
+#   nohup nice -n 19 bash scripts/long_runs.sh b_mortar ensemble > out/long_runs.log 2>&1 &
+#   bash scripts/long_runs.sh save    # before committing: keeps the finished members
 set -euo pipefail
 root=$(cd "$(dirname "$0")/.." && pwd)
 cd "$root"
@@ -18,20 +18,19 @@ jobs=(
   # (Finished jobs leave this list once their results are committed: B dry's explicit
   # ensemble, B, C, D and F's runs against dt, dry and with mortar (F dry's last at 5e-6 s,
   # session 42), and the chaos probes of A, B and E dry and B with mortar, in
-  # scenarios/results.)
+  # scenarios/results.) All run 5406021's program, built with clang: every preset's hash as
+  # ff7154d's (perf/results, clang_vs_gcc). A member runs on both cores (the same bits as on
+  # one), one member at a time, so that each finishes within a session: a new checkout starts
+  # with an empty out/, and only the members kept in the repository (below) survive it.
+  # Issue 45 item 3's second model, B with mortar, both schemes, the same seed: the fast path
+  # (about 1 core-hour a member) and the explicit reference (about 2).
+  "b_mortar|5406021|out/ensembles/b_mortar_implicit_4e-5|scenarios/nishida_b_kobe_mortar.toml --members 5 --seed 1 --jobs 1 --threads 2 --damping implicit --dt 4e-5"
+  "b_mortar|5406021|out/ensembles/b_mortar_explicit|scenarios/nishida_b_kobe_mortar.toml --members 5 --seed 1 --jobs 1 --threads 2"
   # Issue 48 item 5's other marginal runs on the explicit reference (the fast path is not
   # verified): model E dry and with mortar, five members each, the seed of A's and B's
-  # ensembles; 50b4282's program (every preset's hash as ff7154d's, 6 % faster: the
-  # narrowphase's motion bound). About 35 core-hours. The runs not yet started when the
-  # project moved to clang (session 43) run 5406021's program, built with it: every preset's
-  # hash as 50b4282's, about 10 % faster on a cracked bridge (perf/results, clang_vs_gcc).
-  "ensemble|50b4282|out/ensembles/e_dry_explicit|scenarios/nishida_e_kobe_dry.toml --members 5 --seed 1 --jobs 2 --threads 1"
-  "ensemble|5406021|out/ensembles/e_mortar_explicit|scenarios/nishida_e_kobe_mortar.toml --members 5 --seed 1 --jobs 2 --threads 1"
-  # Issue 45 item 3's second model, B with mortar, both schemes, the same seed (about 1 hour
-  # a member on the fast path and 2 explicit, on a free core): the fast path on 50b4282's
-  # program, the explicit reference on 5406021's (as above: the same bits, with clang).
-  "b_mortar|50b4282|out/ensembles/b_mortar_implicit_4e-5|scenarios/nishida_b_kobe_mortar.toml --members 5 --seed 1 --jobs 2 --threads 1 --damping implicit --dt 4e-5"
-  "b_mortar|5406021|out/ensembles/b_mortar_explicit|scenarios/nishida_b_kobe_mortar.toml --members 5 --seed 1 --jobs 2 --threads 1"
+  # ensembles; about 3.5 core-hours a member.
+  "ensemble|5406021|out/ensembles/e_dry_explicit|scenarios/nishida_e_kobe_dry.toml --members 5 --seed 1 --jobs 1 --threads 2"
+  "ensemble|5406021|out/ensembles/e_mortar_explicit|scenarios/nishida_e_kobe_mortar.toml --members 5 --seed 1 --jobs 1 --threads 2"
 )
 
 # A run's summary says so; an ensemble's ensemble.json and a probe's probe.json count the
@@ -65,6 +64,44 @@ print(": " + "; ".join(parts) if parts else "")
 PY
 }
 
+# Finished ensemble members are kept in the repository, in kept/NAME/member_NNN/ (NAME: the
+# job's folder name): inputs.key, summary.json and history.csv (xz), what the ensemble's tables
+# are made of. A new checkout copies them back before the job goes on. A member's key holds the
+# program's fingerprint, its bytes' hash: kept/NAME/program.sha256 says which bytes made it, and
+# a frozen program with other bytes (another compiler) would run those members again.
+kept=scenarios/results/ensembles/members
+save_members() {  # out folder, program
+  local name member dest
+  name=$(basename "$1")
+  for member in "$1"/member_*/; do
+    [[ -f $member/inputs.key && -f $member/summary.json ]] || continue
+    dest=$kept/$name/$(basename "$member")
+    [[ -f $dest/inputs.key ]] && cmp -s "$dest/inputs.key" "$member/inputs.key" && continue
+    mkdir -p "$dest"
+    cp "$member/inputs.key" "$member/summary.json" "$dest/"
+    xz -9 -c "$member/history.csv" > "$dest/history.csv.xz"
+    sha256sum < "$2" | cut -d' ' -f1 > "$kept/$name/program.sha256"
+    echo "kept $dest"
+  done
+}
+restore_members() {  # out folder, program
+  local name member dest
+  name=$(basename "$1")
+  [[ -d $kept/$name ]] || return 0
+  if [[ $(sha256sum < "$2" | cut -d' ' -f1) != "$(cat "$kept/$name/program.sha256")" ]]; then
+    echo "long_runs.sh: $2 is not the program that made $kept/$name: its members would run again" >&2
+    return 1
+  fi
+  for member in "$kept/$name"/member_*/; do
+    [[ -d $member ]] || continue
+    dest=$1/$(basename "$member")
+    [[ -f $dest/inputs.key ]] && continue
+    mkdir -p "$dest"
+    cp "$member/inputs.key" "$member/summary.json" "$dest/"
+    xz -dc "$member/history.csv.xz" > "$dest/history.csv"
+  done
+}
+
 # Several lanes run one after the other in one process, so that a core freed by a lane's
 # last job goes on to the next lane's: `bash scripts/long_runs.sh b_mortar ensemble`.
 if (($# > 1)); then
@@ -72,7 +109,7 @@ if (($# > 1)); then
   exit 0
 fi
 lane=${1:-list}
-if [[ $lane != list ]]; then
+if [[ $lane != list && $lane != save ]]; then
   # One process per lane: two would write the same folders.
   mkdir -p out
   exec 9> "out/long_runs_$lane.lock"
@@ -86,8 +123,13 @@ for job in "${jobs[@]}"; do
     printf '%-9s %s  %-40s %s\n' "$job_lane" "$commit" "$out" "$state"
     continue
   fi
+  if [[ $lane == save ]]; then
+    [[ -d $out ]] && save_members "$out" "$(bash scripts/frozen_binary.sh "$commit")"
+    continue
+  fi
   [[ $job_lane == "$lane" ]] || continue
   bin=$(bash scripts/frozen_binary.sh "$commit")
+  restore_members "$out" "$bin"
   # shellcheck disable=SC2086  # the arguments are words
   if [[ $args == *--members* || $args == *--probe* ]]; then
     # An ensemble or a probe keeps its finished members and resumes the others from their
