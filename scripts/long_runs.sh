@@ -17,14 +17,15 @@ cd "$root"
 jobs=(
   # (Finished jobs leave this list once their results are committed: B dry's explicit
   # ensemble, B, C, D and F's runs against dt, dry and with mortar (F dry's last at 5e-6 s,
-  # session 42), and the chaos probes of A, B and E dry and B with mortar, in
-  # scenarios/results.) All run 5406021's program, built with clang: every preset's hash as
-  # ff7154d's (perf/results, clang_vs_gcc). A member runs on both cores (the same bits as on
-  # one), one member at a time, so that each finishes within a session: a new checkout starts
-  # with an empty out/, and only the members kept in the repository (below) survive it.
-  # Issue 45 item 3's second model, B with mortar, both schemes, the same seed: the fast path
-  # (about 1 core-hour a member) and the explicit reference (about 2).
-  "b_mortar|5406021|out/ensembles/b_mortar_implicit_4e-5|scenarios/nishida_b_kobe_mortar.toml --members 5 --seed 1 --jobs 1 --threads 2 --damping implicit --dt 4e-5"
+  # session 42), B with mortar's ensemble on the fast path (session 44), and the chaos
+  # probes of A, B and E dry and B with mortar, in scenarios/results.) All run 5406021's
+  # program, built with clang: every preset's hash as ff7154d's (perf/results,
+  # clang_vs_gcc). A member runs on both cores (the same bits as on one), one member at a
+  # time, so that each finishes within a session: a new checkout starts with an empty out/,
+  # and only the members kept in the repository (below) survive it.
+  # Issue 45 item 3's second model, B with mortar: the explicit reference, the same seed as
+  # the fast path's five (session 44, scenarios/results/ensembles/b_mortar_implicit_4e-5_*);
+  # about 2 core-hours a member.
   "b_mortar|5406021|out/ensembles/b_mortar_explicit|scenarios/nishida_b_kobe_mortar.toml --members 5 --seed 1 --jobs 1 --threads 2"
   # Issue 48 item 5's other marginal runs on the explicit reference (the fast path is not
   # verified): model E dry and with mortar, five members each, the seed of A's and B's
