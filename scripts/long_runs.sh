@@ -1,11 +1,11 @@
 #!/usr/bin/env bash
 # The long measurements under way (issue 45 items 2-3, issue 48 item 5): hours of one core
 # each, run niced in the background across sessions. Each job is resumed from its
-# checkpoints or skipped when finished, so `bash scripts/long_runs.sh LANE` (LANE: one of the
-# lanes below, `list`, or `save`) only ever continues where the last session stopped. Each job runs
-# the program of its commit, frozen in out/bin/ishibashi_COMMIT (scripts/frozen_binary.sh),
-# so that a later build never changes a comparison half way. The results and what they
-# mean: scenarios/results/README.md.
+# checkpoints or skipped when finished, so `bash scripts/long_runs.sh LANE` (LANE: one of
+# the lanes below, `list`, or `save`) only ever continues where the last session stopped.
+# Each job runs the program of its commit, frozen in out/bin/ishibashi_COMMIT
+# (scripts/frozen_binary.sh), so that a later build never changes a comparison half way. The
+# results and what they mean: scenarios/results/README.md.
 #
 #   nohup nice -n 19 bash scripts/long_runs.sh b_mortar ensemble > out/long_runs.log 2>&1 &
 #   bash scripts/long_runs.sh save    # before committing: keeps the finished members
@@ -68,12 +68,18 @@ PY
 # Finished ensemble members are kept in the repository, in kept/NAME/member_NNN/ (NAME: the
 # job's folder name): inputs.key, summary.json and history.csv (xz), what the ensemble's tables
 # are made of. A new checkout copies them back before the job goes on. A member's key holds the
-# program's fingerprint, its bytes' hash: kept/NAME/program.sha256 says which bytes made it, and
-# a frozen program with other bytes (another compiler) would run those members again.
+# program's fingerprint, its bytes' hash: kept/NAME/program.sha256 says which bytes made them,
+# and neither direction mixes programs (a frozen program with other bytes, from another
+# compiler, would run the kept members again).
 kept=scenarios/results/ensembles/members
+same_program() {  # kept folder, program: whether the program made the kept members (or none are kept)
+  [[ ! -f $1/program.sha256 ]] || [[ $(sha256sum < "$2" | cut -d' ' -f1) == "$(cat "$1/program.sha256")" ]] ||
+    { echo "long_runs.sh: $2 is not the program that made $1" >&2; return 1; }
+}
 save_members() {  # out folder, program
   local name member dest
   name=$(basename "$1")
+  same_program "$kept/$name" "$2" || return 1
   for member in "$1"/member_*/; do
     [[ -f $member/inputs.key && -f $member/summary.json ]] || continue
     dest=$kept/$name/$(basename "$member")
@@ -81,18 +87,15 @@ save_members() {  # out folder, program
     mkdir -p "$dest"
     cp "$member/inputs.key" "$member/summary.json" "$dest/"
     xz -9 -c "$member/history.csv" > "$dest/history.csv.xz"
-    sha256sum < "$2" | cut -d' ' -f1 > "$kept/$name/program.sha256"
     echo "kept $dest"
   done
+  [[ -d $kept/$name ]] && sha256sum < "$2" | cut -d' ' -f1 > "$kept/$name/program.sha256"
+  return 0
 }
 restore_members() {  # out folder, program
   local name member dest
   name=$(basename "$1")
-  [[ -d $kept/$name ]] || return 0
-  if [[ $(sha256sum < "$2" | cut -d' ' -f1) != "$(cat "$kept/$name/program.sha256")" ]]; then
-    echo "long_runs.sh: $2 is not the program that made $kept/$name: its members would run again" >&2
-    return 1
-  fi
+  same_program "$kept/$name" "$2" || return 1
   for member in "$kept/$name"/member_*/; do
     [[ -d $member ]] || continue
     dest=$1/$(basename "$member")
