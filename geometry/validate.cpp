@@ -51,11 +51,28 @@ std::vector<Plane> planes_of(const Polyhedron& p) {
   return out;
 }
 
+// Whether every vertex of block `b` lies outside one of `a`'s faces moved inwards by
+// `shrink`: then no point is strictly inside both shrunk blocks (b is the hull of its
+// vertices). Touching stones are separated so by their joint's plane, and this test spares
+// them the exact linear program below, 70 % of building model F. (Round-off here is 1e-16 m
+// against a 1e-6 m shrink: a pair it wrongly passed would overlap by a film far below any
+// tolerance, which overlap_volume returns as 0 as well.)
+bool separated_by_a_face(const std::vector<Plane>& a, const Polyhedron& b, double shrink) {
+  for (const Plane& p : a) {
+    bool outside = true;
+    for (const Vec3& v : b.vertices) outside = outside && p.n.dot(v) >= p.d - shrink;
+    if (outside) return true;
+  }
+  return false;
+}
+
 // Volume common to two convex blocks: CGAL finds a point strictly inside both (a small
 // linear program) and intersects the half-spaces of all faces. Every face is first moved
 // inwards by `shrink`, so blocks that only touch (zero-thickness joints, round-off
 // included) have no common interior at all.
-double overlap_volume(const std::vector<Plane>& a, const std::vector<Plane>& b, double shrink) {
+double overlap_volume(const Polyhedron& pa, const std::vector<Plane>& a, const Polyhedron& pb, const std::vector<Plane>& b,
+                      double shrink) {
+  if (separated_by_a_face(a, pb, shrink) || separated_by_a_face(b, pa, shrink)) return 0.0;
   std::vector<Epick::Plane_3> planes;
   for (const auto* set : {&a, &b})
     for (const Plane& p : *set) planes.emplace_back(p.n.x(), p.n.y(), p.n.z(), -(p.d - shrink));  // n.x - d' <= 0
@@ -174,7 +191,7 @@ ValidationReport validate_blocks(const std::vector<Polyhedron>& blocks, const st
   const double shrink = 1e-6 * std::max(1.0, assembly);
   std::vector<char> touches(blocks.size(), 0);
   for (const auto& [a, b] : candidates) {
-    const double common = overlap_volume(planes[a], planes[b], shrink);
+    const double common = overlap_volume(blocks[a], planes[a], blocks[b], planes[b], shrink);
     if (common > overlap_tolerance_m3) {
       ++r.overlapping_pairs;
       std::ostringstream s;

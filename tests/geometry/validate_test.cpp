@@ -2,6 +2,8 @@
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
+#include <random>
+
 #include "geometry/shapes.h"
 #include "geometry/validate.h"
 
@@ -25,6 +27,43 @@ TEST(Validate, OverlapIsReportedWithItsVolume) {
   EXPECT_THAT(r.errors.front(), HasSubstr("block 0 'left'"));
   EXPECT_THAT(r.errors.front(), HasSubstr("block 1 'right'"));
   EXPECT_THAT(r.errors.front(), HasSubstr("overlap by 0.1999"));  // 0.2 less the round-off allowance
+}
+
+// Unit cubes at random orientations, the second moved along a random direction until the
+// cubes' extents along it overlap by 0.5-15 cm: some pairs then overlap by a thin lens,
+// others not at all. Every pair where an edge of one cube reaches 2 mm into the other is reported: their common volume holds at
+// least an eighth of a 2 mm ball (4e-9 m^3, above the 1e-9 m^3 tolerance). The inside test is
+// the cubes' own, |R^T (x - c)| <= 0.5 - 2 mm along each axis, at 400 points of each edge.
+TEST(Validate, EveryThinOverlapOfRotatedCubesIsFound) {
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<double> u(0.0, 1.0);
+  auto random_unit = [&] { return Vec3(u(rng) - 0.5, u(rng) - 0.5, u(rng) - 0.5).normalized(); };
+  const Polyhedron cube = make_box(Vec3::Zero(), Vec3(1, 1, 1));
+  // Whether an edge of the cube (r, c) reaches 2 mm into the cube (r_in, c_in).
+  const auto edge_inside = [](const Mat3& r, const Vec3& c, const Mat3& r_in, const Vec3& c_in) {
+    for (int axis = 0; axis < 3; ++axis)
+      for (int corner = 0; corner < 4; ++corner)
+        for (int n = 0; n <= 400; ++n) {
+          Vec3 local(corner & 1 ? 0.5 : -0.5, corner & 2 ? 0.5 : -0.5, 0.0);
+          std::swap(local[2], local[axis]);
+          local[axis] = n / 400.0 - 0.5;
+          if ((r_in.transpose() * (r * local + c - c_in)).cwiseAbs().maxCoeff() <= 0.5 - 2e-3) return true;
+        }
+    return false;
+  };
+  int overlapping = 0, apart = 0;
+  for (int trial = 0; trial < 200; ++trial) {
+    const Mat3 ra(Eigen::AngleAxisd(6.28 * u(rng), random_unit())), rb(Eigen::AngleAxisd(6.28 * u(rng), random_unit()));
+    const Vec3 d = random_unit();
+    const double extents = 0.5 * ((ra.transpose() * d).cwiseAbs().sum() + (rb.transpose() * d).cwiseAbs().sum());
+    const Vec3 cb = (extents - 0.005 - 0.145 * u(rng)) * d;
+    const bool overlap = edge_inside(ra, Vec3::Zero(), rb, cb) || edge_inside(rb, cb, ra, Vec3::Zero());
+    const auto r = validate_blocks({transformed(cube, ra, Vec3::Zero()), transformed(cube, rb, cb)}, {});
+    if (overlap) EXPECT_EQ(r.overlapping_pairs, 1) << "trial " << trial;
+    (overlap ? overlapping : apart) += 1;
+  }
+  EXPECT_GT(overlapping, 40);  // 61 of the 200 with this seed
+  EXPECT_GT(apart, 40);
 }
 
 TEST(Validate, BadBlocksAreNamed) {
