@@ -1,7 +1,9 @@
 #!/usr/bin/env bash
-# Builds the tests a second time with AddressSanitizer and UndefinedBehaviorSanitizer
-# (into build-sanitize/) and runs them; any finding fails the run. CI runs it after the
-# Release tests (about 7 minutes to build and 2 to run on 2 cores). Left out, because
+# Builds the libraries and the program a second time with AddressSanitizer and
+# UndefinedBehaviorSanitizer (into build-sanitize/), links the Release build's objects of the
+# tests to them (CMakeLists.txt, ishibashi_plain_objects), and runs the tests; any finding
+# fails the run. CI runs it after the Release tests (about 6 minutes to build and 2 to run on
+# 2 cores). Left out, because
 # each takes minutes under the sanitizers (seconds in Release) and runs the same code as a
 # shorter test that stays in:
 #   ArchRing.*Stands* (13 min), Impact.EdgeAndCornerDrops* and Impact.RandomDrops* (4 min),
@@ -29,7 +31,7 @@
 set -euo pipefail
 root=$(cd "$(dirname "$0")/.." && pwd)
 # The Release build first (nothing to do after scripts/test.sh): the sanitizer build links
-# its objects of the CGAL-heavy files (CMakeLists.txt, ishibashi_cgal_heavy).
+# its objects of the tests and of the CGAL-heavy files.
 bash "$root/scripts/build.sh"
 build="$root/build-sanitize"
 # ISHIBASHI_SANITIZE: -O1 -g1 with both sanitizers.

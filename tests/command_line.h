@@ -2,6 +2,7 @@
 // files it wrote.
 #pragma once
 #include <cstdio>
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <memory>
@@ -11,6 +12,15 @@
 namespace ishibashi::test {
 
 inline const std::filesystem::path kRoot = ISHIBASHI_SOURCE_DIR;
+// The program under test: ISHIBASHI_PROGRAM, which ctest sets to the program of the tests'
+// own build (a sanitizer build links the Release build's test objects, which name the
+// Release program: tests/CMakeLists.txt), else the program built beside this test.
+#ifdef ISHIBASHI_BINARY
+inline std::string program() {
+  const char* set = std::getenv("ISHIBASHI_PROGRAM");
+  return set ? set : ISHIBASHI_BINARY;
+}
+#endif
 // This test process's own temporary folder (test_main.cpp).
 inline std::filesystem::path tmp_dir() { return std::filesystem::temp_directory_path(); }
 

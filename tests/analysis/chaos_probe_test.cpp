@@ -68,7 +68,7 @@ TEST(ChaosProbe, BlockSlidingToRestKeepsItsMembersTogether) {
   const fs::path out = tmp_dir() / "probe_sliding";
   fs::remove_all(out);
   int status = 0;
-  const std::string printed = run_command(std::string(ISHIBASHI_BINARY) + " run " + sliding_block_scenario().string() +
+  const std::string printed = run_command(test::program() + " run " + sliding_block_scenario().string() +
                                               " --probe 3 --perturbation 1e-7 --branch-at 0.1 --out " + out.string(),
                                           &status);
   ASSERT_EQ(status, 0) << printed;
@@ -102,7 +102,7 @@ TEST(ChaosProbe, BlockSlidingToRestKeepsItsMembersTogether) {
   EXPECT_NE(text_of(out / "members.csv").find("\n2,1e-07,"), std::string::npos) << text_of(out / "members.csv");
 
   // Again: every run is current and kept.
-  const std::string again = run_command(std::string(ISHIBASHI_BINARY) + " run " + sliding_block_scenario().string() +
+  const std::string again = run_command(test::program() + " run " + sliding_block_scenario().string() +
                                             " --probe 3 --perturbation 1e-7 --branch-at 0.1 --out " + out.string(),
                                         &status);
   EXPECT_EQ(status, 0) << again;

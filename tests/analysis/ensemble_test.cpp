@@ -208,7 +208,7 @@ TEST(Ensemble, RunMembersWritesProbabilitiesAndKeepsFinishedMembers) {
   const auto file = short_scenario("ensemble_a.toml", "[ensemble]\nmembers = 3\nseed = 5\namplitude = [0.9, 1.1]\n");
   const auto out = tmp_dir() / "ensemble_a";
   std::filesystem::remove_all(out);
-  const std::string command = std::string(ISHIBASHI_BINARY) + " run " + file.string() + " --jobs 2 --out " + out.string();
+  const std::string command = test::program() + " run " + file.string() + " --jobs 2 --out " + out.string();
   int status = 0;
   // Two machines' shares, members 0-1 here and 2 in another folder; merged by copying the
   // member's folder, then the whole ensemble keeps all three and writes the tables.
@@ -223,7 +223,7 @@ TEST(Ensemble, RunMembersWritesProbabilitiesAndKeepsFinishedMembers) {
   EXPECT_FALSE(std::filesystem::exists(out / "member_002"));
   const auto elsewhere = tmp_dir() / "ensemble_a_elsewhere";
   std::filesystem::remove_all(elsewhere);
-  const std::string share = std::string(ISHIBASHI_BINARY) + " run " + file.string() + " --member-range 2:3 --out " +
+  const std::string share = test::program() + " run " + file.string() + " --member-range 2:3 --out " +
                             elsewhere.string();
   ASSERT_EQ((run_command(share, &status), status), 0);
   std::filesystem::copy(elsewhere / "member_002", out / "member_002", std::filesystem::copy_options::recursive);
@@ -258,7 +258,7 @@ TEST(Ensemble, RunMembersWritesProbabilitiesAndKeepsFinishedMembers) {
 TEST(Ensemble, BadEnsembleTableNamesTheKeyAndWhatIsAllowed) {
   const auto file = short_scenario("ensemble_bad.toml", "[ensemble]\nmembers = 3\namplitude = [1.2, 0.8]\n");
   int status = 0;
-  const std::string out = run_command(std::string(ISHIBASHI_BINARY) + " run " + file.string() + " 2>&1", &status);
+  const std::string out = run_command(test::program() + " run " + file.string() + " 2>&1", &status);
   EXPECT_NE(status, 0);
   EXPECT_NE(out.find("'amplitude' must be [lo, hi]"), std::string::npos) << out;
   EXPECT_NE(out.find("ensemble_bad.toml"), std::string::npos) << out;
@@ -266,7 +266,7 @@ TEST(Ensemble, BadEnsembleTableNamesTheKeyAndWhatIsAllowed) {
 
 TEST(Ensemble, MemberRangeOutsideTheEnsembleSaysWhatFits) {
   const auto file = short_scenario("ensemble_range.toml", "[ensemble]\nmembers = 3\n");
-  const std::string run = std::string(ISHIBASHI_BINARY) + " run " + file.string() + " --out " +
+  const std::string run = test::program() + " run " + file.string() + " --out " +
                           (tmp_dir() / "ensemble_range").string() + " --member-range ";
   int status = 0;
   const std::string beyond = run_command(run + "2:5 2>&1", &status);

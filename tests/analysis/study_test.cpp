@@ -19,7 +19,7 @@ TEST(Study, QuickStudyWritesTablesAndAReportWithEveryFigureThenKeepsCurrentOutpu
   const auto out = std::filesystem::temp_directory_path() / "ishibashi_study_quick";
   std::filesystem::remove_all(out);
   int status = 0;
-  const std::string study = std::string(ISHIBASHI_BINARY) + " study --quick --jobs 2 --out " + out.string();
+  const std::string study = test::program() + " study --quick --jobs 2 --out " + out.string();
   const std::string first = run_command(study, &status);
   ASSERT_EQ(status, 0) << first;
   EXPECT_EQ(count_of(first, ": done"), 4) << first;  // two runs, model A's frequencies under both joint rules
@@ -60,7 +60,7 @@ TEST(Study, InterruptedStudyGoesOnFromItsRunsCheckpointAndEndsAsIfNeverStopped) 
   const auto whole = tmp_dir() / "ishibashi_study_whole", stopped = tmp_dir() / "ishibashi_study_stopped";
   std::filesystem::remove_all(whole);
   std::filesystem::remove_all(stopped);
-  const std::string study = std::string(ISHIBASHI_BINARY) + " study --quick --jobs 1 --threads-per-job 1 --no-report --out ";
+  const std::string study = test::program() + " study --quick --jobs 1 --threads-per-job 1 --no-report --out ";
   int status = 0;
   const std::string reference = run_command(study + whole.string(), &status);
   ASSERT_EQ(status, 0) << reference;
@@ -95,7 +95,7 @@ TEST(Study, RunsAsEnsemblesGiveTheirProbabilitiesAndTheStudysOutcomeInTheReport)
   const auto out = tmp_dir() / "ishibashi_study_members";
   std::filesystem::remove_all(out);
   int status = 0;
-  const std::string study = std::string(ISHIBASHI_BINARY) + " study " + file.string() + " --members 2 --out " + out.string();
+  const std::string study = test::program() + " study " + file.string() + " --members 2 --out " + out.string();
   const std::string first = run_command(study, &status);
   ASSERT_EQ(status, 0) << first;
   EXPECT_NE(first.find("an ensemble of 2 members"), std::string::npos) << first;  // --members replaces the file's 3
@@ -125,7 +125,7 @@ TEST(Study, RunSettingsOnTheCommandLineReachEveryRunAndItsKey) {
                       << "\"]\nsnapshot_times_s = [0.05]\nduration_s = 0.05\n";
   const auto out = tmp_dir() / "ishibashi_study_settings";
   std::filesystem::remove_all(out);
-  const std::string study = std::string(ISHIBASHI_BINARY) + " study " + file.string() + " --no-report --out " + out.string();
+  const std::string study = test::program() + " study " + file.string() + " --no-report --out " + out.string();
   int status = 0;
   const std::string fast = run_command(study + " --damping implicit --dt 4e-5", &status);
   ASSERT_EQ(status, 0) << fast;
@@ -146,7 +146,7 @@ TEST(Study, BadStudyFileNamesTheFileAndLine) {
   auto refused = [&](const std::string& text) {
     std::ofstream(file) << text;
     int status = 0;
-    const std::string output = run_command(std::string(ISHIBASHI_BINARY) + " study " + file.string(), &status);
+    const std::string output = run_command(test::program() + " study " + file.string(), &status);
     EXPECT_NE(status, 0) << text;
     return output;
   };

@@ -64,7 +64,7 @@ std::filesystem::path sweep_file(const std::string& scenarios = "scenario = \"" 
   return file;
 }
 
-const std::string kSweep = std::string(ISHIBASHI_BINARY) + " sweep ";
+const std::string kSweep = test::program() + " sweep ";
 
 TEST(Sweep, OneMachineAndMpirunGiveTheSameRows) {
   const auto file = sweep_file();

@@ -10,6 +10,7 @@
 #include <fstream>
 #include <sstream>
 
+#include "command_line.h"
 #include "io/vtk_input.h"
 
 namespace ishibashi {
@@ -19,7 +20,7 @@ TEST(Modal, WritesModesWithBlockLabelsAndThePictureOfEachFirstMode) {
   const auto out = std::filesystem::temp_directory_path() / "ishibashi_modal";
   std::filesystem::remove_all(out);
   const auto log = out.string() + ".log";
-  const std::string cmd = std::string(ISHIBASHI_BINARY) + " modal " + ISHIBASHI_SOURCE_DIR + "/models/nishida_a.toml --modes 4 --out " +
+  const std::string cmd = test::program() + " modal " + ISHIBASHI_SOURCE_DIR + "/models/nishida_a.toml --modes 4 --out " +
                           out.string() + " > " + log + " 2>&1";
   ASSERT_EQ(std::system(cmd.c_str()), 0) << cmd;
   std::stringstream printed;
@@ -46,7 +47,7 @@ TEST(Modal, UnsupportedBlocksAreNamedAsRigidBodyModes) {
                                   << "4 0 3 2 1\n4 4 5 6 7\n4 0 1 5 4\n4 1 2 6 5\n4 2 3 7 6\n4 3 0 4 7\n";
   std::ofstream(dir / "cube.toml") << "[model]\nname = \"cube\"\n[import]\nfiles = [\"cube.off\"]\n";
   const auto log = dir / "modal.log";
-  const std::string cmd = std::string(ISHIBASHI_BINARY) + " modal " + (dir / "cube.toml").string() + " --out " +
+  const std::string cmd = test::program() + " modal " + (dir / "cube.toml").string() + " --out " +
                           (dir / "out").string() + " > " + log.string() + " 2>&1";
   ASSERT_EQ(std::system(cmd.c_str()), 0) << cmd;
   std::stringstream printed;

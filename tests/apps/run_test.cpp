@@ -127,7 +127,7 @@ void expect_valid_outputs(const std::filesystem::path& out) {
 TEST(Run, ShortSeismicRunWritesOutputsVtkReads) {
   const auto out = std::filesystem::temp_directory_path() / "ishibashi_run";
   std::filesystem::remove_all(out);
-  const std::string cmd = std::string(ISHIBASHI_BINARY) + " run --quiet " + short_scenario(0.05, 0.05).string() + " --out " + out.string();
+  const std::string cmd = test::program() + " run --quiet " + short_scenario(0.05, 0.05).string() + " --out " + out.string();
   ASSERT_EQ(std::system(cmd.c_str()), 0) << cmd;
   expect_valid_outputs(out);
 }
@@ -139,7 +139,7 @@ TEST(Run, FinerFramesDoNotChangeTheRun) {
   for (int k = 0; k < 2; ++k) {
     const auto out = std::filesystem::temp_directory_path() / ("ishibashi_frames_" + std::to_string(k));
     std::filesystem::remove_all(out);
-    const std::string cmd = std::string(ISHIBASHI_BINARY) + " run --quiet " + short_scenario(0.05, 1.0, k ? 0.01 : 0.05).string() +
+    const std::string cmd = test::program() + " run --quiet " + short_scenario(0.05, 1.0, k ? 0.01 : 0.05).string() +
                             " --out " + out.string() + " > /dev/null";
     ASSERT_EQ(std::system(cmd.c_str()), 0) << cmd;
     std::ifstream summary(out / "summary.json");
@@ -160,7 +160,7 @@ TEST(Run, InterruptedRunLeavesValidFiles) {
   std::filesystem::remove_all(out);
   // SIGINT 1 s after the first frame of a run that would take much longer (after the
   // frame, not after a fixed time, so that a loaded machine cannot stop it before it wrote any).
-  const std::string cmd = "bash -c '" + std::string(ISHIBASHI_BINARY) + " run --quiet " + short_scenario(20.0).string() +
+  const std::string cmd = "bash -c '" + test::program() + " run --quiet " + short_scenario(20.0).string() +
                           " --out " + out.string() + " & run=$!; while [ ! -f " + (out / "blocks.pvd").string() +
                           " ] && kill -0 $run 2> /dev/null; do sleep 0.05; done; sleep 1; kill -INT $run; wait $run'";
   const int status = std::system(cmd.c_str());
@@ -179,7 +179,7 @@ TEST(Run, ProfileTableAndTraceOfAShortRun) {
   std::filesystem::remove_all(out);
   const auto trace = out.string() + ".json";
   int status = 0;
-  const std::string output = test::run_command(std::string(ISHIBASHI_BINARY) + " run --quiet " + short_scenario(0.05).string() +
+  const std::string output = test::run_command(test::program() + " run --quiet " + short_scenario(0.05).string() +
                                                    " --threads 2 --profile --trace " + trace + " --trace-steps 10:15 --out " +
                                                    out.string(), &status);
   ASSERT_EQ(status, 0) << output;
@@ -199,7 +199,7 @@ TEST(Run, ProfileTableAndTraceOfAShortRun) {
   EXPECT_GT(frames_s, 0.0);
   EXPECT_LT(frames_s, summary["wall_s"].get<double>());
 
-  const std::string refused = test::run_command(std::string(ISHIBASHI_BINARY) + " run --quiet " + short_scenario(0.05).string() +
+  const std::string refused = test::run_command(test::program() + " run --quiet " + short_scenario(0.05).string() +
                                                     " --trace " + trace + " --trace-steps 15:10 --out " + out.string(), &status);
   EXPECT_NE(status, 0);
   EXPECT_NE(refused.find("--trace-steps 15:10: expected FROM:TO"), std::string::npos) << refused;
@@ -212,7 +212,7 @@ TEST(Run, ProfileTableAndTraceOfAShortRun) {
 TEST(Run, NanOrInfinityOnTheCommandLineIsRefused) {
   for (const char* flag : {"--dt nan", "--duration inf", "--start nan", "--dt-factor nan", "--settle-max -inf"}) {
     int status = 0;
-    const std::string output = test::run_command(std::string(ISHIBASHI_BINARY) + " run --quiet " +
+    const std::string output = test::run_command(test::program() + " run --quiet " +
                                                      short_scenario(0.05).string() + " " + flag + " --out " +
                                                      (test::tmp_dir() / "ishibashi_run_nan").string(), &status);
     EXPECT_NE(status, 0) << flag;
@@ -221,12 +221,12 @@ TEST(Run, NanOrInfinityOnTheCommandLineIsRefused) {
     EXPECT_FALSE(std::filesystem::exists(test::tmp_dir() / "ishibashi_run_nan")) << flag;
   }
   int status = 0;
-  const std::string word = test::run_command(std::string(ISHIBASHI_BINARY) + " run --quiet " + short_scenario(0.05).string() +
+  const std::string word = test::run_command(test::program() + " run --quiet " + short_scenario(0.05).string() +
                                                  " --duration ten", &status);
   EXPECT_NE(status, 0);
   EXPECT_NE(word.find("--duration: ten is not a number"), std::string::npos) << word;
   // More threads than a team holds (engine/cores.h kMaxThreads) is a typo, not a request.
-  const std::string threads = test::run_command(std::string(ISHIBASHI_BINARY) + " run --quiet " + short_scenario(0.05).string() +
+  const std::string threads = test::run_command(test::program() + " run --quiet " + short_scenario(0.05).string() +
                                                     " --threads 1000 --out " + (test::tmp_dir() / "ishibashi_run_nan").string(),
                                                 &status);
   EXPECT_NE(status, 0);
@@ -246,12 +246,12 @@ TEST(Run, ModelWithoutContactsAsksForATimeStep) {
   std::ofstream(dir / "shake.toml") << "[model]\nfile = \"cube.toml\"\n[run]\nduration_s = 0.01\n[ground_motion]\nx = { file = \""
                                     << (kRoot / "data/ground_motions/kobe_1995_jma/RSN1106_KOBE_KJM090.AT2").string() << "\" }\n";
   int status = 0;
-  const std::string run = test::run_command(std::string(ISHIBASHI_BINARY) + " run --quiet " + (dir / "shake.toml").string() +
+  const std::string run = test::run_command(test::program() + " run --quiet " + (dir / "shake.toml").string() +
                                                 " --out " + (dir / "out").string(), &status);
   EXPECT_NE(status, 0);
   EXPECT_NE(run.find("shake.toml: no two blocks of its model touch at the start, so no contact sets the time step; set dt_s"),
             std::string::npos) << run;
-  const std::string build = test::run_command(std::string(ISHIBASHI_BINARY) + " build " + (dir / "cube.toml").string() +
+  const std::string build = test::run_command(test::program() + " build " + (dir / "cube.toml").string() +
                                                   " --out " + (dir / "build").string(), &status);
   EXPECT_EQ(status, 0) << build;
   EXPECT_NE(build.find("no two blocks touch, so no contact sets a stability limit"), std::string::npos) << build;
@@ -264,7 +264,7 @@ TEST(Run, ModelWithoutContactsAsksForATimeStep) {
 TEST(Run, DurationPastTheRecordsEndIsSaid) {
   int status = 0;
   const auto out = test::tmp_dir() / "ishibashi_run_past_end";
-  const std::string output = test::run_command(std::string(ISHIBASHI_BINARY) + " run --quiet " + short_scenario(1.0, 0.01).string() +
+  const std::string output = test::run_command(test::program() + " run --quiet " + short_scenario(1.0, 0.01).string() +
                                                    " --start 149.97 --out " + out.string(), &status);
   EXPECT_EQ(status, 0) << output;
   EXPECT_NE(output.find("the record ends 0.01 s after start_s: the run shakes for that long, not the 1.00 s asked"),
