@@ -3,7 +3,7 @@
 // the state hash recorded in tests/data/. A refactor must keep every hash bit for bit; a
 // physics change records new hashes in the same commit and says what it moved.
 //
-// Two lengths: `Short` (0.01 s of settling, 0.01 s of the strongest pulses: contacts found,
+// Two lengths: `Short` (0.005 s of settling, 0.005 s of the strongest pulses: contacts found,
 // bonds made, the ground driven) runs with every test; `AfterSettlingAndKobe` (settling as
 // the scenario says, then 0.2 s of Kobe from the scenario's start) takes about half an hour
 // on two cores and runs with `ctest -L long` (scripts/preset_hashes.sh). Either prints the
@@ -62,7 +62,7 @@ void expect_recorded_hashes(const std::string& file_name, double settle_max_s, d
   std::printf("%s", lines.c_str());
 }
 
-TEST(PresetHashes, Short) { expect_recorded_hashes("preset_hashes_short.txt", 0.01, 0.01, 7.6); }
+TEST(PresetHashes, Short) { expect_recorded_hashes("preset_hashes_short.txt", 0.005, 0.005, 7.6); }
 
 TEST(PresetHashes, AfterSettlingAndKobe) { expect_recorded_hashes("preset_hashes.txt", -1, 0.2, -1); }
 

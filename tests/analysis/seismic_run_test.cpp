@@ -67,14 +67,14 @@ TEST(SeismicRun, BridgeRunIsBitIdenticalOnOneTwoAndFourThreadsAndBesideAnotherRu
 }
 
 // Model B (1,000 blocks: walls and a stone fill on the ring), 0.02 s settling and 0.02 s
-// of the strongest pulses: the same state on 1, 2, 3 and 4 threads. (Runs one after another
-// in one process leave nothing behind: the test above runs model A five times.)
-TEST(SeismicRun, ModelBIsBitIdenticalOnOneToFourThreads) {
+// of the strongest pulses: the same state on 1 and 3 threads (chunks split unlike the 2 and
+// 4 of the test above; the engine's tests compare 1 to 4 threads on smaller scenes). (Runs
+// one after another in one process leave nothing behind: the test above runs model A five
+// times.)
+TEST(SeismicRun, ModelBIsBitIdenticalOnOneAndThreeThreads) {
   const SeismicRunResult one = run_into("ishibashi_analysis_b1", strong_pulses(1, "nishida_b", 0.02, 0.02));
   EXPECT_GT(one.joints, 1000);
-  for (int threads : {2, 3, 4})
-    expect_identical(one, run_into("ishibashi_analysis_b" + std::to_string(threads), strong_pulses(threads, "nishida_b", 0.02, 0.02)),
-                     std::to_string(threads) + " threads");
+  expect_identical(one, run_into("ishibashi_analysis_b3", strong_pulses(3, "nishida_b", 0.02, 0.02)), "3 threads");
 }
 
 }  // namespace
