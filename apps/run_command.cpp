@@ -39,11 +39,15 @@ std::pair<long, long> parse_range(const char* option, const std::string& text, c
 // Per stage: its wall time and share, and how the team's threads spent it: working
 // (claiming and running chunks), waiting (at the loops' ends, or while the calling thread
 // runs a serial part), and the busiest thread's work against the mean. Then the run's
-// time outside the steps that recording its frames took.
-void print_profile(const World& world, const SeismicRunResult& r) {
-  const Profile& p = world.state().profile;
-  const long steps = r.steps;
+// time outside the steps that recording its frames took. A resumed run's table covers the
+// steps this process ran (the checkpoint's were timed by another, or not at all).
+void print_profile(const SeismicRun& run, const SeismicRunResult& r) {
+  const World& world = run.world();
+  const Profile p = world.state().profile.since(run.profile_at_first_step());
+  const long steps = r.steps - run.first_step();
   const double total = p.wall_s();
+  if (steps <= 0 || total <= 0) return std::printf("no steps run, so no profile\n"), void();
+  if (run.first_step() > 0) std::printf("the %ld steps since the checkpoint (step %ld):\n", steps, run.first_step());
   std::printf("stage             seconds   share   work µs/step   working  waiting   serial  imbalance  stolen\n");
   for (int k = 0; k < kStageCount; ++k) {
     const StageTime& t = p.stages[k];
@@ -203,7 +207,7 @@ int run_scenario(const RunOptions& o) {
   if (const long unconverged = run.world().state().profile.damping_unconverged; unconverged > 0)
     std::printf("warning: in %ld steps the implicit dashpots' solve stopped at its iteration limit before its tolerance; "
                 "a smaller dt (--dt) makes it converge\n", unconverged);
-  if (o.profile) print_profile(run.world(), r);
+  if (o.profile) print_profile(run, r);
   if (!o.trace.empty()) {
     const StageTrace& trace = run.world().trace();
     write_chrome_trace(trace, sc.model.name + " (" + sc.file.filename().string() + ")", o.trace);

@@ -76,6 +76,23 @@ struct Profile {
   long contact_regroups = 0;  // steps whose sub-contact arrays were regrouped (a count changed)
   long thread_steps = 0;      // sum over steps of the team size (/ steps: the mean team)
 
+  // The steps since `earlier`, a copy of this profile taken before them (a resumed run's
+  // own steps: the checkpoint's profile is the run's from its start).
+  Profile since(const Profile& earlier) const {
+    Profile d = *this;
+    for (int k = 0; k < kStageCount; ++k) {
+      StageTime& t = d.stages[k];
+      const StageTime& e = earlier.stages[k];
+      t.wall_s -= e.wall_s, t.team_s -= e.team_s, t.work_s -= e.work_s, t.serial_s -= e.serial_s;
+      t.mean_s -= e.mean_s, t.slowest_s -= e.slowest_s, t.chunks -= e.chunks, t.stolen -= e.stolen;
+    }
+    d.damping_iterations -= earlier.damping_iterations;
+    d.damping_unconverged -= earlier.damping_unconverged;
+    d.broadphase_rebuilds -= earlier.broadphase_rebuilds;
+    d.contact_regroups -= earlier.contact_regroups;
+    d.thread_steps -= earlier.thread_steps;
+    return d;
+  }
   StageTime& operator[](Stage s) { return stages[static_cast<int>(s)]; }
   const StageTime& operator[](Stage s) const { return stages[static_cast<int>(s)]; }
   double wall_s() const {

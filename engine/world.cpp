@@ -93,7 +93,10 @@ void World::note_stage(const Team& team, Stage stage, int threads, double begin_
   t.slowest_s += slowest;
 }
 
-void World::set_thread_timing(bool on) { state_.profile.threads_timed = on; }
+void World::set_thread_timing(bool on) {
+  time_threads_ = on;
+  state_.profile.threads_timed = on;
+}
 
 void World::trace_steps(long first_step, long last_step) {
   set_thread_timing(true);
@@ -110,7 +113,7 @@ void World::step() {
   Profile& p = s.profile;
   const ScopedTeamSize team(tuner_.threads());
   Team& team_of_thread = Team::of_this_thread();
-  team_of_thread.set_timing(p.threads_timed);  // the team of the thread stepping now
+  team_of_thread.set_timing(p.threads_timed || time_threads_);  // the team of the thread stepping now
   const double step_begin = team_of_thread.now_s();
 
   const bool moved = timed(Stage::pose, [&] { return update_pose(m, s); });

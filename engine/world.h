@@ -48,7 +48,9 @@ class World {
   const ThreadTuner& thread_tuner() const { return tuner_; }
 
   // Times each thread's share of every stage into State::profile (work, waiting,
-  // imbalance); off by default (two clock reads per thread and loop).
+  // imbalance); off by default (two clock reads per thread and loop). A state restored
+  // from a checkpoint whose steps were timed goes on timed, so that its profile's team
+  // times cover every step (Profile::threads_timed).
   void set_thread_timing(bool on);
   // Keeps a timeline of steps [first_step, last_step): one slice per thread and stage, and
   // the step on the calling thread's track (turns the thread timing on).
@@ -61,6 +63,7 @@ class World {
   double dt_s_;
   ThreadTuner tuner_;
   StageTrace trace_;
+  bool time_threads_ = false;  // set_thread_timing's, which a restored state does not overwrite
 
   template <class Fn>
   auto timed(Stage stage, Fn&& fn);

@@ -196,6 +196,8 @@ void SeismicRun::restore_checkpoint(Progress& p) {
     p.visit(in);
     read_state(in, s);
     p.wall_before_s = p.result.wall_s;
+    first_step_ = s.step;
+    profile_at_first_step_ = s.profile;
   } catch (const CheckpointError& e) {
     throw InputError(file.string() + ": damaged checkpoint (" + e.what() + ")");
   }

@@ -91,6 +91,10 @@ class SeismicRun {
   int limiting_block() const { return limiting_block_; }
   const GroundMotionStream& ground_motion() const { return ground_; }
   int monitored_block() const { return monitors_.empty() ? -1 : monitors_.front(); }
+  // Where this process took the run up: the checkpoint's step and profile (0 and empty for
+  // a new run), so that run --profile reports the steps it ran itself.
+  long first_step() const { return first_step_; }
+  const Profile& profile_at_first_step() const { return profile_at_first_step_; }
 
   // Settles, then shakes; returns when the ground motion ends or a stop is requested.
   SeismicRunResult run();
@@ -113,6 +117,8 @@ class SeismicRun {
   std::unique_ptr<World> world_;
   std::vector<int> monitors_;
   std::string resume_from_;  // the checkpoint's body (after its header); empty: a new run
+  long first_step_ = 0;
+  Profile profile_at_first_step_;
 };
 
 // The fraction of the energy exchanged (the ground's work, dashpots, friction and broken

@@ -103,7 +103,8 @@ TEST(Checkpoint, RunWithImplicitDashpotsResumesBitIdentical) {
 
 // A resumed run's wall time is the work of every part: stopped (SIGINT, which writes a
 // checkpoint) once five of its eight frames of shaking are written, the first part is
-// the longer, and the resumed run's summary must count it.
+// the longer, and the resumed run's summary must count it. Its --profile and --trace
+// time the threads of the steps it runs itself, though the first part's were not timed.
 TEST(Checkpoint, ResumedRunsWallTimeCountsEveryPart) {
   const auto file = scenario("ishibashi_checkpoint_wall.toml", 0.1, 0.4);
   const auto out = tmp_dir() / "ishibashi_cp_wall";
@@ -115,10 +116,24 @@ TEST(Checkpoint, ResumedRunsWallTimeCountsEveryPart) {
               &status);
   ASSERT_TRUE(std::filesystem::exists(out / "checkpoint.bin")) << "the run ended before it was stopped";
   const double first_part_s = std::stod(summary_field(out, "wall_s"));
-  const std::string resumed = run_command(kRun + "--resume " + out.string(), &status);
+  const long first_steps = std::stol(summary_field(out, "steps"));
+  const auto trace = tmp_dir() / "ishibashi_cp_wall_trace.json";
+  const std::string resumed =
+      run_command(kRun + "--resume " + out.string() + " --profile --trace " + trace.string() + " --trace-steps " +
+                      std::to_string(first_steps + 2) + ":" + std::to_string(first_steps + 5), &status);
   ASSERT_EQ(status, 0) << resumed;
   EXPECT_EQ(summary_field(out, "finished"), "true,");
   EXPECT_GT(std::stod(summary_field(out, "wall_s")), first_part_s);
+
+  const long steps = std::stol(summary_field(out, "steps"));
+  EXPECT_NE(resumed.find("the " + std::to_string(steps - first_steps) + " steps since the checkpoint (step " +
+                         std::to_string(first_steps) + "):"), std::string::npos) << resumed;
+  EXPECT_EQ(resumed.find("nan"), std::string::npos) << resumed;  // team times of untimed steps divided by none
+  const std::string timeline = text_of(trace);
+  EXPECT_EQ(count_of(timeline, "\"cat\": \"step\""), 3) << timeline.substr(0, 2000);
+  EXPECT_GE(count_of(timeline, "\"name\": \"contact law\""), 3) << timeline.substr(0, 2000);
+  // The first part's steps were not timed: the whole run's summary leaves the team's split out.
+  EXPECT_EQ(text_of(out / "summary.json").find("imbalance"), std::string::npos);
 }
 
 TEST(Checkpoint, CheckpointOfAnotherBuildOrOfChangedInputsIsRefused) {
