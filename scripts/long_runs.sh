@@ -25,7 +25,8 @@ jobs=(
   # and only the members kept in the repository (below) survive it.
   # Issue 45 item 3's second model, B with mortar: the explicit reference, the same seed as
   # the fast path's five (session 44, scenarios/results/ensembles/b_mortar_implicit_4e-5_*);
-  # about 2 core-hours a member.
+  # 2.5 million steps a member, 3.5-6.5 ms each on one thread once the shaking has cracked
+  # it (session 46): about 3-4 hours on two quiet cores, far more beside builds and tests.
   "b_mortar|5406021|out/ensembles/b_mortar_explicit|scenarios/nishida_b_kobe_mortar.toml --members 5 --seed 1 --jobs 1 --threads 2"
   # Issue 48 item 5's other marginal runs on the explicit reference (the fast path is not
   # verified): model E dry and with mortar, five members each, the seed of A's and B's
