@@ -21,8 +21,9 @@ jobs=(
   # probes of A, B and E dry and B with mortar, in scenarios/results.) All run 5406021's
   # program, built with clang: every preset's hash as ff7154d's (perf/results,
   # clang_vs_gcc). A member runs on both cores (the same bits as on one), one member at a
-  # time, so that each finishes within a session: a new checkout starts with an empty out/,
-  # and only the members kept in the repository (below) survive it.
+  # time, so that each finishes as soon as it can: a new checkout starts with an empty out/,
+  # and only the members kept in the repository (below) survive it; a member under way
+  # goes on from its checkpoint only while out/ survives.
   # Issue 45 item 3's second model, B with mortar: the explicit reference, the same seed as
   # the fast path's five (session 44, scenarios/results/ensembles/b_mortar_implicit_4e-5_*);
   # 2.5 million steps a member, 3.5-6.5 ms each on one thread once the shaking has cracked
