@@ -46,7 +46,10 @@ void print_profile(const SeismicRun& run, const SeismicRunResult& r) {
   const Profile p = world.state().profile.since(run.profile_at_first_step());
   const long steps = r.steps - run.first_step();
   const double total = p.wall_s();
-  if (steps <= 0 || total <= 0) return std::printf("no steps run, so no profile\n"), void();
+  if (steps <= 0 || total <= 0) {
+    std::printf("no steps run, so no profile\n");
+    return;
+  }
   if (run.first_step() > 0) std::printf("the %ld steps since the checkpoint (step %ld):\n", steps, run.first_step());
   std::printf("stage             seconds   share   work µs/step   working  waiting   serial  imbalance  stolen\n");
   for (int k = 0; k < kStageCount; ++k) {

@@ -43,6 +43,11 @@ struct StageTime {
   double imbalance() const { return mean_s > 0 ? slowest_s / mean_s : 1.0; }
   // The share of chunks run off their thread's own range: 0 when every range kept pace.
   double stolen_share() const { return chunks > 0 ? stolen / chunks : 0.0; }
+  StageTime& operator-=(const StageTime& e) {
+    wall_s -= e.wall_s, team_s -= e.team_s, work_s -= e.work_s, serial_s -= e.serial_s;
+    mean_s -= e.mean_s, slowest_s -= e.slowest_s, chunks -= e.chunks, stolen -= e.stolen;
+    return *this;
+  }
 };
 
 // One thread's part of one stage of one step, seconds on the team's clock (Team::now_s).
@@ -80,12 +85,7 @@ struct Profile {
   // own steps: the checkpoint's profile is the run's from its start).
   Profile since(const Profile& earlier) const {
     Profile d = *this;
-    for (int k = 0; k < kStageCount; ++k) {
-      StageTime& t = d.stages[k];
-      const StageTime& e = earlier.stages[k];
-      t.wall_s -= e.wall_s, t.team_s -= e.team_s, t.work_s -= e.work_s, t.serial_s -= e.serial_s;
-      t.mean_s -= e.mean_s, t.slowest_s -= e.slowest_s, t.chunks -= e.chunks, t.stolen -= e.stolen;
-    }
+    for (int k = 0; k < kStageCount; ++k) d.stages[k] -= earlier.stages[k];
     d.damping_iterations -= earlier.damping_iterations;
     d.damping_unconverged -= earlier.damping_unconverged;
     d.broadphase_rebuilds -= earlier.broadphase_rebuilds;
