@@ -85,15 +85,26 @@ Axis best_edge_axis(const Model& m, const PairWorld& w, int a, int b) {
 // 2 sin(t/2) r. Also returns the current relative pose, to be stored when the search is
 // redone. Most pairs are decided without a square root (u + v <= sqrt(2 (u^2 + v^2))).
 // Sets the pair's bound to the measure found when it is below the limit.
-bool moved_exactly(const Model& m, const State& s, Pair& pair, double limit_m, Vec3& offset, Quat& relative) {
+struct MotionSquared {
+  double shift2, chord2;  // m^2
+};
+MotionSquared motion_since_search(const Model& m, const State& s, const Pair& pair, Vec3& offset, Quat& relative) {
   offset = s.rotation[pair.a].transpose() * (s.position[pair.b] - s.position[pair.a]);
   relative = s.orientation[pair.a].conjugate() * s.orientation[pair.b];
-  if (limit_m <= 0) return true;
   const double shift2 = (offset - pair.offset_at_search).squaredNorm();
   // sin^2(t/2) = 1 - c^2, c the scalar part of the turn q0* q, i.e. the 4-d dot q0 . q.
   const double cos_half_turn = pair.relative_at_search.coeffs().dot(relative.coeffs());
   const double sin2_half_turn = std::max(0.0, 1.0 - cos_half_turn * cos_half_turn);
-  const double chord2 = 4.0 * sin2_half_turn * m.radius_m[pair.b] * m.radius_m[pair.b];
+  return {shift2, 4.0 * sin2_half_turn * m.radius_m[pair.b] * m.radius_m[pair.b]};
+}
+
+bool moved_exactly(const Model& m, const State& s, Pair& pair, double limit_m, Vec3& offset, Quat& relative) {
+  if (limit_m <= 0) {
+    offset = s.rotation[pair.a].transpose() * (s.position[pair.b] - s.position[pair.a]);
+    relative = s.orientation[pair.a].conjugate() * s.orientation[pair.b];
+    return true;
+  }
+  const auto [shift2, chord2] = motion_since_search(m, s, pair, offset, relative);
   if (2.0 * (shift2 + chord2) < limit_m * limit_m) {
     pair.moved_bound_m = std::sqrt(2.0 * (shift2 + chord2));
     return false;
@@ -134,6 +145,35 @@ bool moved_at_least(const Model& m, const State& s, Pair& pair, double limit_m, 
   return moved_exactly(m, s, pair, limit_m, offset, relative);
 }
 
+// A face pair whose manifold came out empty: how large its measure since the search (as
+// moved_at_least bounds it) may grow while every point of the incident block stays above
+// the reference face's plane. Until then a clip could give only open points, and a new
+// point is never bonded: it would carry no force, so the pair is not clipped again. A
+// cracked bridge has thousands of stones that meet at an edge a fraction of the tolerance
+// off each other's face planes; clipping them every step was a quarter of its late step.
+// Between this pose (measure `bound` since the search) and a later one (measure d), a
+// point of b moves relative to a by at most bound + d (kind 0); a point of a moves
+// relative to b's face by at most (bound + d) rho / r_b, rho its distance from b's centre
+// (kind 1). The reserve, a tenth of the tolerance, covers the step that passes the limit.
+double clear_below(const Model& m, const State& s, const PairWorld& w, const Pair& pair, double tol) {
+  const int incident = pair.axis_kind == 0 ? pair.b : pair.a;
+  const double height = face_separation(m, s, w, pair.axis_feature, incident);
+  if (!(height > 0)) return 0.0;
+  double lever = 1.0;
+  if (pair.axis_kind == 1) {
+    double rho2 = 0.0;
+    for (int v = m.vertex_begin[incident]; v < m.vertex_begin[incident + 1]; ++v)
+      rho2 = std::max(rho2, (w.vertex(v) - s.position[pair.b]).squaredNorm());
+    lever = std::max(1.0, (std::sqrt(rho2) + height) / m.radius_m[pair.b]);
+  }
+  return height / lever - 0.1 * tol - pair.moved_bound_m;
+}
+
+[[maybe_unused]] bool above_face(const Model& m, const State& s, PairWorld& w, const Pair& pair) {
+  w.set(m, s, pair.a, pair.b);
+  return face_separation(m, s, w, pair.axis_feature, pair.axis_kind == 0 ? pair.b : pair.a) > 0;
+}
+
 }  // namespace
 
 bool pair_manifold(const Model& m, const State& s, Pair& pair, PairWorld& w, Manifold& out) {
@@ -147,20 +187,34 @@ bool pair_manifold(const Model& m, const State& s, Pair& pair, PairWorld& w, Man
   // Barely moved: within a twentieth of the tolerance the clipped features cannot change.
   const double limit = pair.axis_kind == -1 ? pair.separation_m - tol : face_axis ? 0.05 * tol : 0.0;
   const bool moved = moved_at_least(m, s, pair, limit, offset, relative);
+  // Damping::capped sets its caps from every sub-contact's springs, open ones too.
+  const bool skips_clear = m.options.damping != Damping::capped;
   if (pair.axis_kind == -1 && !moved) return false;
   if (face_axis && !moved) {
     // The last face axis still holds (a resting joint is decided once).
     if (pair.sub_count > 0) return false;
+    if (skips_clear && pair.moved_bound_m >= pair.clear_below_m) {  // the bound's slack may be all that passed it
+      const auto [shift2, chord2] = motion_since_search(m, s, pair, offset, relative);
+      pair.moved_bound_m = std::sqrt(shift2) + std::sqrt(chord2);
+    }
+    if (pair.moved_bound_m < pair.clear_below_m) {
+      assert(above_face(m, s, w, pair));
+      return false;
+    }
     const int f = pair.axis_feature;
     const Axis cached{0.0, pair.axis_kind, f, face_axis_normal(s, pair.axis_kind, f)};
     w.set(m, s, a, b);
+    // Clear until this step, it is still above the plane (the reserve).
+    assert(pair.clear_below_m <= 0 || above_face(m, s, w, pair));
     face_manifold(m, s, w, a, b, cached, out);
+    pair.clear_below_m = out.size() == 0 && skips_clear ? clear_below(m, s, w, pair, tol) : 0.0;
     return true;
   }
   pair.offset_at_search = offset;
   pair.relative_at_search = relative;
   pair.centre_distance_at_search_m = offset.norm();
   pair.moved_bound_m = 0.0;
+  pair.clear_below_m = 0.0;
   auto apart = [&](double separation) {
     pair.axis_kind = -1;
     pair.separation_m = separation;
@@ -193,8 +247,10 @@ bool pair_manifold(const Model& m, const State& s, Pair& pair, PairWorld& w, Man
   pair.axis_feature = chosen.feature;
   if (chosen.kind == 2)
     edge_manifold(m, s, w, a, b, chosen, out);
-  else
+  else {
     face_manifold(m, s, w, a, b, chosen, out);
+    if (out.size() == 0 && skips_clear) pair.clear_below_m = clear_below(m, s, w, pair, tol);
+  }
   return true;
 }
 

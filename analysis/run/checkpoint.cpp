@@ -50,7 +50,8 @@ namespace {
 // 11: the body's FNV-1a checksum after the header (a damaged byte was resumed from silently).
 // 12: each pair's bound on its relative motion (Pair::moved_bound_m).
 // 13: the run's wall time spent recording frames (SeismicRunResult::output_wall_s).
-constexpr char kCheckpointMagic[] = "ishibashi checkpoint 13\n";
+// 14: each pair's motion bound below which its empty face manifold stays empty (Pair::clear_below_m).
+constexpr char kCheckpointMagic[] = "ishibashi checkpoint 14\n";
 
 template <class Archive, class H>
 void visit_header(Archive& a, H& h) {
