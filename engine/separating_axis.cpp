@@ -79,12 +79,10 @@ Axis best_edge_axis(const Model& m, const PairWorld& w, int a, int b) {
   return best;
 }
 
-// Whether any point of block b can have moved relative to block a by `limit_m` or more
-// since the pair's last axis search. b's centroid moved by |offset - offset_at_search|
-// in a's frame, and a turn by angle t moves a point at distance r by the chord
-// 2 sin(t/2) r. Also returns the current relative pose, to be stored when the search is
-// redone. Most pairs are decided without a square root (u + v <= sqrt(2 (u^2 + v^2))).
-// Sets the pair's bound to the measure found when it is below the limit.
+// How far b moved relative to a since the pair's last axis search: its centroid by
+// |offset - offset_at_search| in a's frame, and its turn by angle t moves a point at
+// distance r by the chord 2 sin(t/2) r, at most at b's radius (the measure is their sum).
+// Also returns the current relative pose, to be stored when the search is redone.
 struct MotionSquared {
   double shift2, chord2;  // m^2
 };
@@ -98,6 +96,10 @@ MotionSquared motion_since_search(const Model& m, const State& s, const Pair& pa
   return {shift2, 4.0 * sin2_half_turn * m.radius_m[pair.b] * m.radius_m[pair.b]};
 }
 
+// Whether any point of block b can have moved relative to block a by `limit_m` or more
+// since the pair's last axis search. Most pairs are decided without a square root
+// (u + v <= sqrt(2 (u^2 + v^2))). Sets the pair's bound to the measure found when it is
+// below the limit.
 bool moved_exactly(const Model& m, const State& s, Pair& pair, double limit_m, Vec3& offset, Quat& relative) {
   if (limit_m <= 0) {
     offset = s.rotation[pair.a].transpose() * (s.position[pair.b] - s.position[pair.a]);
@@ -145,16 +147,16 @@ bool moved_at_least(const Model& m, const State& s, Pair& pair, double limit_m, 
   return moved_exactly(m, s, pair, limit_m, offset, relative);
 }
 
-// A face pair whose manifold came out empty: how large its measure since the search (as
-// moved_at_least bounds it) may grow while every point of the incident block stays above
-// the reference face's plane. Until then a clip could give only open points, and a new
+// A face pair whose manifold came out empty: how large its measure since the search may
+// grow while every point of the incident block stays above the reference face's plane. Until then a clip could give only open points, and a new
 // point is never bonded: it would carry no force, so the pair is not clipped again. A
 // cracked bridge has thousands of stones that meet at an edge a fraction of the tolerance
 // off each other's face planes; clipping them every step was a quarter of its late step.
 // Between this pose (measure `bound` since the search) and a later one (measure d), a
 // point of b moves relative to a by at most bound + d (kind 0); a point of a moves
 // relative to b's face by at most (bound + d) rho / r_b, rho its distance from b's centre
-// (kind 1). The reserve, a tenth of the tolerance, covers the step that passes the limit.
+// (kind 1). The reserve, a tenth of the tolerance, covers the step that passes the limit:
+// a skip keeps the stone above the plane by more than half of it until the next search.
 double clear_below(const Model& m, const State& s, const PairWorld& w, const Pair& pair, double tol) {
   const int incident = pair.axis_kind == 0 ? pair.b : pair.a;
   const double height = face_separation(m, s, w, pair.axis_feature, incident);
