@@ -101,12 +101,8 @@ MotionSquared motion_since_search(const Model& m, const State& s, const Pair& pa
 // (u + v <= sqrt(2 (u^2 + v^2))). Sets the pair's bound to the measure found when it is
 // below the limit.
 bool moved_exactly(const Model& m, const State& s, Pair& pair, double limit_m, Vec3& offset, Quat& relative) {
-  if (limit_m <= 0) {
-    offset = s.rotation[pair.a].transpose() * (s.position[pair.b] - s.position[pair.a]);
-    relative = s.orientation[pair.a].conjugate() * s.orientation[pair.b];
-    return true;
-  }
   const auto [shift2, chord2] = motion_since_search(m, s, pair, offset, relative);
+  if (limit_m <= 0) return true;
   if (2.0 * (shift2 + chord2) < limit_m * limit_m) {
     pair.moved_bound_m = std::sqrt(2.0 * (shift2 + chord2));
     return false;
