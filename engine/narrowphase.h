@@ -87,7 +87,7 @@ struct Manifold {
 // Chooses the contact axis of a pair (with hysteresis) and builds its manifold. Returns
 // false instead when the pair needs no new manifold: it is still apart, or it has barely
 // moved since its last axis search and has a face manifold, whose sub-contacts are then
-// updated in place (update_in_place).
+// updated in place (update_in_place), or an empty one whose stone is still clear of the face.
 bool pair_manifold(const Model& m, const State& s, Pair& pair, PairWorld& w, Manifold& out);
 
 // ---- manifold.cpp ----

@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cassert>
 #include <cmath>
+#include <limits>
 
 #include "engine/narrowphase.h"
 
@@ -121,13 +122,18 @@ bool moved_exactly(const Model& m, const State& s, Pair& pair, double limit_m, V
 // 1: below 1e-7 r), the answer is no; else the exact test decides and resets the bound.
 // A shaken bridge moves its stones together: most pairs skip the exact test for hundreds
 // of steps (its rotation, quaternion product and roots: a fifth of a cracked bridge's step).
-bool moved_at_least(const Model& m, const State& s, Pair& pair, double limit_m, Vec3& offset, Quat& relative) {
+// `step_m`: what this step adds, a bound on how far any point of b moved relative to a in
+// it (inf when the limit is 0).
+bool moved_at_least(const Model& m, const State& s, Pair& pair, double limit_m, Vec3& offset, Quat& relative,
+                    double& step_m) {
+  step_m = std::numeric_limits<double>::infinity();
   if (limit_m > 0) {
     const int a = pair.a, b = pair.b;
     const double rb = m.radius_m[b];
     const double lever = pair.centre_distance_at_search_m + limit_m;
-    const double grown = pair.moved_bound_m + (s.step_shift[b] - s.step_shift[a]).cwiseAbs().sum() +
-                         s.step_turn[a] * (lever + rb) + s.step_turn[b] * rb + 1e-13;
+    step_m = (s.step_shift[b] - s.step_shift[a]).cwiseAbs().sum() + s.step_turn[a] * (lever + rb) +
+             s.step_turn[b] * rb + 1e-13;
+    const double grown = pair.moved_bound_m + step_m;
     const double margin = 1e-6 * (limit_m + rb + lever);
     if (grown < limit_m - margin) {
 #ifndef NDEBUG  // the skip gives the exact test's answer, and the bound covers its measure
@@ -143,33 +149,131 @@ bool moved_at_least(const Model& m, const State& s, Pair& pair, double limit_m, 
   return moved_exactly(m, s, pair, limit_m, offset, relative);
 }
 
-// A face pair whose manifold came out empty: how large its measure since the search may
-// grow while every point of the incident block stays above the reference face's plane. Until then a clip could give only open points, and a new
-// point is never bonded: it would carry no force, so the pair is not clipped again. A
-// cracked bridge has thousands of stones that meet at an edge a fraction of the tolerance
-// off each other's face planes; clipping them every step was a quarter of its late step.
-// Between this pose (measure `bound` since the search) and a later one (measure d), a
-// point of b moves relative to a by at most bound + d (kind 0); a point of a moves
-// relative to b's face by at most (bound + d) rho / r_b, rho its distance from b's centre
-// (kind 1). The reserve, a tenth of the tolerance, covers the step that passes the limit:
-// a skip keeps the stone above the plane by more than half of it until the next search.
-double clear_below(const Model& m, const State& s, const PairWorld& w, const Pair& pair, double tol) {
-  const int incident = pair.axis_kind == 0 ? pair.b : pair.a;
-  const double height = face_separation(m, s, w, pair.axis_feature, incident);
-  if (!(height > 0)) return 0.0;
-  double lever = 1.0;
-  if (pair.axis_kind == 1) {
-    double rho2 = 0.0;
-    for (int v = m.vertex_begin[incident]; v < m.vertex_begin[incident + 1]; ++v)
-      rho2 = std::max(rho2, (w.vertex(v) - s.position[pair.b]).squaredNorm());
-    lever = std::max(1.0, (std::sqrt(rho2) + height) / m.radius_m[pair.b]);
+// Where the stone of an empty face pair (its incident block) lies against the reference
+// face: its height above the face's plane, and its gap beside the face along a line in the
+// plane. The clip keeps only what lies within each side plane of the face moved out by the
+// clip's slack, 0.1 tolerance (manifold.cpp, clip_incident_face), so a line with the
+// stone's outline on one side and the widened face on the other leaves it nothing,
+// whatever its incident face. The lines: the face's sides (axis k < the face's corners)
+// and the stone's edge directions crossed with the face's normal (axis corners + j),
+// which separate any such outline from the face when anything does; axis -1: none.
+// `vertex(v)` and `direction(d)` give the model's vertex v and direction d in the world.
+struct StoneAgainstFace {
+  double height_m;  // its lowest vertex above the face's plane
+  double gap_m;     // beside the face along the axis; <= 0: the line does not separate them
+  double rho2;      // m^2: its farthest vertex from b's centre, squared (the lever of kind 1)
+};
+template <class VertexAt, class DirectionAt>
+StoneAgainstFace stone_against_face(const Model& m, const State& s, const Pair& pair, double tol, int axis,
+                                    VertexAt vertex, DirectionAt direction) {
+  const int f = pair.axis_feature, stone = pair.axis_kind == 0 ? pair.b : pair.a;
+  const Vec3& n = s.face_normal_world[f];
+  const double slack = 0.1 * tol;
+  const int first = m.face_vertex_begin[f], corners = m.face_vertex_begin[f + 1] - first;
+  auto corner = [&](int k) -> Vec3 { return vertex(m.face_vertex[first + k % corners]); };
+  auto side = [&](int k) -> Vec3 { return (corner(k + 1) - corner(k)).cross(n).normalized(); };
+  // The line's normal u and the widened face's extent along it.
+  Vec3 u = Vec3::Zero();
+  double face_lo = 1e300, face_hi = -1e300;
+  if (axis >= 0 && axis < corners) {
+    u = side(axis);
+    face_hi = u.dot(corner(axis)) + slack;
+  } else if (axis >= corners) {
+    u = n.cross(direction(m.direction_begin[stone] + axis - corners));
+    const double length = u.norm();
+    if (length > 1e-6) {  // (an edge along the normal has no line of its own)
+      u /= length;
+      // Each corner moved out by the slack along both sides that meet there, to where the
+      // two moved side lines cross.
+      Vec3 before = side(corners - 1);
+      for (int k = 0; k < corners; ++k) {
+        const Vec3 after = side(k);
+        const double spread = 1.0 + before.dot(after);  // 1 - cos of the corner's angle
+        if (spread < 1e-6) {
+          u = Vec3::Zero();
+          break;
+        }
+        const double x = u.dot(corner(k) + slack / spread * (before + after));
+        face_lo = std::min(face_lo, x), face_hi = std::max(face_hi, x);
+        before = after;
+      }
+    } else
+      u = Vec3::Zero();
   }
-  return height / lever - 0.1 * tol - pair.moved_bound_m;
+  double lowest = 1e300, lo = 1e300, hi = -1e300, rho2 = 0.0;
+  for (int v = m.vertex_begin[stone]; v < m.vertex_begin[stone + 1]; ++v) {
+    const Vec3 x = vertex(v);
+    lowest = std::min(lowest, n.dot(x));
+    lo = std::min(lo, u.dot(x)), hi = std::max(hi, u.dot(x));
+    rho2 = std::max(rho2, (x - s.position[pair.b]).squaredNorm());
+  }
+  double gap = -1.0;
+  if (u != Vec3::Zero()) gap = axis < corners ? lo - face_hi : std::max(lo - face_hi, face_lo - hi);
+  return {lowest - s.face_offset_world[f], gap, rho2};
 }
 
-[[maybe_unused]] bool above_face(const Model& m, const State& s, PairWorld& w, const Pair& pair) {
+// How far the stone may still move relative to the face (as moved_at_least bounds the
+// pair's motion step by step) while a clip gives no closed point, by either of two rules:
+// * Above the plane: every point of the stone stays above the reference face's plane, so
+//   a clip could give only open points, and a new point is never bonded: it would carry
+//   no force. The reserve, a tenth of the tolerance, is twice the search's limit: from a
+//   skipped step to the pair's next search the stone moves by at most two measures since
+//   the search, each below the limit, so it stays above the plane until then, when this
+//   code and one that clips every step both clip the pair afresh.
+// * Beside the face: a clip would give nothing at all (no reserve: rounding only, 1e-15 of
+//   coordinates of tens of metres).
+// A point of b moves relative to a by at most the pair's motion (kind 0); a point of a
+// relative to b's face by at most its motion times rho / r_b, rho its distance from b's
+// centre (kind 1).
+double clear_for(const Model& m, const Pair& pair, const StoneAgainstFace& at, double tol) {
+  const double lever =
+      pair.axis_kind == 1 ? std::max(1.0, (std::sqrt(at.rho2) + std::max(at.height_m, at.gap_m)) / m.radius_m[pair.b]) : 1.0;
+  return std::max(at.height_m / lever - 0.1 * tol, at.gap_m / lever - 1e-6 * tol);
+}
+
+// A face pair whose manifold came out empty: how far it may move before it is clipped
+// again (Pair::clear_for_m), and the line that held its stone beside the face, the best
+// of them (Pair::beside_axis). A cracked bridge has thousands of stones that meet at an
+// edge a fraction of the tolerance off each other's face planes; clipping them every step
+// was a quarter of its late step.
+void keep_clear(const Model& m, const State& s, const PairWorld& w, Pair& pair, double tol) {
+  const int stone = pair.axis_kind == 0 ? pair.b : pair.a;
+  auto vertex = [&](int v) -> const Vec3& { return w.vertex(v); };
+  auto direction = [&](int d) -> const Vec3& { return w.direction(d); };
+  const int axes = m.face_vertex_begin[pair.axis_feature + 1] - m.face_vertex_begin[pair.axis_feature] +
+                   m.direction_begin[stone + 1] - m.direction_begin[stone];
+  StoneAgainstFace best = stone_against_face(m, s, pair, tol, -1, vertex, direction);
+  pair.beside_axis = -1;
+  for (int axis = 0; axis < axes; ++axis) {
+    const StoneAgainstFace at = stone_against_face(m, s, pair, tol, axis, vertex, direction);
+    if (at.gap_m > best.gap_m) best = at, pair.beside_axis = axis;
+  }
+  if (!(best.gap_m > 0)) pair.beside_axis = -1;
+  pair.clear_for_m = std::max(0.0, clear_for(m, pair, best, tol));
+}
+
+// The pair has moved as far as its last clip or check allowed: whether its stone is still
+// above the plane or beside the face (along the line that held it), and for how far now.
+// Only the stone's vertices and the face's corners are put in the world (a clip puts both
+// blocks' vertices and directions there).
+bool still_clear(const Model& m, const State& s, Pair& pair, double tol) {
+  const int a = pair.a, b = pair.b, stone = pair.axis_kind == 0 ? b : a;
+  auto vertex = [&](int v) -> Vec3 {
+    const int block = v >= m.vertex_begin[a] && v < m.vertex_begin[a + 1] ? a : b;
+    return s.position[block] + s.rotation[block] * m.vertex_local[v];
+  };
+  auto direction = [&](int d) -> Vec3 { return s.rotation[stone] * m.direction_local[d]; };
+  pair.clear_for_m = clear_for(m, pair, stone_against_face(m, s, pair, tol, pair.beside_axis, vertex, direction), tol);
+  return pair.clear_for_m > 0;
+}
+
+[[maybe_unused]] bool no_closed_point(const Model& m, const State& s, PairWorld& w, const Pair& pair) {
   w.set(m, s, pair.a, pair.b);
-  return face_separation(m, s, w, pair.axis_feature, pair.axis_kind == 0 ? pair.b : pair.a) > 0;
+  thread_local Manifold manifold;
+  face_manifold(m, s, w, pair.a, pair.b, Axis{0.0, pair.axis_kind, pair.axis_feature, face_axis_normal(s, pair.axis_kind, pair.axis_feature)}, manifold);
+  for (const ManifoldPoint& q : manifold.points)
+    if (q.gap_m <= 0) return false;
+  return true;
 }
 
 }  // namespace
@@ -184,35 +288,35 @@ bool pair_manifold(const Model& m, const State& s, Pair& pair, PairWorld& w, Man
   // Still apart: b cannot have closed the gap (separation beyond the tolerance).
   // Barely moved: within a twentieth of the tolerance the clipped features cannot change.
   const double limit = pair.axis_kind == -1 ? pair.separation_m - tol : face_axis ? 0.05 * tol : 0.0;
-  const bool moved = moved_at_least(m, s, pair, limit, offset, relative);
+  double step_m;  // how far b's points moved relative to a in this step, at most
+  const bool moved = moved_at_least(m, s, pair, limit, offset, relative, step_m);
   // Damping::capped sets its caps from every sub-contact's springs, open ones too.
   const bool skips_clear = m.options.damping != Damping::capped;
   if (pair.axis_kind == -1 && !moved) return false;
   if (face_axis && !moved) {
     // The last face axis still holds (a resting joint is decided once).
     if (pair.sub_count > 0) return false;
-    if (skips_clear && pair.moved_bound_m >= pair.clear_below_m) {  // the bound's slack may be all that passed it
-      const auto [shift2, chord2] = motion_since_search(m, s, pair, offset, relative);
-      pair.moved_bound_m = std::sqrt(shift2) + std::sqrt(chord2);
-    }
-    if (pair.moved_bound_m < pair.clear_below_m) {
-      assert(above_face(m, s, w, pair));
+    // An empty manifold: not clipped again while its stone is clear of the face (keep_clear),
+    // and checked again (still_clear) when it has moved as far as that allowed.
+    if (pair.clear_for_m > 0 && ((pair.clear_for_m -= step_m) > 0 || still_clear(m, s, pair, tol))) {
+      assert(no_closed_point(m, s, w, pair));
       return false;
     }
     const int f = pair.axis_feature;
     const Axis cached{0.0, pair.axis_kind, f, face_axis_normal(s, pair.axis_kind, f)};
     w.set(m, s, a, b);
-    // Clear until this step, it is still above the plane (the reserve).
-    assert(pair.clear_below_m <= 0 || above_face(m, s, w, pair));
     face_manifold(m, s, w, a, b, cached, out);
-    pair.clear_below_m = out.size() == 0 && skips_clear ? clear_below(m, s, w, pair, tol) : 0.0;
+    pair.clear_for_m = 0.0;
+    pair.beside_axis = -1;
+    if (out.size() == 0 && skips_clear) keep_clear(m, s, w, pair, tol);
     return true;
   }
   pair.offset_at_search = offset;
   pair.relative_at_search = relative;
   pair.centre_distance_at_search_m = offset.norm();
   pair.moved_bound_m = 0.0;
-  pair.clear_below_m = 0.0;
+  pair.clear_for_m = 0.0;
+  pair.beside_axis = -1;
   auto apart = [&](double separation) {
     pair.axis_kind = -1;
     pair.separation_m = separation;
@@ -247,7 +351,7 @@ bool pair_manifold(const Model& m, const State& s, Pair& pair, PairWorld& w, Man
     edge_manifold(m, s, w, a, b, chosen, out);
   else {
     face_manifold(m, s, w, a, b, chosen, out);
-    if (out.size() == 0 && skips_clear) pair.clear_below_m = clear_below(m, s, w, pair, tol);
+    if (out.size() == 0 && skips_clear) keep_clear(m, s, w, pair, tol);
   }
   return true;
 }
