@@ -154,62 +154,71 @@ bool moved_at_least(const Model& m, const State& s, Pair& pair, double limit_m, 
 // plane. The clip keeps only what lies within each side plane of the face moved out by the
 // clip's slack, 0.1 tolerance (manifold.cpp, clip_incident_face), so a line with the
 // stone's outline on one side and the widened face on the other leaves it nothing,
-// whatever its incident face. The lines: the face's sides (axis k < the face's corners)
-// and the stone's edge directions crossed with the face's normal (axis corners + j),
-// which separate any such outline from the face when anything does; axis -1: none.
-// `vertex(v)` and `direction(d)` give the model's vertex v and direction d in the world.
+// whatever its incident face. The lines (axes): the face's sides (k < the face's corners)
+// and the stone's edge directions crossed with the face's normal (corners + j), which
+// separate any such outline from the face when anything does; the best gap of the axes
+// [first_axis, end_axis) is returned. `vertex(v)` and `direction(d)` give the model's
+// vertex v and direction d in the world.
 struct StoneAgainstFace {
-  double height_m;  // its lowest vertex above the face's plane
-  double gap_m;     // beside the face along the axis; <= 0: the line does not separate them
-  double rho2;      // m^2: its farthest vertex from b's centre, squared (the lever of kind 1)
+  double height_m;      // its lowest vertex above the face's plane
+  double gap_m = -1.0;  // beside the face along `axis`; <= 0: no line separates them
+  int axis = -1;
+  double rho2;  // m^2: its farthest vertex from b's centre, squared (the lever of kind 1)
 };
 template <class VertexAt, class DirectionAt>
-StoneAgainstFace stone_against_face(const Model& m, const State& s, const Pair& pair, double tol, int axis,
-                                    VertexAt vertex, DirectionAt direction) {
+StoneAgainstFace stone_against_face(const Model& m, const State& s, const Pair& pair, double tol, int first_axis,
+                                    int end_axis, VertexAt vertex, DirectionAt direction) {
   const int f = pair.axis_feature, stone = pair.axis_kind == 0 ? pair.b : pair.a;
   const Vec3& n = s.face_normal_world[f];
   const double slack = 0.1 * tol;
   const int first = m.face_vertex_begin[f], corners = m.face_vertex_begin[f + 1] - first;
-  auto corner = [&](int k) -> Vec3 { return vertex(m.face_vertex[first + k % corners]); };
-  auto side = [&](int k) -> Vec3 { return (corner(k + 1) - corner(k)).cross(n).normalized(); };
-  // The line's normal u and the widened face's extent along it.
-  Vec3 u = Vec3::Zero();
-  double face_lo = 1e300, face_hi = -1e300;
-  if (axis >= 0 && axis < corners) {
-    u = side(axis);
-    face_hi = u.dot(corner(axis)) + slack;
-  } else if (axis >= corners) {
-    u = n.cross(direction(m.direction_begin[stone] + axis - corners));
-    const double length = u.norm();
-    if (length > 1e-6) {  // (an edge along the normal has no line of its own)
-      u /= length;
-      // Each corner moved out by the slack along both sides that meet there, to where the
-      // two moved side lines cross.
-      Vec3 before = side(corners - 1);
-      for (int k = 0; k < corners; ++k) {
-        const Vec3 after = side(k);
-        const double spread = 1.0 + before.dot(after);  // 1 - cos of the corner's angle
-        if (spread < 1e-6) {
-          u = Vec3::Zero();
-          break;
-        }
-        const double x = u.dot(corner(k) + slack / spread * (before + after));
-        face_lo = std::min(face_lo, x), face_hi = std::max(face_hi, x);
-        before = after;
-      }
-    } else
-      u = Vec3::Zero();
-  }
-  double lowest = 1e300, lo = 1e300, hi = -1e300, rho2 = 0.0;
+  StoneAgainstFace at{1e300, -1.0, -1, 0.0};
   for (int v = m.vertex_begin[stone]; v < m.vertex_begin[stone + 1]; ++v) {
     const Vec3 x = vertex(v);
-    lowest = std::min(lowest, n.dot(x));
-    lo = std::min(lo, u.dot(x)), hi = std::max(hi, u.dot(x));
-    rho2 = std::max(rho2, (x - s.position[pair.b]).squaredNorm());
+    at.height_m = std::min(at.height_m, n.dot(x));
+    at.rho2 = std::max(at.rho2, (x - s.position[pair.b]).squaredNorm());
   }
-  double gap = -1.0;
-  if (u != Vec3::Zero()) gap = axis < corners ? lo - face_hi : std::max(lo - face_hi, face_lo - hi);
-  return {lowest - s.face_offset_world[f], gap, rho2};
+  at.height_m -= s.face_offset_world[f];
+  if (first_axis >= end_axis) return at;
+  Vec3 corner[kMaxFaceCorners], side[kMaxFaceCorners], wide[kMaxFaceCorners];
+  for (int k = 0; k < corners; ++k) corner[k] = vertex(m.face_vertex[first + k]);
+  for (int k = 0; k < corners; ++k) side[k] = (corner[(k + 1) % corners] - corner[k]).cross(n).normalized();
+  // The widened face's corners: each moved out by the slack along both sides that meet
+  // there, to where the two moved side lines cross (made for the stone's lines only).
+  bool widened = false;
+  for (int k = 0; k < corners && end_axis > corners; ++k) {
+    const Vec3& before = side[(k + corners - 1) % corners];
+    const double spread = 1.0 + before.dot(side[k]);  // 1 - cos of the corner's angle
+    if (spread < 1e-6) break;                         // (a needle of a corner: those lines are not tried)
+    wide[k] = corner[k] + slack / spread * (before + side[k]);
+    widened = k == corners - 1;
+  }
+  for (int axis = first_axis; axis < end_axis; ++axis) {
+    double gap = -1.0;
+    auto extent = [&](const Vec3& u, double& lo, double& hi) {
+      lo = 1e300, hi = -1e300;
+      for (int v = m.vertex_begin[stone]; v < m.vertex_begin[stone + 1]; ++v) {
+        const double x = u.dot(vertex(v));
+        lo = std::min(lo, x), hi = std::max(hi, x);
+      }
+    };
+    double lo, hi;
+    if (axis < corners) {
+      extent(side[axis], lo, hi);
+      gap = lo - side[axis].dot(corner[axis]) - slack;
+    } else if (widened) {
+      Vec3 u = n.cross(direction(m.direction_begin[stone] + axis - corners));
+      const double length = u.norm();
+      if (length < 1e-6) continue;  // an edge along the normal: no line of its own
+      u /= length;
+      double face_lo = 1e300, face_hi = -1e300;
+      for (int k = 0; k < corners; ++k) face_lo = std::min(face_lo, u.dot(wide[k])), face_hi = std::max(face_hi, u.dot(wide[k]));
+      extent(u, lo, hi);
+      gap = std::max(lo - face_hi, face_lo - hi);
+    }
+    if (gap > at.gap_m) at.gap_m = gap, at.axis = axis;
+  }
+  return at;
 }
 
 // How far the stone may still move relative to the face (as moved_at_least bounds the
@@ -238,18 +247,13 @@ double clear_for(const Model& m, const Pair& pair, const StoneAgainstFace& at, d
 // was a quarter of its late step.
 void keep_clear(const Model& m, const State& s, const PairWorld& w, Pair& pair, double tol) {
   const int stone = pair.axis_kind == 0 ? pair.b : pair.a;
-  auto vertex = [&](int v) -> const Vec3& { return w.vertex(v); };
-  auto direction = [&](int d) -> const Vec3& { return w.direction(d); };
   const int axes = m.face_vertex_begin[pair.axis_feature + 1] - m.face_vertex_begin[pair.axis_feature] +
                    m.direction_begin[stone + 1] - m.direction_begin[stone];
-  StoneAgainstFace best = stone_against_face(m, s, pair, tol, -1, vertex, direction);
-  pair.beside_axis = -1;
-  for (int axis = 0; axis < axes; ++axis) {
-    const StoneAgainstFace at = stone_against_face(m, s, pair, tol, axis, vertex, direction);
-    if (at.gap_m > best.gap_m) best = at, pair.beside_axis = axis;
-  }
-  if (!(best.gap_m > 0)) pair.beside_axis = -1;
-  pair.clear_for_m = std::max(0.0, clear_for(m, pair, best, tol));
+  const StoneAgainstFace at = stone_against_face(
+      m, s, pair, tol, 0, axes, [&](int v) -> const Vec3& { return w.vertex(v); },
+      [&](int d) -> const Vec3& { return w.direction(d); });
+  pair.beside_axis = at.gap_m > 0 ? at.axis : -1;
+  pair.clear_for_m = std::max(0.0, clear_for(m, pair, at, tol));
 }
 
 // The pair has moved as far as its last clip or check allowed: whether its stone is still
@@ -263,7 +267,8 @@ bool still_clear(const Model& m, const State& s, Pair& pair, double tol) {
     return s.position[block] + s.rotation[block] * m.vertex_local[v];
   };
   auto direction = [&](int d) -> Vec3 { return s.rotation[stone] * m.direction_local[d]; };
-  pair.clear_for_m = clear_for(m, pair, stone_against_face(m, s, pair, tol, pair.beside_axis, vertex, direction), tol);
+  const int line = pair.beside_axis;
+  pair.clear_for_m = clear_for(m, pair, stone_against_face(m, s, pair, tol, line, line + (line >= 0), vertex, direction), tol);
   return pair.clear_for_m > 0;
 }
 
