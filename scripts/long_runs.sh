@@ -36,9 +36,9 @@ jobs=(
   # as 5406021's (every preset's hash), its narrowphase no longer re-clipping stones that
   # cannot touch (about an eighth of a cracked bridge's step, perf/results). One thread a
   # member, in a process of their own beside B with mortar's lane (the second command
-  # above), so that each lane has a core (B's adaptive team gives up its second thread
-  # while that core is busy): together more steps than one lane on two threads (1.6-1.9
-  # times one), and E under way before B's members end.
+  # above), so that each lane has a core: one lane on two threads stepped 1.6-1.9 times
+  # as fast as on one (perf/results), two lanes of one core each should do more steps in
+  # all (not measured yet), and E is under way before B's members end.
   "ensemble|02d6a1e|out/ensembles/e_dry_explicit|scenarios/nishida_e_kobe_dry.toml --members 5 --seed 1 --jobs 1 --threads 1"
   "ensemble|02d6a1e|out/ensembles/e_mortar_explicit|scenarios/nishida_e_kobe_mortar.toml --members 5 --seed 1 --jobs 1 --threads 1"
 )
