@@ -87,8 +87,20 @@ struct Manifold {
 // Chooses the contact axis of a pair (with hysteresis) and builds its manifold. Returns
 // false instead when the pair needs no new manifold: it is still apart, or it has barely
 // moved since its last axis search and has a face manifold, whose sub-contacts are then
-// updated in place (update_in_place).
+// updated in place (update_in_place), or an empty one whose stone is still clear of the face.
 bool pair_manifold(const Model& m, const State& s, Pair& pair, PairWorld& w, Manifold& out);
+
+// ---- empty_face_pairs.cpp ----
+// A face pair whose clip came out empty (w set to the pair): how far it may move before it
+// is clipped again (Pair::clear_for_m: while its stone stays above the face's plane or
+// beside the face, no clip could give it a closed point), and the line that held its stone
+// beside the face (Pair::beside_axis).
+void keep_clear(const Model& m, const State& s, const PairWorld& w, Pair& pair, double tol);
+// Such a pair has moved as far as that allowed: whether its stone is still clear of the
+// face, with its allowance renewed.
+bool still_clear(const Model& m, const State& s, Pair& pair, double tol);
+// Whether a clip of the pair's face axis now would give no closed point (debug checks).
+bool no_closed_point(const Model& m, const State& s, PairWorld& w, const Pair& pair);
 
 // ---- manifold.cpp ----
 // The manifold of a face axis: the incident face clipped against the reference face, its

@@ -1,9 +1,11 @@
 // Narrowphase, stage 1: the separating-axis test of a candidate pair (faces of a, faces
 // of b, edge-edge directions), with hysteresis so that a resting joint keeps its axis and
-// its keys, and a cheap test that skips the search for pairs that barely moved.
+// its keys, and a cheap test that skips the search for pairs that barely moved (and the
+// clip of empty face pairs whose stones are clear of the face: empty_face_pairs.cpp).
 #include <algorithm>
 #include <cassert>
 #include <cmath>
+#include <limits>
 
 #include "engine/narrowphase.h"
 
@@ -121,13 +123,18 @@ bool moved_exactly(const Model& m, const State& s, Pair& pair, double limit_m, V
 // 1: below 1e-7 r), the answer is no; else the exact test decides and resets the bound.
 // A shaken bridge moves its stones together: most pairs skip the exact test for hundreds
 // of steps (its rotation, quaternion product and roots: a fifth of a cracked bridge's step).
-bool moved_at_least(const Model& m, const State& s, Pair& pair, double limit_m, Vec3& offset, Quat& relative) {
+// `step_m`: what this step adds, a bound on how far any point of b moved relative to a in
+// it (inf when the limit is 0).
+bool moved_at_least(const Model& m, const State& s, Pair& pair, double limit_m, Vec3& offset, Quat& relative,
+                    double& step_m) {
+  step_m = std::numeric_limits<double>::infinity();
   if (limit_m > 0) {
     const int a = pair.a, b = pair.b;
     const double rb = m.radius_m[b];
     const double lever = pair.centre_distance_at_search_m + limit_m;
-    const double grown = pair.moved_bound_m + (s.step_shift[b] - s.step_shift[a]).cwiseAbs().sum() +
-                         s.step_turn[a] * (lever + rb) + s.step_turn[b] * rb + 1e-13;
+    step_m = (s.step_shift[b] - s.step_shift[a]).cwiseAbs().sum() + s.step_turn[a] * (lever + rb) +
+             s.step_turn[b] * rb + 1e-13;
+    const double grown = pair.moved_bound_m + step_m;
     const double margin = 1e-6 * (limit_m + rb + lever);
     if (grown < limit_m - margin) {
 #ifndef NDEBUG  // the skip gives the exact test's answer, and the bound covers its measure
@@ -143,35 +150,6 @@ bool moved_at_least(const Model& m, const State& s, Pair& pair, double limit_m, 
   return moved_exactly(m, s, pair, limit_m, offset, relative);
 }
 
-// A face pair whose manifold came out empty: how large its measure since the search may
-// grow while every point of the incident block stays above the reference face's plane. Until then a clip could give only open points, and a new
-// point is never bonded: it would carry no force, so the pair is not clipped again. A
-// cracked bridge has thousands of stones that meet at an edge a fraction of the tolerance
-// off each other's face planes; clipping them every step was a quarter of its late step.
-// Between this pose (measure `bound` since the search) and a later one (measure d), a
-// point of b moves relative to a by at most bound + d (kind 0); a point of a moves
-// relative to b's face by at most (bound + d) rho / r_b, rho its distance from b's centre
-// (kind 1). The reserve, a tenth of the tolerance, covers the step that passes the limit:
-// a skip keeps the stone above the plane by more than half of it until the next search.
-double clear_below(const Model& m, const State& s, const PairWorld& w, const Pair& pair, double tol) {
-  const int incident = pair.axis_kind == 0 ? pair.b : pair.a;
-  const double height = face_separation(m, s, w, pair.axis_feature, incident);
-  if (!(height > 0)) return 0.0;
-  double lever = 1.0;
-  if (pair.axis_kind == 1) {
-    double rho2 = 0.0;
-    for (int v = m.vertex_begin[incident]; v < m.vertex_begin[incident + 1]; ++v)
-      rho2 = std::max(rho2, (w.vertex(v) - s.position[pair.b]).squaredNorm());
-    lever = std::max(1.0, (std::sqrt(rho2) + height) / m.radius_m[pair.b]);
-  }
-  return height / lever - 0.1 * tol - pair.moved_bound_m;
-}
-
-[[maybe_unused]] bool above_face(const Model& m, const State& s, PairWorld& w, const Pair& pair) {
-  w.set(m, s, pair.a, pair.b);
-  return face_separation(m, s, w, pair.axis_feature, pair.axis_kind == 0 ? pair.b : pair.a) > 0;
-}
-
 }  // namespace
 
 bool pair_manifold(const Model& m, const State& s, Pair& pair, PairWorld& w, Manifold& out) {
@@ -184,35 +162,35 @@ bool pair_manifold(const Model& m, const State& s, Pair& pair, PairWorld& w, Man
   // Still apart: b cannot have closed the gap (separation beyond the tolerance).
   // Barely moved: within a twentieth of the tolerance the clipped features cannot change.
   const double limit = pair.axis_kind == -1 ? pair.separation_m - tol : face_axis ? 0.05 * tol : 0.0;
-  const bool moved = moved_at_least(m, s, pair, limit, offset, relative);
+  double step_m;  // how far b's points moved relative to a in this step, at most
+  const bool moved = moved_at_least(m, s, pair, limit, offset, relative, step_m);
   // Damping::capped sets its caps from every sub-contact's springs, open ones too.
   const bool skips_clear = m.options.damping != Damping::capped;
   if (pair.axis_kind == -1 && !moved) return false;
   if (face_axis && !moved) {
     // The last face axis still holds (a resting joint is decided once).
     if (pair.sub_count > 0) return false;
-    if (skips_clear && pair.moved_bound_m >= pair.clear_below_m) {  // the bound's slack may be all that passed it
-      const auto [shift2, chord2] = motion_since_search(m, s, pair, offset, relative);
-      pair.moved_bound_m = std::sqrt(shift2) + std::sqrt(chord2);
-    }
-    if (pair.moved_bound_m < pair.clear_below_m) {
-      assert(above_face(m, s, w, pair));
+    // An empty manifold: not clipped again while its stone is clear of the face (keep_clear),
+    // and checked again (still_clear) when it has moved as far as that allowed.
+    if (pair.clear_for_m > 0 && ((pair.clear_for_m -= step_m) > 0 || still_clear(m, s, pair, tol))) {
+      assert(no_closed_point(m, s, w, pair));
       return false;
     }
     const int f = pair.axis_feature;
     const Axis cached{0.0, pair.axis_kind, f, face_axis_normal(s, pair.axis_kind, f)};
     w.set(m, s, a, b);
-    // Clear until this step, it is still above the plane (the reserve).
-    assert(pair.clear_below_m <= 0 || above_face(m, s, w, pair));
     face_manifold(m, s, w, a, b, cached, out);
-    pair.clear_below_m = out.size() == 0 && skips_clear ? clear_below(m, s, w, pair, tol) : 0.0;
+    pair.clear_for_m = 0.0;
+    pair.beside_axis = -1;
+    if (out.size() == 0 && skips_clear) keep_clear(m, s, w, pair, tol);
     return true;
   }
   pair.offset_at_search = offset;
   pair.relative_at_search = relative;
   pair.centre_distance_at_search_m = offset.norm();
   pair.moved_bound_m = 0.0;
-  pair.clear_below_m = 0.0;
+  pair.clear_for_m = 0.0;
+  pair.beside_axis = -1;
   auto apart = [&](double separation) {
     pair.axis_kind = -1;
     pair.separation_m = separation;
@@ -247,7 +225,7 @@ bool pair_manifold(const Model& m, const State& s, Pair& pair, PairWorld& w, Man
     edge_manifold(m, s, w, a, b, chosen, out);
   else {
     face_manifold(m, s, w, a, b, chosen, out);
-    if (out.size() == 0 && skips_clear) pair.clear_below_m = clear_below(m, s, w, pair, tol);
+    if (out.size() == 0 && skips_clear) keep_clear(m, s, w, pair, tol);
   }
   return true;
 }

@@ -124,14 +124,17 @@ struct Pair {
   // not known (a new pair), so the exact test runs (as after a restore, whose blocks'
   // step turns are not known).
   double moved_bound_m = std::numeric_limits<double>::infinity();
-  // A face pair whose manifold came out empty is not clipped again while moved_bound_m
-  // stays below this (m): until then no point of its incident block can reach the
-  // reference face's plane (separating_axis.cpp). 0: clipped each step it is visited.
-  double clear_below_m = 0.0;
+  // A face pair whose manifold came out empty is not clipped again while its stone is
+  // clear of the face: how far (m) it may still move relative to the face, less each
+  // step's bound on its motion; 0: clipped each step it is visited (separating_axis.cpp).
+  double clear_for_m = 0.0;
   int sub_begin = 0, sub_count = 0;  // this pair's range in State::contacts
   // This step's narrowphase: -1 when the pair's sub-contacts were updated in place,
   // else the number of rebuilt ones, at `rebuilt_begin` in its chunk's buffer.
   int rebuilt_begin = 0, rebuilt_count = -1;
+  // The line in the face's plane that held such a pair's stone beside the face at its
+  // last clip (separating_axis.cpp, stone_against_face); -1: none.
+  int beside_axis = -1;
 };
 
 struct Energy {

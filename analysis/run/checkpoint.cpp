@@ -51,7 +51,10 @@ namespace {
 // 12: each pair's bound on its relative motion (Pair::moved_bound_m).
 // 13: the run's wall time spent recording frames (SeismicRunResult::output_wall_s).
 // 14: each pair's motion bound below which its empty face manifold stays empty (Pair::clear_below_m).
-constexpr char kCheckpointMagic[] = "ishibashi checkpoint 14\n";
+// 15: each empty face pair's allowance, how far it may move before it is clipped again
+//     (Pair::clear_for_m, in place of 14's bound), and the line that held its stone beside
+//     the face (Pair::beside_axis).
+constexpr char kCheckpointMagic[] = "ishibashi checkpoint 15\n";
 
 template <class Archive, class H>
 void visit_header(Archive& a, H& h) {
