@@ -32,15 +32,16 @@ jobs=(
   "b_mortar|5406021|out/ensembles/b_mortar_explicit|scenarios/nishida_b_kobe_mortar.toml --members 5 --seed 1 --jobs 1 --threads 2"
   # Issue 48 item 5's other marginal runs on the explicit reference (the fast path is not
   # verified): model E dry and with mortar, five members each, the seed of A's and B's
-  # ensembles; about 3.5 core-hours a member. They run 02d6a1e's program: the same states
-  # as 5406021's (every preset's hash), its narrowphase no longer re-clipping stones that
-  # cannot touch (about an eighth of a cracked bridge's step, perf/results). One thread a
+  # ensembles; about 3.5 core-hours a member. They run fd2dc55's program: the same motion
+  # as 5406021's (every preset's hash but D's, whose open points alone differ), its
+  # narrowphase no longer re-clipping stones that cannot touch (the late step at 0.76 of
+  # 5406021's, perf/results). One thread a
   # member, in a process of their own beside B with mortar's lane (the second command
   # above), so that each lane has a core: one lane on two threads stepped 1.6-1.9 times
   # as fast as on one (perf/results), two lanes of one core each should do more steps in
   # all (not measured yet), and E is under way before B's members end.
-  "ensemble|02d6a1e|out/ensembles/e_dry_explicit|scenarios/nishida_e_kobe_dry.toml --members 5 --seed 1 --jobs 1 --threads 1"
-  "ensemble|02d6a1e|out/ensembles/e_mortar_explicit|scenarios/nishida_e_kobe_mortar.toml --members 5 --seed 1 --jobs 1 --threads 1"
+  "ensemble|fd2dc55|out/ensembles/e_dry_explicit|scenarios/nishida_e_kobe_dry.toml --members 5 --seed 1 --jobs 1 --threads 1"
+  "ensemble|fd2dc55|out/ensembles/e_mortar_explicit|scenarios/nishida_e_kobe_mortar.toml --members 5 --seed 1 --jobs 1 --threads 1"
 )
 
 # A run's summary says so; an ensemble's ensemble.json and a probe's probe.json count the
