@@ -170,21 +170,38 @@ void World::step() {
 
 int World::form_bonds() { return ishibashi::form_bonds(model_, state_); }
 
-std::uint64_t World::state_hash() const {
-  std::uint64_t h = 1469598103934665603ull;  // FNV-1a over the raw bytes
-  auto mix = [&](const void* data, std::size_t bytes) {
+namespace {
+// FNV-1a over raw bytes.
+struct Fnv {
+  std::uint64_t h = 1469598103934665603ull;
+  void mix(const void* data, std::size_t bytes) {
     const unsigned char* c = static_cast<const unsigned char*>(data);
     for (std::size_t i = 0; i < bytes; ++i) h = (h ^ c[i]) * 1099511628211ull;
-  };
-  for (int b = 0; b < model_.block_count; ++b) {
-    mix(state_.position[b].data(), sizeof(double) * 3);
-    mix(state_.orientation[b].coeffs().data(), sizeof(double) * 4);
-    mix(state_.velocity[b].data(), sizeof(double) * 3);
-    mix(state_.angular_velocity[b].data(), sizeof(double) * 3);
   }
+};
+
+void mix_blocks(const Model& m, const State& s, Fnv& f) {
+  for (int b = 0; b < m.block_count; ++b) {
+    f.mix(s.position[b].data(), sizeof(double) * 3);
+    f.mix(s.orientation[b].coeffs().data(), sizeof(double) * 4);
+    f.mix(s.velocity[b].data(), sizeof(double) * 3);
+    f.mix(s.angular_velocity[b].data(), sizeof(double) * 3);
+  }
+}
+}  // namespace
+
+std::uint64_t World::state_hash() const {
+  Fnv f;
+  mix_blocks(model_, state_, f);
   for (const Pair& pair : state_.pairs)  // in pair order: the same bytes, dense or not
-    if (pair.sub_count > 0) mix(state_.contacts.shear_stretch_m.data() + pair.sub_begin, sizeof(Vec3) * pair.sub_count);
-  return h;
+    if (pair.sub_count > 0) f.mix(state_.contacts.shear_stretch_m.data() + pair.sub_begin, sizeof(Vec3) * pair.sub_count);
+  return f.h;
+}
+
+std::uint64_t World::motion_hash() const {
+  Fnv f;
+  mix_blocks(model_, state_, f);
+  return f.h;
 }
 
 }  // namespace ishibashi

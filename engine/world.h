@@ -38,8 +38,12 @@ class World {
   // none (ModelOptions::bonds_when_settled), in its current pose; returns how many.
   int form_bonds();
 
-  // Hash of positions, orientations and velocities (for determinism checks).
+  // Hash of every block's position, orientation, velocity and spin, then of each pair's
+  // sub-contacts' shear stretches, open points' zeros included (determinism checks).
   std::uint64_t state_hash() const;
+  // The blocks' part alone: a change that moves state_hash but not motion_hash changed
+  // which sub-contacts a run keeps (open points that carry nothing), not how it moves.
+  std::uint64_t motion_hash() const;
 
   // The steps run on at most the threads OpenMP gave the constructing thread, on the team
   // size found fastest as they go (thread_tuner.h); set_adaptive_threads(false) always

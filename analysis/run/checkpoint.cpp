@@ -54,7 +54,8 @@ namespace {
 // 15: each empty face pair's allowance, how far it may move before it is clipped again
 //     (Pair::clear_for_m, in place of 14's bound), and the line that held its stone beside
 //     the face (Pair::beside_axis).
-constexpr char kCheckpointMagic[] = "ishibashi checkpoint 15\n";
+// 16: the run's motion hash (SeismicRunResult::motion_hash).
+constexpr char kCheckpointMagic[] = "ishibashi checkpoint 16\n";
 
 template <class Archive, class H>
 void visit_header(Archive& a, H& h) {

@@ -4,6 +4,13 @@
 #include <sstream>
 
 namespace ishibashi {
+namespace {
+std::string hex(std::uint64_t hash) {
+  char text[17];
+  std::snprintf(text, sizeof text, "%llx", static_cast<unsigned long long>(hash));
+  return text;
+}
+}  // namespace
 
 const std::vector<ResultColumn>& result_columns() {
   using R = SeismicRunResult;
@@ -31,11 +38,8 @@ const std::vector<ResultColumn>& result_columns() {
       {"energy_balance_error_j", [](const R& r) -> OutputValue { return r.balance_error_j; }},
       {"energy_balance_error_relative", [](const R& r) -> OutputValue { return r.balance_error_relative; }},
       {"steps", [](const R& r) -> OutputValue { return (long long)r.steps; }},
-      {"state_hash", [](const R& r) -> OutputValue {
-         char hex[17];
-         std::snprintf(hex, sizeof hex, "%llx", static_cast<unsigned long long>(r.state_hash));
-         return std::string(hex);
-       }},
+      {"state_hash", [](const R& r) -> OutputValue { return hex(r.state_hash); }},
+      {"motion_hash", [](const R& r) -> OutputValue { return hex(r.motion_hash); }},
       {"wall_s", [](const R& r) -> OutputValue { return r.wall_s; }},
   };
   return columns;

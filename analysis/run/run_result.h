@@ -30,6 +30,7 @@ namespace ishibashi {
   X(double, balance_error_relative, 0) /* of the energy exchanged */                                       \
   X(long, steps, 0)                                                                                        \
   X(std::uint64_t, state_hash, 0)                                                                          \
+  X(std::uint64_t, motion_hash, 0)     /* the blocks' part of state_hash (World::motion_hash) */         \
   X(double, wall_s, 0)                                                                                     \
   X(double, output_wall_s, 0)          /* of wall_s, recording frames: counts, ParaView files, history */
 

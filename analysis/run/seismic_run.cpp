@@ -156,6 +156,7 @@ void SeismicRun::write_summary(Progress& p, bool finished) {
   r.balance_error_relative = relative_balance_error(e);
   r.steps = s.step;
   r.state_hash = world_->state_hash();
+  r.motion_hash = world_->motion_hash();
   r.wall_s = p.wall_s();
   const BridgeSpec& bridge = scenario_.model.bridge;
   RunDescription run{scenario_.model.name,

@@ -151,7 +151,7 @@ TEST(Run, FinerFramesDoNotChangeTheRun) {
     const std::size_t at = json.find("\"" + name + "\"");
     return at == std::string::npos ? std::string("missing") : json.substr(at, json.find('\n', at) - at);
   };
-  for (const char* name : {"settle_time_s", "state_hash", "steps"})
+  for (const char* name : {"settle_time_s", "state_hash", "motion_hash", "steps"})
     EXPECT_EQ(field(summaries[0], name), field(summaries[1], name)) << name;
 }
 
