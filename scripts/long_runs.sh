@@ -29,7 +29,13 @@ jobs=(
   # the fast path's five (session 44, scenarios/results/ensembles/b_mortar_implicit_4e-5_*);
   # 2.5 million steps a member, 3.5-6.5 ms each on one thread once the shaking has cracked
   # it (session 46): about 3-4 hours on two quiet cores, far more beside builds and tests.
-  "b_mortar|5406021|out/ensembles/b_mortar_explicit|scenarios/nishida_b_kobe_mortar.toml --members 5 --seed 1 --jobs 1 --threads 2"
+  # Members 0 and 1 on 5406021's program (1 was half done when fd2dc55 came); members 2-4
+  # on fd2dc55's, in a folder of their own: the same motion (B with mortar's preset hash,
+  # and 30 history rows of member 0 resumed on its rule, byte for byte), the late step at
+  # about 0.76 of 5406021's. The two folders' members make one ensemble of five (a
+  # member's draws depend on the seed and its number only, not on the share).
+  "b_mortar|5406021|out/ensembles/b_mortar_explicit|scenarios/nishida_b_kobe_mortar.toml --members 5 --member-range 0:2 --seed 1 --jobs 1 --threads 2"
+  "b_mortar|fd2dc55|out/ensembles/b_mortar_explicit_2_5|scenarios/nishida_b_kobe_mortar.toml --members 5 --member-range 2:5 --seed 1 --jobs 1 --threads 2"
   # Issue 48 item 5's other marginal runs on the explicit reference (the fast path is not
   # verified): model E dry and with mortar, five members each, the seed of A's and B's
   # ensembles; about 3.5 core-hours a member. They run fd2dc55's program: the same motion
