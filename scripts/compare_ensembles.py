@@ -9,7 +9,8 @@ a tighter one), each ensemble's members drawn alike.
 An ENSEMBLE is the ensemble's folder: each member folder's summary.json (finished members
 only, so an ensemble still running can be compared so far) and its history.csv for the
 first fall; or its ensemble.csv, a row per finished member (what scenarios/results keeps
-of an ensemble whose folders are gone). Prints a Markdown
+of an ensemble whose folders are gone); or several of these joined by '+', the shares of
+one ensemble run by `--member-range` in different folders. Prints a Markdown
 table: per outcome, each ensemble's median and range (counts for the yes/no outcomes),
 and the two-sided p-value of an exact test that both come from one distribution:
 Fisher's for the yes/no outcomes, the permutation distribution of the rank sum
@@ -52,8 +53,12 @@ def csv_value(text):
         return text
 
 
-def members(ensemble):
-    """The finished members' summaries, each with its first fall."""
+def members(spec):
+    """The finished members' summaries, each with its first fall, of every share in SPEC."""
+    return [s for share in str(spec).split("+") for s in share_members(Path(share))]
+
+
+def share_members(ensemble):
     if ensemble.suffix == ".csv":
         rows = [{k: csv_value(v) for k, v in row.items()} for row in csv.DictReader(open(ensemble))]
         return [r for r in rows if not r.get("interrupted")]
@@ -120,10 +125,11 @@ def spread(values, form):
 
 def main():
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
-    parser.add_argument("ensembles", type=Path, nargs=2)
+    parser.add_argument("ensembles", nargs=2, help="a folder or ensemble.csv, or shares joined by '+'")
     parser.add_argument("--labels", nargs=2, default=None, help="the two ensembles' names (default: their folders')")
     o = parser.parse_args()
-    labels = o.labels or [e.stem if e.suffix == ".csv" else e.name for e in o.ensembles]
+    labels = o.labels or ["+".join(Path(e).stem if e.endswith(".csv") else Path(e).name for e in spec.split("+"))
+                          for spec in o.ensembles]
     runs = [members(e) for e in o.ensembles]
     for label, ensemble, found in zip(labels, o.ensembles, runs):
         if not found:

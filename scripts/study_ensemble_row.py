@@ -2,8 +2,10 @@
 """An ensemble's row of scenarios/results/study_ensembles.csv (issue 48 item 5), written in
 place of that model and variant's row (the others kept, rows sorted):
    study_ensemble_row.py ENSEMBLE_DIR MODEL VARIANT DAMPING COMMIT [CSV]
-ENSEMBLE_DIR holds the ensemble.json of `ishibashi run --members N`; MODEL a-f, VARIANT
-dry|mortar, DAMPING study|implicit|capped, COMMIT the program that ran it.
+ENSEMBLE_DIR holds the ensemble.json of `ishibashi run --members N`, or is several folders
+joined by '+', the shares of one ensemble run by `--member-range` (their ensemble.csv rows
+pooled); MODEL a-f, VARIANT dry|mortar, DAMPING study|implicit|capped, COMMIT the program
+that ran it (the shares' programs joined by '+').
    study_ensemble_row.py --single-runs STUDY_RUNS_CSV [CSV]
 gives each run of the study that has no ensemble row yet a row of its single run
 (scenarios/results/study_runs.csv: members 1, its outcome's Wilson interval of one sample),
@@ -43,6 +45,34 @@ def wilson(successes, n, z=1.959963984540054):
     return p, max(0.0, centre - half), min(1.0, centre + half)
 
 
+def median(values):
+    """As analysis/batch/member_runs.cpp: the middle value, or the mean of the two middle ones."""
+    v = sorted(values)
+    n = len(v)
+    return None if n == 0 else v[n // 2] if n % 2 else 0.5 * (v[n // 2 - 1] + v[n // 2])
+
+
+def pooled_shares(folders):
+    """An ensemble.json's outcomes from the ensemble.csv rows of every share (finished members)."""
+    rows = [row for folder in folders for row in csv.DictReader(open(Path(folder) / "ensemble.csv"))
+            if row["interrupted"] != "yes"]
+    n = len(rows)
+    if n == 0:
+        sys.exit("+".join(folders) + ": no finished member in any share's ensemble.csv")
+    ensemble = {"finished": n}
+    for key, happened in (("collapse", lambda x: x["collapse"] == "yes"),
+                          ("stones_fall", lambda x: int(x["fallen_stones"]) > 0),
+                          ("ring_stones_fall", lambda x: int(x["fallen_ring_stones"]) > 0)):
+        p, lo, hi = wilson(sum(happened(x) for x in rows), n)
+        ensemble[key] = {"p": p, "lo": lo, "hi": hi}
+    fallen = [int(x["fallen_stones"]) for x in rows]
+    ensemble["fallen_stones"] = {"median": median(fallen), "min": min(fallen, default=None),
+                                 "max": max(fallen, default=None)}
+    ensemble["first_opening_s"] = {"median": median([float(x["first_opening_s"]) for x in rows
+                                                     if x["first_opening_s"] != ""])}
+    return ensemble
+
+
 def single_run_row(run):
     """A study run's row as an ensemble of one (study_runs.csv's columns)."""
     row = {"model": run["model"], "variant": run["variant"], "members": 1, "damping": "study", "commit": run["commit"]}
@@ -76,10 +106,13 @@ def main(argv):
         sys.exit(__doc__)
     folder, model, variant, damping, commit = argv[1:6]
     table = Path(argv[6]) if len(argv) == 7 else DEFAULT_CSV
-    source = Path(folder) / "ensemble.json"
-    if not source.exists():
-        sys.exit(f"{source}: no ensemble.json (run `ishibashi run SCENARIO --members N --out {folder}` first)")
-    new = row_of(json.loads(source.read_text()), model, variant, damping, commit)
+    shares = folder.split("+")
+    for share in shares:
+        source = Path(share) / ("ensemble.json" if len(shares) == 1 else "ensemble.csv")
+        if not source.exists():
+            sys.exit(f"{source}: missing (run `ishibashi run SCENARIO --members N --out {share}` first)")
+    ensemble = json.loads((Path(folder) / "ensemble.json").read_text()) if len(shares) == 1 else pooled_shares(shares)
+    new = row_of(ensemble, model, variant, damping, commit)
     rows = list(csv.DictReader(table.open())) if table.exists() else []
     write_rows(table, [r for r in rows if (r["model"], r["variant"]) != (model, variant)] + [new])
     print(f"{table}: {model} {variant}, {new['members']} members")

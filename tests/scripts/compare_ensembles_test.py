@@ -65,4 +65,11 @@ with tempfile.TemporaryDirectory() as tmp:
                                str(tmp / "b.csv"), "--labels", "A", "B"], check=True, capture_output=True,
                               text=True).stdout
     assert from_csv == table, from_csv + "\n" + table
+    # B in two shares (--member-range in two folders): the same members, the same table.
+    (tmp / "b2").mkdir()
+    (tmp / "b" / "member_002").rename(tmp / "b2" / "member_002")
+    shares = subprocess.run([sys.executable, str(ROOT / "scripts" / "compare_ensembles.py"), str(tmp / "a"),
+                             f"{tmp / 'b'}+{tmp / 'b2'}", "--labels", "A", "B"], check=True, capture_output=True,
+                            text=True).stdout
+    assert shares == table, shares + "\n" + table
 print("compare_ensembles: exact tests and table as computed by hand")

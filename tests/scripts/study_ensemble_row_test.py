@@ -41,4 +41,20 @@ with tempfile.TemporaryDirectory() as tmp:
     assert (d["p_stones_fall"], d["p_stones_fall_lo"], d["p_stones_fall_hi"]) == ("1.000", "0.207", "1.000"), d
     assert d["p_ring_stones_fall"] == "0.000" and d["fallen_median"] == d["fallen_min"] == d["fallen_max"] == "3", d
     assert (d["first_opening_median_s"], d["damping"], d["commit"]) == ("0.980", "study", "5acb07b"), d
+    # One ensemble in two shares (--member-range in two folders): their ensemble.csv rows
+    # pooled. Five members: 3 collapse (as B dry's row: 0.231-0.882), 4 lose stones
+    # (Wilson 4 of 5 by hand: 0.376-0.964), fallen 0, 3, 50, 100, 329 (median 50), four
+    # openings 1.5, 2.0, 2.7, 3.0 (median 2.35); an interrupted row is left out.
+    header = "member,seed,interrupted,first_opening_s,collapse,fallen_stones,fallen_ring_stones,state_hash\n"
+    for share, lines in (("s1", ["0,1,no,2.7,yes,329,29,ab", "1,1,no,,no,0,0,cd", "9,1,yes,,no,0,0,ef"]),
+                         ("s2", ["2,1,no,1.5,yes,100,5,01", "3,1,no,2.0,no,3,0,23", "4,1,no,3.0,yes,50,2,45"])):
+        (tmp / share).mkdir()
+        (tmp / share / "ensemble.csv").write_text(header + "\n".join(lines) + "\n")
+    subprocess.run([sys.executable, str(ROOT / "scripts" / "study_ensemble_row.py"), f"{tmp / 's1'}+{tmp / 's2'}", "b",
+                    "mortar", "study", "5406021+fd2dc55", str(table)], check=True, capture_output=True)
+    b = [x for x in csv.DictReader(table.open()) if x["model"] == "b"][0]
+    assert (b["members"], b["p_collapse"], b["p_collapse_lo"], b["p_collapse_hi"]) == ("5", "0.600", "0.231", "0.882"), b
+    assert (b["p_stones_fall"], b["p_stones_fall_lo"], b["p_stones_fall_hi"]) == ("0.800", "0.376", "0.964"), b
+    assert (b["p_ring_stones_fall"], b["fallen_median"], b["fallen_min"], b["fallen_max"]) == ("0.600", "50", "0", "329"), b
+    assert (b["first_opening_median_s"], b["commit"]) == ("2.350", "5406021+fd2dc55"), b
 print("study_ensemble_row: all checks passed")
