@@ -51,12 +51,14 @@ jobs=(
 )
 
 # A run's summary says so; an ensemble's ensemble.json and a probe's probe.json count the
-# members that finished (they are written also when some were interrupted).
+# members that finished (they are written also when some were interrupted), a share
+# (--member-range FROM:TO in the job's arguments, $2) those of its range.
 finished() {
-  local table
+  local table share=""
+  [[ ${2:-} =~ --member-range\ ([0-9]+):([0-9]+) ]] && share=$((BASH_REMATCH[2] - BASH_REMATCH[1]))
   for table in "$1/ensemble.json" "$1/probe.json"; do
     if [[ -f $table ]]; then
-      python3 -c "import json, sys; j = json.load(open(sys.argv[1])); sys.exit(j['finished'] != j['members'])" "$table"
+      python3 -c "import json, sys; j = json.load(open(sys.argv[1])); sys.exit(j['finished'] != int(sys.argv[2] or j['members']))" "$table" "$share"
       return
     fi
   done
@@ -139,7 +141,7 @@ for job in "${jobs[@]}"; do
   IFS='|' read -r job_lane commit out args <<< "$job"
   if [[ $lane == list ]]; then
     state="not started"
-    if finished "$out"; then state=finished; elif [[ -e $out ]]; then state="under way$(progress "$out")"; fi
+    if finished "$out" "$args"; then state=finished; elif [[ -e $out ]]; then state="under way$(progress "$out")"; fi
     printf '%-9s %s  %-40s %s\n' "$job_lane" "$commit" "$out" "$state"
     continue
   fi
@@ -156,7 +158,7 @@ for job in "${jobs[@]}"; do
     # checkpoints (the same arguments: they make the members' keys).
     echo "$(date -u +%FT%TZ) $out: members"
     "$bin" run $args --out "$out"
-  elif finished "$out"; then
+  elif finished "$out" "$args"; then
     echo "$(date -u +%FT%TZ) $out: finished"
   elif [[ -f $out/checkpoint.bin ]]; then
     echo "$(date -u +%FT%TZ) $out: resumed"
