@@ -55,7 +55,7 @@ def csv_value(text):
 
 def members(spec):
     """The finished members' summaries, each with its first fall, of every share in SPEC."""
-    return [s for share in str(spec).split("+") for s in share_members(Path(share))]
+    return [s for share in spec.split("+") for s in share_members(Path(share))]
 
 
 def share_members(ensemble):

@@ -66,8 +66,7 @@ def pooled_shares(folders):
         p, lo, hi = wilson(sum(happened(x) for x in rows), n)
         ensemble[key] = {"p": p, "lo": lo, "hi": hi}
     fallen = [int(x["fallen_stones"]) for x in rows]
-    ensemble["fallen_stones"] = {"median": median(fallen), "min": min(fallen, default=None),
-                                 "max": max(fallen, default=None)}
+    ensemble["fallen_stones"] = {"median": median(fallen), "min": min(fallen), "max": max(fallen)}
     ensemble["first_opening_s"] = {"median": median([float(x["first_opening_s"]) for x in rows
                                                      if x["first_opening_s"] != ""])}
     return ensemble

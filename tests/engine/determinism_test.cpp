@@ -11,6 +11,15 @@
 namespace ishibashi {
 namespace {
 
+// The wall's base (block 0) shaken sideways at 0.8 g, 5 Hz, for `steps` steps.
+void shake(World& w, int steps) {
+  State& s = w.state();
+  for (int i = 0; i < steps; ++i) {
+    s.velocity[0].x() += 0.8 * 9.81 * std::sin(2 * M_PI * 5.0 * s.time_s) * w.dt_s();
+    w.step();
+  }
+}
+
 // adaptive = false: every step on `threads`; true: on the team sizes the tuner picks.
 // Damping::capped: dashpots capped at three times the step, which the caps, recomputed at
 // every pair-list rebuild, keep stable; Damping::implicit: the same step, the dashpots
@@ -28,11 +37,8 @@ std::uint64_t shaken_wall_hash(int threads, bool adaptive = false, long* thread_
     EXPECT_LT(*std::min_element(w.state().damping_scale.begin(), w.state().damping_scale.end()), 1.0);
   }
   w.set_adaptive_threads(adaptive);
-  State& s = w.state();
-  for (int i = 0; i < 3000; ++i) {
-    s.velocity[0].x() += 0.8 * 9.81 * std::sin(2 * M_PI * 5.0 * s.time_s) * w.dt_s();
-    w.step();
-  }
+  shake(w, 3000);
+  const State& s = w.state();
   EXPECT_GT(sub_contact_count(s), 100);
   if (thread_steps) *thread_steps = s.profile.thread_steps;
   return w.state_hash();
@@ -74,11 +80,8 @@ TEST(Determinism, MotionHashCoversTheBlocksAndNotTheSubContacts) {
   spec.courses = 3;
   spec.stones_per_course = 6;
   World w(make_wall_model(spec), 1e-5);
+  shake(w, 300);
   State& s = w.state();
-  for (int i = 0; i < 300; ++i) {
-    s.velocity[0].x() += 0.8 * 9.81 * std::sin(2 * M_PI * 5.0 * s.time_s) * w.dt_s();
-    w.step();
-  }
   const std::uint64_t state = w.state_hash(), motion = w.motion_hash();
   EXPECT_NE(state, motion);
   const auto touched = std::find_if(s.pairs.begin(), s.pairs.end(), [](const Pair& p) { return p.sub_count > 0; });
