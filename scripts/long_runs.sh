@@ -7,8 +7,8 @@
 # (scripts/frozen_binary.sh), so that a later build never changes a comparison half way. The
 # results and what they mean: scenarios/results/README.md.
 #
-#   nohup nice -n 19 bash scripts/long_runs.sh b_mortar ensemble > out/long_runs.log 2>&1 &
-#   nohup nice -n 19 bash scripts/long_runs.sh ensemble > out/long_runs_e.log 2>&1 &
+#   nohup nice -n 19 bash scripts/long_runs.sh b_mortar e_dry e_mortar > out/long_runs.log 2>&1 &
+#   nohup nice -n 19 bash scripts/long_runs.sh b_mortar_b e_mortar e_dry > out/long_runs_b.log 2>&1 &
 #   bash scripts/long_runs.sh save    # before committing: keeps the finished members
 set -euo pipefail
 root=$(cd "$(dirname "$0")/.." && pwd)
@@ -35,19 +35,22 @@ jobs=(
   # about 0.76 of 5406021's. The two folders' members make one ensemble of five (a
   # member's draws depend on the seed and its number only, not on the share).
   "b_mortar|5406021|out/ensembles/b_mortar_explicit|scenarios/nishida_b_kobe_mortar.toml --members 5 --member-range 0:2 --seed 1 --jobs 1 --threads 2"
-  "b_mortar|fd2dc55|out/ensembles/b_mortar_explicit_2_5|scenarios/nishida_b_kobe_mortar.toml --members 5 --member-range 2:5 --seed 1 --jobs 1 --threads 2"
+  # Since session 50 the two shares run side by side, one lane each (b_mortar_b: one
+  # thread), and E waits: B with mortar's five decide issue 45 item 3, and with it whether
+  # E's ensembles need the explicit reference at all (issue 48 item 5 asks for the fast
+  # path once it is verified). E on the explicit reference is about 90 core-hours; B's
+  # members 1-4 left about 20.
+  "b_mortar_b|fd2dc55|out/ensembles/b_mortar_explicit_2_5|scenarios/nishida_b_kobe_mortar.toml --members 5 --member-range 2:5 --seed 1 --jobs 1 --threads 1"
   # Issue 48 item 5's other marginal runs on the explicit reference (the fast path is not
   # verified): model E dry and with mortar, five members each, the seed of A's and B's
   # ensembles; about 3.5 core-hours a member. They run fd2dc55's program: the same motion
   # as 5406021's (every preset's hash but D's, whose open points alone differ), its
   # narrowphase no longer re-clipping stones that cannot touch (the late step at 0.76 of
   # 5406021's, perf/results). One thread a
-  # member, in a process of their own beside B with mortar's lane (the second command
-  # above), so that each lane has a core: one lane on two threads stepped 1.6-1.9 times
-  # as fast as on one (perf/results), two lanes of one core each should do more steps in
-  # all (not measured yet), and E is under way before B's members end.
-  "ensemble|fd2dc55|out/ensembles/e_dry_explicit|scenarios/nishida_e_kobe_dry.toml --members 5 --seed 1 --jobs 1 --threads 1"
-  "ensemble|fd2dc55|out/ensembles/e_mortar_explicit|scenarios/nishida_e_kobe_mortar.toml --members 5 --seed 1 --jobs 1 --threads 1"
+  # member, one lane each: each of the two processes above goes on to them when its share
+  # of B ends (a lane under way in the other process is skipped: its lock).
+  "e_dry|fd2dc55|out/ensembles/e_dry_explicit|scenarios/nishida_e_kobe_dry.toml --members 5 --seed 1 --jobs 1 --threads 1"
+  "e_mortar|fd2dc55|out/ensembles/e_mortar_explicit|scenarios/nishida_e_kobe_mortar.toml --members 5 --seed 1 --jobs 1 --threads 1"
 )
 
 # A run's summary says so; an ensemble's ensemble.json and a probe's probe.json count the
@@ -125,7 +128,7 @@ restore_members() {  # out folder, program
 }
 
 # Several lanes run one after the other in one process, so that a core freed by a lane's
-# last job goes on to the next lane's: `bash scripts/long_runs.sh b_mortar ensemble`.
+# last job goes on to the next lane's: `bash scripts/long_runs.sh b_mortar e_dry e_mortar`.
 if (($# > 1)); then
   for lane in "$@"; do bash "$root/scripts/long_runs.sh" "$lane" || true; done
   exit 0
@@ -142,7 +145,7 @@ for job in "${jobs[@]}"; do
   if [[ $lane == list ]]; then
     state="not started"
     if finished "$out" "$args"; then state=finished; elif [[ -e $out ]]; then state="under way$(progress "$out")"; fi
-    printf '%-9s %s  %-40s %s\n' "$job_lane" "$commit" "$out" "$state"
+    printf '%-10s %s  %-40s %s\n' "$job_lane" "$commit" "$out" "$state"
     continue
   fi
   if [[ $lane == save ]]; then
