@@ -3,6 +3,9 @@
 // the state hash recorded in tests/data/. A refactor must keep every hash bit for bit; a
 // physics change records new hashes in the same commit and says what it moved.
 //
+// Each line: preset, state hash, steps, motion hash (the blocks' part of the state; lines
+// recorded before it have three fields).
+//
 // Two lengths: `Short` (0.005 s of settling, 0.005 s of the strongest pulses: contacts found,
 // bonds made, the ground driven) runs with every test; `AfterSettlingAndKobe` (settling as
 // the scenario says, then 0.2 s of Kobe from the scenario's start) takes about half an hour
@@ -10,6 +13,7 @@
 // lines of its file, so that a physics change records them from the output.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <fstream>
 #include <map>
 #include <sstream>
@@ -56,11 +60,16 @@ void expect_recorded_hashes(const std::string& file_name, double settle_max_s, d
     const SeismicRunResult r = SeismicRun(sc, options).run();
     std::ostringstream line;
     line << preset << " " << std::hex << r.state_hash << std::dec << " " << r.steps;
+    const std::string without_motion = line.str();
+    line << " " << std::hex << r.motion_hash << std::dec;
     lines += line.str() + "\n";
-    // The motion hash (not recorded) goes with a failure: compared with the last commit's,
-    // it tells moved blocks from a changed set of open points (World::motion_hash).
-    EXPECT_EQ(line.str(), recorded.count(preset) ? recorded.at(preset) : "(none)")
-        << "the state of " << preset << " changed (motion hash " << std::hex << r.motion_hash << std::dec << ")";
+    // The motion hash tells moved blocks from a changed set of open points (World::motion_hash).
+    // A line recorded before it was (three fields) is compared without it.
+    const std::string expected = recorded.count(preset) ? recorded.at(preset) : "(none)";
+    const bool has_motion = std::count(expected.begin(), expected.end(), ' ') == 3;
+    EXPECT_EQ(has_motion ? line.str() : without_motion, expected)
+        << "the state of " << preset << " changed (motion hash " << std::hex << r.motion_hash << std::dec
+        << (has_motion ? "" : ", not recorded") << ")";
   }
   std::printf("%s", lines.c_str());
 }
