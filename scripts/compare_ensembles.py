@@ -135,7 +135,10 @@ def main():
         if not found:
             raise SystemExit(f"{ensemble}: no finished member (member_NNN/summary.json with finished true, or a row of "
                              "an ensemble.csv)")
-    print(f"| outcome | {labels[0]} ({len(runs[0])} members) | {labels[1]} ({len(runs[1])} members) | exact p |")
+    def count(n):
+        return f"{n} member" + ("" if n == 1 else "s")
+
+    print(f"| outcome | {labels[0]} ({count(len(runs[0]))}) | {labels[1]} ({count(len(runs[1]))}) | exact p |")
     print("|---|---|---|---|")
     for _, name, test in YES_NO:
         yes = [sum(test(s) for s in r) for r in runs]
