@@ -69,13 +69,19 @@ finished() {
 }
 
 # How far a job under way has shaken: each run's (each member's) seconds of shaking and wall
-# seconds so far, from its summary.json.
+# seconds so far, from its summary.json; a run still settling (no summary yet) by the last
+# row of its history.csv.
 progress() {
   python3 - "$1" << 'PY'
 import json, pathlib, sys
-runs = sorted(p.parent for p in pathlib.Path(sys.argv[1]).glob("**/summary.json"))
+runs = sorted({p.parent for pattern in ("**/summary.json", "**/history.csv") for p in pathlib.Path(sys.argv[1]).glob(pattern)})
 parts = []
 for run in runs:
+    if not (run / "summary.json").exists():
+        rows = (run / "history.csv").read_text().splitlines()
+        if len(rows) > 1:
+            parts.append(f"{run.name}: settling, {float(rows[-1].split(',')[0]):.2f} s")
+        continue
     try:
         s = json.loads((run / "summary.json").read_text())
     except ValueError:
