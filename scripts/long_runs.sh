@@ -79,8 +79,10 @@ parts = []
 for run in runs:
     if not (run / "summary.json").exists():
         rows = (run / "history.csv").read_text().splitlines()
-        if len(rows) > 1:
+        try:  # the last row may be half written
             parts.append(f"{run.name}: settling, {float(rows[-1].split(',')[0]):.2f} s")
+        except (IndexError, ValueError):
+            pass
         continue
     try:
         s = json.loads((run / "summary.json").read_text())
