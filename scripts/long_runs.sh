@@ -21,10 +21,9 @@ jobs=(
   # session 42), B with mortar's ensemble on the fast path (session 44), and the chaos
   # probes of A, B and E dry and B with mortar, in scenarios/results.) B with mortar runs
   # 5406021's program, built with clang: every preset's hash as ff7154d's (perf/results,
-  # clang_vs_gcc). A member runs on both cores (the same bits as on one), one member at a
-  # time, so that each finishes as soon as it can: a new checkout starts with an empty out/,
-  # and only the members kept in the repository (below) survive it; a member under way
-  # goes on from its checkpoint only while out/ survives.
+  # clang_vs_gcc). A member's bits are the same on any number of threads. A new checkout
+  # starts with an empty out/, and only the members kept in the repository (below) survive
+  # it; a member under way goes on from its checkpoint only while out/ survives.
   # Issue 45 item 3's second model, B with mortar: the explicit reference, the same seed as
   # the fast path's five (session 44, scenarios/results/ensembles/b_mortar_implicit_4e-5_*);
   # 2.5 million steps a member, 3.5-6.5 ms each on one thread once the shaking has cracked
@@ -46,9 +45,9 @@ jobs=(
   # ensembles; about 3.5 core-hours a member. They run fd2dc55's program: the same motion
   # as 5406021's (every preset's hash but D's, whose open points alone differ), its
   # narrowphase no longer re-clipping stones that cannot touch (the late step at 0.76 of
-  # 5406021's, perf/results). One thread a
-  # member, one lane each: each of the two processes above goes on to them when its share
-  # of B ends (a lane under way in the other process is skipped: its lock).
+  # 5406021's, perf/results). One thread a member, one lane each: each of the two
+  # processes above goes on to them when its share of B ends (a lane under way in the
+  # other process is skipped: its lock).
   "e_dry|fd2dc55|out/ensembles/e_dry_explicit|scenarios/nishida_e_kobe_dry.toml --members 5 --seed 1 --jobs 1 --threads 1"
   "e_mortar|fd2dc55|out/ensembles/e_mortar_explicit|scenarios/nishida_e_kobe_mortar.toml --members 5 --seed 1 --jobs 1 --threads 1"
 )
