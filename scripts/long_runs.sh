@@ -7,7 +7,7 @@
 # (scripts/frozen_binary.sh), so that a later build never changes a comparison half way. The
 # results and what they mean: scenarios/results/README.md.
 #
-#   nohup nice -n 19 bash scripts/long_runs.sh b_mortar e_dry e_mortar > out/long_runs.log 2>&1 &
+#   nohup nice -n 19 bash scripts/long_runs.sh b_mortar b_mortar_c e_dry e_mortar > out/long_runs.log 2>&1 &
 #   nohup nice -n 19 bash scripts/long_runs.sh b_mortar_b e_mortar e_dry > out/long_runs_b.log 2>&1 &
 #   bash scripts/long_runs.sh save    # before committing: keeps the finished members
 set -euo pipefail
@@ -34,12 +34,16 @@ jobs=(
   # about 0.76 of 5406021's. The two folders' members make one ensemble of five (a
   # member's draws depend on the seed and its number only, not on the share).
   "b_mortar|5406021|out/ensembles/b_mortar_explicit|scenarios/nishida_b_kobe_mortar.toml --members 5 --member-range 0:2 --seed 1 --jobs 1 --threads 2"
-  # Since session 50 the two shares run side by side, one lane each (b_mortar_b: one
-  # thread), and E waits: B with mortar's five decide issue 45 item 3, and with it whether
-  # E's ensembles need the explicit reference at all (issue 48 item 5 asks for the fast
-  # path once it is verified). E on the explicit reference is about 90 core-hours; B's
-  # members 1-4 left about 20.
-  "b_mortar_b|fd2dc55|out/ensembles/b_mortar_explicit_2_5|scenarios/nishida_b_kobe_mortar.toml --members 5 --member-range 2:5 --seed 1 --jobs 1 --threads 1"
+  # Since session 50 B's members run side by side, on one thread each where two lanes
+  # share the cores (members 2-3 in b_mortar_b, member 4 in b_mortar_c, which the first
+  # process takes up when member 1 ends), and E waits: B with mortar's five decide issue
+  # 45 item 3, and with it whether E's ensembles need the explicit reference at all (issue
+  # 48 item 5 asks for the fast path once it is verified). E on the explicit reference is
+  # about 90 core-hours; B's members 1-4 left about 20. (Members 2-4 were one share, 2:5,
+  # in session 49's plan; member 2 had begun in it and goes on in 2_4, its folder renamed:
+  # a member's key holds neither the share nor the folder.)
+  "b_mortar_b|fd2dc55|out/ensembles/b_mortar_explicit_2_4|scenarios/nishida_b_kobe_mortar.toml --members 5 --member-range 2:4 --seed 1 --jobs 1 --threads 1"
+  "b_mortar_c|fd2dc55|out/ensembles/b_mortar_explicit_4_5|scenarios/nishida_b_kobe_mortar.toml --members 5 --member-range 4:5 --seed 1 --jobs 1 --threads 1"
   # Issue 48 item 5's other marginal runs on the explicit reference (the fast path is not
   # verified): model E dry and with mortar, five members each, the seed of A's and B's
   # ensembles; about 3.5 core-hours a member. They run fd2dc55's program: the same motion
@@ -135,7 +139,7 @@ restore_members() {  # out folder, program
 }
 
 # Several lanes run one after the other in one process, so that a core freed by a lane's
-# last job goes on to the next lane's: `bash scripts/long_runs.sh b_mortar e_dry e_mortar`.
+# last job goes on to the next lane's: `bash scripts/long_runs.sh b_mortar b_mortar_c e_dry`.
 if (($# > 1)); then
   for lane in "$@"; do bash "$root/scripts/long_runs.sh" "$lane" || true; done
   exit 0
