@@ -29,14 +29,14 @@ jobs=(
   # 2.5 million steps a member, 3.5-6.5 ms each on one thread once the shaking has cracked
   # it (session 46): about 3-4 hours on two quiet cores, far more beside builds and tests.
   # Members 0 and 1 on 5406021's program (1 was half done when fd2dc55 came); members 2-4
-  # on fd2dc55's, in a folder of their own: the same motion (B with mortar's preset hash,
+  # on fd2dc55's, in folders of their own: the same motion (B with mortar's preset hash,
   # and 30 history rows of member 0 resumed on its rule, byte for byte), the late step at
-  # about 0.76 of 5406021's. The two folders' members make one ensemble of five (a
+  # about 0.76 of 5406021's. The three folders' members make one ensemble of five (a
   # member's draws depend on the seed and its number only, not on the share).
   "b_mortar|5406021|out/ensembles/b_mortar_explicit|scenarios/nishida_b_kobe_mortar.toml --members 5 --member-range 0:2 --seed 1 --jobs 1 --threads 2"
   # Since session 50 B's members run side by side, on one thread each where two lanes
   # share the cores (members 2-3 in b_mortar_b, member 4 in b_mortar_c, which the first
-  # process takes up when member 1 ends), and E waits: B with mortar's five decide issue
+  # process takes up once b_mortar's share is done or under way elsewhere), and E waits: B with mortar's five decide issue
   # 45 item 3, and with it whether E's ensembles need the explicit reference at all (issue
   # 48 item 5 asks for the fast path once it is verified). E on the explicit reference is
   # about 90 core-hours; B's members 1-4 left about 20. (Members 2-4 were one share, 2:5,
