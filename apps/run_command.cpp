@@ -84,7 +84,9 @@ std::function<void(const std::string&)> event_printer(const RunOptions& o) {
 
 // An ensemble of the scenario (ensemble.h): its members, then the probabilities.
 int run_ensemble_of(const RunOptions& o, Scenario sc) {
+  const MpiSession mpi;  // under mpirun: the members handed out across the ranks
   EnsembleOptions options;
+  options.mpi = &mpi;
   options.out = o.out.empty() ? std::filesystem::path("out") / o.scenario.stem() : o.out;
   options.members = o.members;
   options.seed = o.seed;
@@ -99,6 +101,7 @@ int run_ensemble_of(const RunOptions& o, Scenario sc) {
   options.on_event = event_printer(o);
   stop_runs_on_interrupt();
   const EnsembleOutcome r = run_ensemble(sc, options);
+  if (mpi.rank() != 0) return r.interrupted > 0 ? 130 : r.failed > 0 ? 1 : 0;
   std::printf("ensemble: %d members, %d ran, %d were current, %d interrupted, %d failed\n", r.members, r.ran, r.current,
               r.interrupted, r.failed);
   auto share = [&](int hits) {

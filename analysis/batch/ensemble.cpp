@@ -75,8 +75,10 @@ EnsembleOutcome run_ensemble(const Scenario& scenario, const EnsembleOptions& o)
                      sc.file.string() + " has members 0 to " + std::to_string(n - 1) +
                      "; FROM:TO runs members FROM to TO - 1, with 0 <= FROM < TO <= " + std::to_string(n));
   fs::create_directories(o.out);
-  const int workers = std::max(1, std::min(o.jobs, end - first));
-  const int threads = decide_thread_count(o.threads_per_member, workers);
+  const bool ranks = o.mpi && o.mpi->size() > 1;
+  const int workers = ranks ? 1 : std::max(1, std::min(o.jobs, end - first));
+  const int threads = decide_thread_count(o.threads_per_member, ranks ? o.mpi->ranks_on_this_node() : workers);
+  const bool root = !ranks || o.mpi->rank() == 0;
   std::mutex report_lock;  // serialises on_event; outside any time step
   auto event = [&](const std::string& text) {
     const std::lock_guard<std::mutex> lock(report_lock);
@@ -84,10 +86,12 @@ EnsembleOutcome run_ensemble(const Scenario& scenario, const EnsembleOptions& o)
   };
   const std::string share =
       first == 0 && end == n ? "" : ", members " + std::to_string(first) + " to " + std::to_string(end - 1) + " here";
-  event("ensemble of " + std::to_string(n) + " members (seed " + std::to_string(sc.ensemble.seed) + ")" + share + ", " +
-        std::to_string(workers) + " at a time, " + std::to_string(threads) + " threads each, outputs in " + o.out.string());
+  if (root)
+    event("ensemble of " + std::to_string(n) + " members (seed " + std::to_string(sc.ensemble.seed) + ")" + share + ", " +
+          (ranks ? std::to_string(o.mpi->size()) + " MPI ranks" : std::to_string(workers) + " at a time") + ", " +
+          std::to_string(threads) + " threads each, outputs in " + o.out.string());
   std::array<std::atomic<int>, 4> counts{};  // by MemberStatus
-  auto job = [&](int i) {
+  auto job = [&](int i) -> MemberStatus {
     SeismicRunOptions options;
     options.member = i;
     options.checkpoint_wall_s = o.checkpoint_wall_s;
@@ -96,23 +100,33 @@ EnsembleOutcome run_ensemble(const Scenario& scenario, const EnsembleOptions& o)
       member.settings.threads = threads;
       return std::make_unique<SeismicRun>(member, member_options);
     };
-    const MemberStatus status =
-        run_in_folder(member_folder(o.out, i), member_key(sc, i), "member " + std::to_string(i), options, threads, start, event);
+    const std::string name = "member " + std::to_string(i) + (ranks ? " (rank " + std::to_string(o.mpi->rank()) + ")" : "");
+    const MemberStatus status = run_in_folder(member_folder(o.out, i), member_key(sc, i), name, options, threads, start, event);
     ++counts[static_cast<int>(status)];
+    return status;
   };
   std::vector<int> members(end - first);
   std::iota(members.begin(), members.end(), first);
   JobQueue queue(members);
-  queue.start(workers - 1, job);
-  queue.work(job);
-  queue.join();
-
   EnsembleOutcome outcome;
   outcome.members = n;
+  if (!root) {  // each member's status, as its number, with the request for the next
+    work_for_rank_zero([&](int i) { return std::to_string(static_cast<int>(job(i))); });
+  } else if (ranks) {
+    queue.start(1, job);
+    serve_other_ranks(
+        queue, *o.mpi, [&](const std::string& status, int) { ++counts[std::stoi(status)]; }, [](int, int) {});
+  } else {
+    queue.start(workers - 1, job);
+    queue.work(job);
+  }
+  queue.join();
+
   outcome.current = counts[static_cast<int>(MemberStatus::current)];
   outcome.ran = counts[static_cast<int>(MemberStatus::ran)];
   outcome.interrupted = counts[static_cast<int>(MemberStatus::interrupted)];
   outcome.failed = counts[static_cast<int>(MemberStatus::failed)];
+  if (!root) return outcome;
   const OutcomeCounts finished = write_tables(sc, o.out);
   outcome.finished = finished.finished;
   outcome.collapses = finished.collapses;

@@ -19,6 +19,7 @@
 #include <string>
 
 #include "analysis/batch/member_runs.h"
+#include "analysis/batch/mpi_ranks.h"
 #include "io/scenario_file.h"
 
 namespace ishibashi {
@@ -27,12 +28,13 @@ struct EnsembleOptions {
   std::filesystem::path out;
   int members = 0;                 // > 0: replaces the scenario's
   long seed = -1;                  // >= 0: replaces the scenario's
-  int jobs = 1;                    // members at once
+  int jobs = 1;                    // members at once (under mpirun: one per rank)
   int first_member = 0;            // run members [first_member, end_member) only (a machine's share of
   int end_member = -1;             //   an ensemble); -1: to the last member
   int threads_per_member = 0;      // 0: the cores shared among the jobs
   double checkpoint_wall_s = 300;  // each member's checkpoint, so that an interrupted ensemble resumes
   std::function<void(const std::string&)> on_event;  // a line per member started or finished
+  const MpiSession* mpi = nullptr;  // under mpirun, more than one rank: members handed out across them
 };
 
 struct EnsembleOutcome {
@@ -46,7 +48,10 @@ struct EnsembleOutcome {
 // stamped with the same inputs is kept; one with a checkpoint resumes from it), then
 // writes ensemble.csv and ensemble.json from every finished member's summary.json in the
 // folder, whichever run or machine ran it: members run in shares on several machines by
-// the same build are merged by copying their member_NNN folders into one folder.
+// the same build are merged by copying their member_NNN folders into one folder. Under
+// mpirun every rank calls it; rank 0 hands out the members (one per rank at a time, each on
+// its node's cores shared among the node's ranks) and writes the tables, and only its
+// outcome counts every member (the others': their own runs).
 EnsembleOutcome run_ensemble(const Scenario& scenario, const EnsembleOptions& options);
 
 }  // namespace ishibashi

@@ -1,21 +1,18 @@
 #include "analysis/batch/sweep.h"
 
-#include <mpi.h>
 #include <unistd.h>
 
 #include <algorithm>
-#include <chrono>
 #include <cmath>
-#include <cstdlib>
 #include <fstream>
 #include <map>
 #include <mutex>
 #include <set>
 #include <sstream>
-#include <thread>
 #include <vector>
 
 #include "analysis/batch/job_queue.h"
+#include "analysis/batch/mpi_ranks.h"
 #include "analysis/batch/sweep_table.h"
 #include "analysis/model/fingerprint.h"
 #include "analysis/run/seismic_run.h"
@@ -29,7 +26,6 @@ namespace {
 
 namespace fs = std::filesystem;
 constexpr double kG = 9.80665;
-constexpr int kRowTag = 1, kCaseTag = 2;  // worker -> rank 0: a finished row; rank 0 -> worker: the next case
 
 struct Case {
   int scenario, record, level, member;  // member: of the sweep's members (0 when it has none)
@@ -104,47 +100,6 @@ std::string run_case(const SweepFile& sweep, const Case& c, int threads, const f
   return row.str();
 }
 
-}  // namespace
-
-MpiSession::MpiSession() {
-  active_ = std::getenv("OMPI_COMM_WORLD_SIZE") || std::getenv("PMI_RANK") || std::getenv("PMIX_RANK");
-  if (!active_) return;
-  int provided = 0;
-  MPI_Init_thread(nullptr, nullptr, MPI_THREAD_FUNNELED, &provided);  // MPI only on the main thread
-  MPI_Comm_rank(MPI_COMM_WORLD, &rank_);
-  MPI_Comm_size(MPI_COMM_WORLD, &size_);
-  MPI_Comm node;
-  MPI_Comm_split_type(MPI_COMM_WORLD, MPI_COMM_TYPE_SHARED, rank_, MPI_INFO_NULL, &node);
-  MPI_Comm_size(node, &local_size_);
-  MPI_Comm_free(&node);
-}
-
-MpiSession::~MpiSession() {
-  if (active_) MPI_Finalize();
-}
-
-namespace {
-
-// A worker rank: asks rank 0 for a case, runs it, sends its row with the next request.
-SweepOutcome serve_rank_zero(const SweepFile& sweep, const std::vector<Case>& cases, int threads, const fs::path& out) {
-  SweepOutcome outcome;
-  std::string message;
-  for (;;) {
-    MPI_Send(message.data(), static_cast<int>(message.size()), MPI_CHAR, 0, kRowTag, MPI_COMM_WORLD);
-    int next = -1;
-    MPI_Recv(&next, 1, MPI_INT, 0, kCaseTag, MPI_COMM_WORLD, MPI_STATUS_IGNORE);
-    if (next < 0) break;
-    try {
-      message = run_case(sweep, cases[next], threads, out);
-      ++outcome.ran;
-    } catch (const std::exception& e) {
-      message = "!" + cases[next].key + ": " + e.what();
-      ++outcome.failed;
-    }
-  }
-  return outcome;
-}
-
 // The cases not yet in sweep.csv with current outputs (a sweep resumes where it stopped;
 // a case whose program or inputs changed runs again); rewrites the table without the rows
 // of other cases and a row a crash cut short. A table of other columns (another version's)
@@ -198,7 +153,19 @@ SweepOutcome run_sweep(const SweepFile& sweep, const SweepOptions& o, const MpiS
   const int threads = decide_thread_count(o.threads_per_job, node_share);
   SweepOutcome outcome;
 
-  if (!root) return serve_rank_zero(sweep, cases, threads, o.out);
+  if (!root) {  // a row, or "!" and what went wrong, with each request for the next case
+    work_for_rank_zero([&](int i) {
+      try {
+        const std::string row = run_case(sweep, cases[i], threads, o.out);
+        ++outcome.ran;
+        return row;
+      } catch (const std::exception& e) {
+        ++outcome.failed;
+        return "!" + cases[i].key + ": " + e.what();
+      }
+    });
+    return outcome;
+  }
 
   // ---- rank 0 (or the only process): the queue, sweep.csv and the curves ----
   fs::create_directories(o.out);
@@ -218,7 +185,6 @@ SweepOutcome run_sweep(const SweepFile& sweep, const SweepOptions& o, const MpiS
   std::ofstream append(table, std::ios::app);
   auto finish = [&](const std::string& message, int rank) {
     const std::lock_guard<std::mutex> guard(lock);
-    if (message.empty()) return;
     if (message[0] == '!') {
       ++outcome.failed;
       event("FAILED " + message.substr(1) + " (rank " + std::to_string(rank) + ")");
@@ -239,26 +205,9 @@ SweepOutcome run_sweep(const SweepFile& sweep, const SweepOptions& o, const MpiS
       finish("!" + cases[i].key + ": " + e.what(), 0);
     }
   });
-  // The other ranks' requests, on this (the main) thread; it polls, so that it does not
-  // take a core from this rank's own run.
-  for (int remote = mpi.size() - 1; remote > 0;) {
-    int flag = 0;
-    MPI_Status status;
-    MPI_Iprobe(MPI_ANY_SOURCE, kRowTag, MPI_COMM_WORLD, &flag, &status);
-    if (!flag) {
-      std::this_thread::sleep_for(std::chrono::milliseconds(20));
-      continue;
-    }
-    int length = 0;
-    MPI_Get_count(&status, MPI_CHAR, &length);
-    std::string message(static_cast<std::size_t>(length), '\0');
-    MPI_Recv(message.data(), length, MPI_CHAR, status.MPI_SOURCE, kRowTag, MPI_COMM_WORLD, MPI_STATUS_IGNORE);
-    finish(message, status.MPI_SOURCE);
-    const int next = queue.take();
-    if (next >= 0) event(cases[next].key + ": started on rank " + std::to_string(status.MPI_SOURCE));
-    MPI_Send(&next, 1, MPI_INT, status.MPI_SOURCE, kCaseTag, MPI_COMM_WORLD);
-    if (next < 0) --remote;
-  }
+  // The other ranks' requests, on this (the main) thread.
+  serve_other_ranks(queue, mpi, finish,
+                    [&](int next, int rank) { event(cases[next].key + ": started on rank " + std::to_string(rank)); });
   queue.join();
   append.close();
 

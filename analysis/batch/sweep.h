@@ -21,27 +21,11 @@
 #include <string>
 #include <vector>
 
+#include "analysis/batch/mpi_ranks.h"
 #include "analysis/batch/sweep_table.h"
 #include "io/sweep_file.h"
 
 namespace ishibashi {
-
-// MPI for the lifetime of a sweep when the program was started by mpirun (or another
-// launcher that sets PMI_RANK / OMPI_COMM_WORLD_SIZE); otherwise a single process.
-class MpiSession {
- public:
-  MpiSession();
-  ~MpiSession();
-  MpiSession(const MpiSession&) = delete;
-  MpiSession& operator=(const MpiSession&) = delete;
-  int rank() const { return rank_; }
-  int size() const { return size_; }
-  int ranks_on_this_node() const { return local_size_; }
-
- private:
-  bool active_ = false;
-  int rank_ = 0, size_ = 1, local_size_ = 1;
-};
 
 struct SweepOptions {
   std::filesystem::path out;

@@ -3,7 +3,7 @@
 // the tolerance; a member's run the same whatever the thread count; a perturbed bridge
 // settles without overlaps, as the preset does; `run --members` runs, resumes and keeps
 // finished members, runs a share (--member-range) whose folders merge with the others',
-// and its row of the study's ensemble table is written.
+// and under mpirun across ranks; and its row of the study's ensemble table is written.
 #include <gtest/gtest.h>
 #include <omp.h>
 
@@ -24,7 +24,7 @@
 namespace ishibashi {
 namespace {
 
-using namespace test;  // run_command, text_of, kRoot, tmp_dir
+using namespace test;  // run_command, text_of, count_of, kRoot, tmp_dir
 
 TEST(Ensemble, WilsonIntervalAsByHand) {
   // 3 of 10, z = 1.96: centre (0.3 + 1.96^2 / 20) / (1 + 1.96^2 / 10) = 0.49208 / 1.38415 = 0.35551,
@@ -253,6 +253,37 @@ TEST(Ensemble, RunMembersWritesProbabilitiesAndKeepsFinishedMembers) {
   EXPECT_EQ(rows.rfind("model,variant,members,p_collapse,", 0), 0u) << rows;
   EXPECT_EQ(std::count(rows.begin(), rows.end(), '\n'), 2) << rows;
   EXPECT_NE(rows.find("\na,dry,4,"), std::string::npos) << rows;
+}
+
+// Under `mpirun -np 2` rank 0 hands the members out to both ranks, and every member ends in
+// the same state as on one machine (a member's run depends on its seed, not where it ran).
+TEST(Ensemble, MpirunRanksRunTheSameMembersAsOneMachine) {
+  const auto file = short_scenario("ensemble_mpi.toml", "[ensemble]\nmembers = 3\nseed = 7\n");
+  const auto local = tmp_dir() / "ensemble_mpi_local", ranks = tmp_dir() / "ensemble_mpi_ranks";
+  std::filesystem::remove_all(local);
+  std::filesystem::remove_all(ranks);
+  const std::string run = test::program() + " run " + file.string() + " --threads 1 --out ";
+  int status = 0;
+  const std::string one = run_command(run + local.string() + " --jobs 2", &status);
+  ASSERT_EQ(status, 0) << one;
+  const std::string launcher = "OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 mpirun --oversubscribe -np 2 ";
+  const std::string two = run_command(launcher + run + ranks.string(), &status);
+  ASSERT_EQ(status, 0) << two;
+  EXPECT_NE(two.find("2 MPI ranks"), std::string::npos) << two;
+  EXPECT_NE(two.find("3 ran, 0 were current"), std::string::npos) << two;
+  EXPECT_GE(count_of(two, "(rank 1): done"), 1) << "rank 1 ran no member: " << two;
+  EXPECT_EQ(count_of(two, "ensemble: 3 members"), 1) << "only rank 0 reports the ensemble: " << two;
+  auto state_hash = [](const std::filesystem::path& folder) {
+    const std::string summary = text_of(folder / "summary.json");
+    const std::size_t at = summary.find("\"state_hash\"");
+    return at == std::string::npos ? std::string() : summary.substr(at, 40);
+  };
+  for (int i = 0; i < 3; ++i) {
+    const std::string name = "member_00" + std::to_string(i);
+    ASSERT_FALSE(state_hash(local / name).empty()) << name;
+    EXPECT_EQ(state_hash(ranks / name), state_hash(local / name)) << name;
+  }
+  EXPECT_NE(text_of(ranks / "ensemble.json").find("\"finished\": 3"), std::string::npos);
 }
 
 TEST(Ensemble, BadEnsembleTableNamesTheKeyAndWhatIsAllowed) {
