@@ -134,7 +134,8 @@ CLI::App* add_study_command(CLI::App& app, ishibashi::StudyCommandOptions& study
   study_cmd->add_option("file", study.file, "study file (TOML; default: the Nishida study, scenarios/nishida_study.toml)");
   study_cmd->add_option("--out", study.out, "output folder (default: out/study, out/study_quick with --quick)");
   study_cmd->add_flag("--quick", study.quick, "the study file's short version ([quick]): what CI runs");
-  study_cmd->add_option("--jobs", study.jobs, "analyses run at once")->check(CLI::Range(1, 256));
+  study_cmd->add_option("--jobs", study.jobs, "analyses run at once (under mpirun -np N: one per rank, across the ranks)")
+      ->check(CLI::Range(1, 256));
   study_cmd->add_option("--threads-per-job", study.threads_per_job, "threads of each analysis (default: cores / jobs)")
       ->check(CLI::Range(0, ishibashi::kMaxThreads));
   study_cmd->add_option("--members", study.members,

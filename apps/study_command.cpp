@@ -11,7 +11,9 @@ int run_study_command(const StudyCommandOptions& o) {
   const std::filesystem::path file =
       o.file.empty() ? std::filesystem::path(ISHIBASHI_SOURCE_DIR) / "scenarios" / "nishida_study.toml" : o.file;
   const StudyFile study = read_study(file, o.quick);
+  const MpiSession mpi;  // under mpirun: the jobs handed out across the ranks
   StudyOptions options;
+  options.mpi = &mpi;
   options.out = !o.out.empty() ? o.out : o.quick ? "out/study_quick" : "out/study";
   options.jobs = o.jobs;
   options.threads_per_job = o.threads_per_job;
@@ -25,6 +27,7 @@ int run_study_command(const StudyCommandOptions& o) {
   };
   stop_runs_on_interrupt();
   const StudyOutcome r = run_study(study, options);
+  if (mpi.rank() != 0) return stop_requested() ? 1 : 0;
   std::printf("study: %d jobs ran, %d were current, %d failed%s\n", r.ran, r.current, r.failed,
               stop_requested() ? " (interrupted)" : "");
   if (r.report_written) std::printf("report: %s (and report.md, figures/)\n", (options.out / "report.html").c_str());

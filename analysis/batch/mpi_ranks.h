@@ -1,7 +1,8 @@
-// Many runs across machines with MPI (sweeps, ensembles): rank 0 hands out jobs one at a
-// time as ranks ask for them (dynamic assignment: a rank that finishes takes the next), and
-// each rank's answer for its last job comes back with its next request. The output folder
-// must be on a file system every node shares; each job writes only its own folder.
+// Many runs across machines with MPI (sweeps, ensembles, the study): rank 0 hands out jobs
+// one at a time as ranks ask for them (dynamic assignment: a rank that finishes takes the
+// next), and each rank's answer for its last job comes back with its next request. The
+// output folder must be on a file system every node shares; each job writes only its own
+// folder.
 #pragma once
 #include <functional>
 #include <string>

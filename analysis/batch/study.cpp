@@ -11,6 +11,7 @@
 
 #include "analysis/batch/ensemble.h"
 #include "analysis/batch/job_queue.h"
+#include "analysis/batch/mpi_ranks.h"
 #include "analysis/batch/study_progress.h"
 #include "analysis/dynamics/frequencies.h"
 #include "analysis/model/compile_model.h"
@@ -266,24 +267,32 @@ StudyOutcome run_study(const StudyFile& study_file, const StudyOptions& o) {
   if (o.members >= 0) study.members = o.members;
   std::vector<Job> jobs = make_jobs(study, o.out, o.run_overrides);
 
-  const int workers = std::max(1, std::min<int>(o.jobs, static_cast<int>(jobs.size())));
-  const int threads = decide_thread_count(o.threads_per_job, workers);
+  const bool ranks = o.mpi && o.mpi->size() > 1;  // under mpirun: one job per rank at a time
+  const bool root = !ranks || o.mpi->rank() == 0;
+  const int workers = ranks ? o.mpi->size() : std::max(1, std::min<int>(o.jobs, static_cast<int>(jobs.size())));
+  const int threads = decide_thread_count(o.threads_per_job, ranks ? o.mpi->ranks_on_this_node() : workers);
+  const std::string rank_here = ranks ? " (rank " + std::to_string(o.mpi->rank()) + ")" : "";
   std::mutex report_lock;  // serialises on_event; outside any time step
   auto event = [&](const std::string& text) {
     const std::lock_guard<std::mutex> lock(report_lock);
     if (o.on_event) o.on_event(text);
   };
-  event("study '" + study.name + "': " + std::to_string(jobs.size()) + " jobs, " + std::to_string(workers) + " at a time, " +
-        std::to_string(threads) + " threads each, outputs in " + o.out.string());
+  if (root)
+    event("study '" + study.name + "': " + std::to_string(jobs.size()) + " jobs, " +
+          (ranks ? std::to_string(workers) + " MPI ranks" : std::to_string(workers) + " at a time") + ", " +
+          std::to_string(threads) + " threads each, outputs in " + o.out.string());
 
   std::vector<JobProgress> progress_jobs;
   for (const Job& job : jobs)
     progress_jobs.push_back({job_name(job), job.kind == JobKind::run});
-  StudyProgress progress(std::move(progress_jobs), workers, o.progress_every_s, event);
+  // The study's progress lines come from rank 0 alone, which hears of the other ranks' jobs
+  // as it hands them out and as they end.
+  StudyProgress progress(std::move(progress_jobs), workers, o.progress_every_s,
+                         root ? std::function<void(const std::string&)>(event) : [](const std::string&) {});
 
   auto run_job = [&](int i) {
     Job& job = jobs[i];
-    const std::string name = job_name(job);
+    const std::string name = job_name(job) + rank_here;
     if (!o.force && is_current(job)) {
       job.status = "current";
       event(name + ": current, kept");
@@ -318,8 +327,36 @@ StudyOutcome run_study(const StudyFile& study_file, const StudyOptions& o) {
     progress.finished(i, job.status == "ran" ? JobProgress::done : JobProgress::failed);
   };
   JobQueue queue(every_job(static_cast<int>(jobs.size())));
-  queue.start(workers - 1, run_job);
-  queue.work(run_job);
+  if (!root) {  // "job status seconds error" back to rank 0 with each request, for jobs.csv
+    work_for_rank_zero([&](int i) {
+      run_job(i);
+      const Job& job = jobs[i];
+      return std::to_string(i) + "\t" + job.status + "\t" + std::to_string(job.seconds) + "\t" + job.error;
+    });
+    return {};
+  }
+  if (ranks) {
+    queue.start(1, run_job);
+    serve_other_ranks(
+        queue, *o.mpi,
+        [&](const std::string& answer, int) {
+          std::istringstream in(answer);
+          std::string index, seconds;
+          std::getline(in, index, '\t');
+          Job& job = jobs[std::stoul(index)];
+          std::getline(in, job.status, '\t');
+          std::getline(in, seconds, '\t');
+          std::getline(in, job.error);
+          job.seconds = std::stod(seconds);
+          progress.finished(std::stoul(index), job.status == "ran"       ? JobProgress::done
+                                               : job.status == "current" ? JobProgress::skipped
+                                                                         : JobProgress::failed);
+        },
+        [&](int i, int) { progress.started(i); });
+  } else {
+    queue.start(workers - 1, run_job);
+    queue.work(run_job);
+  }
   queue.join();
 
   StudyOutcome outcome;

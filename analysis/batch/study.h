@@ -14,6 +14,7 @@
 #include <functional>
 #include <string>
 
+#include "analysis/batch/mpi_ranks.h"
 #include "io/run_settings.h"
 #include "io/study_file.h"
 
@@ -29,6 +30,7 @@ struct StudyOptions {
   bool report = true;        // write the report (python3 with matplotlib)
   std::function<void(const std::string&)> on_event;  // a job started, finished, was skipped or failed; progress
   double progress_every_s = 60;  // a progress line at most this often while runs advance
+  const MpiSession* mpi = nullptr;  // under mpirun, more than one rank: the jobs handed out across them
 };
 
 struct StudyOutcome {
@@ -36,6 +38,9 @@ struct StudyOutcome {
   bool report_written = false;
 };
 
+// Under mpirun every rank calls it: rank 0 hands out the jobs (one per rank at a time, each
+// on its node's cores shared among the node's ranks), then writes the tables and the report;
+// the other ranks' outcomes are empty.
 StudyOutcome run_study(const StudyFile& study, const StudyOptions& options);
 
 }  // namespace ishibashi

@@ -1,5 +1,6 @@
 // `ishibashi study --quick` end to end: the tables, a report with every figure, and a
-// second call that keeps the current outputs; a bad study file names its line.
+// second call that keeps the current outputs; the jobs across MPI ranks; a bad study file
+// names its line.
 #include <gtest/gtest.h>
 
 #include <cstdio>
@@ -138,6 +139,37 @@ TEST(Study, RunSettingsOnTheCommandLineReachEveryRunAndItsKey) {
   ASSERT_EQ(status, 0) << reference;
   EXPECT_NE(reference.find("1 jobs ran, 0 were current"), std::string::npos) << reference;
   EXPECT_NE(text_of(out / "runs" / "nishida_a_kobe_dry" / "summary.json").find("\"damping\": \"study\""), std::string::npos);
+}
+
+// Under `mpirun -np 2` rank 0 hands the jobs out to both ranks and writes the tables: each
+// run ends in the same state as on one machine, and jobs.csv says each ran.
+TEST(Study, MpirunRanksRunTheJobsAsOneMachineDoes) {
+  const auto file = tmp_dir() / "ishibashi_study_mpi.toml";
+  std::ofstream(file) << "[study]\nname = \"Ranks\"\nscenarios = [\"" << (kRoot / "scenarios/nishida_a_kobe_dry.toml").string()
+                      << "\", \"" << (kRoot / "scenarios/nishida_a_kobe_mortar.toml").string()
+                      << "\"]\nsnapshot_times_s = [0.05]\nduration_s = 0.05\n";
+  const auto local = tmp_dir() / "ishibashi_study_mpi_local", ranks = tmp_dir() / "ishibashi_study_mpi_ranks";
+  std::filesystem::remove_all(local);
+  std::filesystem::remove_all(ranks);
+  const std::string study = test::program() + " study " + file.string() + " --threads-per-job 1 --no-report --damping implicit --dt 4e-5 --out ";
+  int status = 0;
+  const std::string one = run_command(study + local.string() + " --jobs 2", &status);
+  ASSERT_EQ(status, 0) << one;
+  const std::string launcher = "OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 mpirun --oversubscribe -np 2 ";
+  const std::string two = run_command(launcher + study + ranks.string(), &status);
+  ASSERT_EQ(status, 0) << two;
+  EXPECT_NE(two.find("2 jobs, 2 MPI ranks"), std::string::npos) << two;
+  EXPECT_EQ(count_of(two, "(rank 1): done"), 1) << two;
+  EXPECT_EQ(count_of(two, "(rank 0): done"), 1) << two;
+  EXPECT_NE(two.find("study: 2 jobs ran, 0 were current, 0 failed"), std::string::npos) << two;
+  EXPECT_EQ(count_of(text_of(ranks / "jobs.csv"), ",ran,"), 2) << text_of(ranks / "jobs.csv");
+  EXPECT_EQ(count_of(text_of(ranks / "runs.csv"), "\n"), 3) << text_of(ranks / "runs.csv");
+  for (const char* run : {"nishida_a_kobe_dry", "nishida_a_kobe_mortar"}) {
+    const std::string a = text_of(local / "runs" / run / "summary.json"), b = text_of(ranks / "runs" / run / "summary.json");
+    const std::size_t at = a.find("\"state_hash\"");
+    ASSERT_NE(at, std::string::npos) << run;
+    EXPECT_NE(b.find(a.substr(at, 40)), std::string::npos) << run;
+  }
 }
 
 TEST(Study, BadStudyFileNamesTheFileAndLine) {
