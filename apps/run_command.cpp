@@ -148,12 +148,17 @@ int run_scenario(const RunOptions& o) {
   if (o.resume.empty()) {
     scenario = read_scenario(o.scenario);
     apply_overrides(scenario.settings, o.overrides);
-    if (o.probe_members > 0) return run_probe_of(o, scenario);
-    if (o.members > 0 || scenario.ensemble.members > 0) return run_ensemble_of(o, std::move(scenario));
+    if (o.members > 0 || (o.probe_members <= 0 && scenario.ensemble.members > 0))
+      return run_ensemble_of(o, std::move(scenario));
     if (!o.member_range.empty())
       throw InputError("--member-range " + o.member_range + ": a share of an ensemble, but " + o.scenario.string() +
                        " has no [ensemble] table and no --members was given");
   }
+  if (const MpiSession mpi; mpi.size() > 1)  // every rank would write the same folder
+    throw InputError("run under mpirun with " + std::to_string(mpi.size()) +
+                     " ranks: only an ensemble's members (--members N) are handed out across ranks; run a single run "
+                     "or a chaos probe without mpirun (or with -np 1)");
+  if (o.probe_members > 0) return run_probe_of(o, scenario);
   SeismicRunOptions options;
   options.out = !o.resume.empty() ? o.resume : o.out.empty() ? std::filesystem::path("out") / o.scenario.stem() : o.out;
   options.dt_factor = o.dt_factor;

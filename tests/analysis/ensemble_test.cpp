@@ -284,6 +284,14 @@ TEST(Ensemble, MpirunRanksRunTheSameMembersAsOneMachine) {
     EXPECT_EQ(state_hash(ranks / name), state_hash(local / name)) << name;
   }
   EXPECT_NE(text_of(ranks / "ensemble.json").find("\"finished\": 3"), std::string::npos);
+
+  // A single run is not split across ranks: refused, rather than two ranks writing one folder.
+  const auto single = short_scenario("ensemble_mpi_single.toml", "");
+  const std::string refused =
+      run_command(launcher + test::program() + " run " + single.string() + " --out " + (tmp_dir() / "single").string() + " 2>&1", &status);
+  EXPECT_NE(status, 0) << refused;
+  EXPECT_NE(refused.find("only an ensemble's members (--members N) are handed out across ranks"), std::string::npos) << refused;
+  EXPECT_FALSE(std::filesystem::exists(tmp_dir() / "single" / "summary.json"));
 }
 
 TEST(Ensemble, BadEnsembleTableNamesTheKeyAndWhatIsAllowed) {
