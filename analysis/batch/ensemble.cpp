@@ -91,7 +91,8 @@ EnsembleOutcome run_ensemble(const Scenario& scenario, const EnsembleOptions& o)
           (ranks ? std::to_string(o.mpi->size()) + " MPI ranks" : std::to_string(workers) + " at a time") + ", " +
           std::to_string(threads) + " threads each, outputs in " + o.out.string());
   std::array<std::atomic<int>, 4> counts{};  // by MemberStatus
-  auto job = [&](int i) -> MemberStatus {
+  // A member run on this rank; its answer for rank 0: its status, as a number.
+  auto job = [&](int i) {
     SeismicRunOptions options;
     options.member = i;
     options.checkpoint_wall_s = o.checkpoint_wall_s;
@@ -103,24 +104,13 @@ EnsembleOutcome run_ensemble(const Scenario& scenario, const EnsembleOptions& o)
     const std::string name = "member " + std::to_string(i) + (ranks ? " (rank " + std::to_string(o.mpi->rank()) + ")" : "");
     const MemberStatus status = run_in_folder(member_folder(o.out, i), member_key(sc, i), name, options, threads, start, event);
     ++counts[static_cast<int>(status)];
-    return status;
+    return std::to_string(static_cast<int>(status));
   };
   std::vector<int> members(end - first);
   std::iota(members.begin(), members.end(), first);
-  JobQueue queue(members);
   EnsembleOutcome outcome;
   outcome.members = n;
-  if (!root) {  // each member's status, as its number, with the request for the next
-    work_for_rank_zero([&](int i) { return std::to_string(static_cast<int>(job(i))); });
-  } else if (ranks) {
-    queue.start(1, job);
-    serve_other_ranks(
-        queue, *o.mpi, [&](const std::string& status, int) { ++counts[std::stoi(status)]; }, [](int, int) {});
-  } else {
-    queue.start(workers - 1, job);
-    queue.work(job);
-  }
-  queue.join();
+  run_jobs(members, workers, o.mpi, job, [&](const std::string& status, int) { ++counts[std::stoi(status)]; });
 
   outcome.current = counts[static_cast<int>(MemberStatus::current)];
   outcome.ran = counts[static_cast<int>(MemberStatus::ran)];

@@ -8,7 +8,47 @@
 
 namespace ishibashi {
 namespace {
+
 constexpr int kAnswerTag = 1, kJobTag = 2;  // rank -> rank 0: the last job's answer; rank 0 -> rank: the next job
+
+// Rank 0's main thread: hands the jobs of `queue` to the other ranks as they ask, until each
+// has been told that none is left.
+void serve_other_ranks(JobQueue& queue, const MpiSession& mpi,
+                       const std::function<void(const std::string&, int)>& on_answer,
+                       const std::function<void(int, int)>& on_handed) {
+  for (int remote = mpi.size() - 1; remote > 0;) {
+    int flag = 0;
+    MPI_Status status;
+    MPI_Iprobe(MPI_ANY_SOURCE, kAnswerTag, MPI_COMM_WORLD, &flag, &status);
+    if (!flag) {
+      std::this_thread::sleep_for(std::chrono::milliseconds(20));
+      continue;
+    }
+    int length = 0;
+    MPI_Get_count(&status, MPI_CHAR, &length);
+    std::string answer(static_cast<std::size_t>(length), '\0');
+    MPI_Recv(answer.data(), length, MPI_CHAR, status.MPI_SOURCE, kAnswerTag, MPI_COMM_WORLD, MPI_STATUS_IGNORE);
+    if (!answer.empty() && on_answer) on_answer(answer, status.MPI_SOURCE);  // empty: the rank's first request
+    const int next = queue.take();
+    if (next >= 0 && on_handed) on_handed(next, status.MPI_SOURCE);
+    MPI_Send(&next, 1, MPI_INT, status.MPI_SOURCE, kJobTag, MPI_COMM_WORLD);
+    if (next < 0) --remote;
+  }
+}
+
+// Any other rank: asks rank 0 for a job, runs it and sends its answer with the next
+// request, until rank 0 has none left.
+void work_for_rank_zero(const std::function<std::string(int)>& job) {
+  std::string answer;
+  for (;;) {
+    MPI_Send(answer.data(), static_cast<int>(answer.size()), MPI_CHAR, 0, kAnswerTag, MPI_COMM_WORLD);
+    int next = -1;
+    MPI_Recv(&next, 1, MPI_INT, 0, kJobTag, MPI_COMM_WORLD, MPI_STATUS_IGNORE);
+    if (next < 0) return;
+    answer = job(next);
+  }
+}
+
 }  // namespace
 
 MpiSession::MpiSession() {
@@ -28,38 +68,21 @@ MpiSession::~MpiSession() {
   if (active_) MPI_Finalize();
 }
 
-void serve_other_ranks(JobQueue& queue, const MpiSession& mpi,
-                       const std::function<void(const std::string&, int)>& on_answer,
-                       const std::function<void(int, int)>& on_handed) {
-  for (int remote = mpi.size() - 1; remote > 0;) {
-    int flag = 0;
-    MPI_Status status;
-    MPI_Iprobe(MPI_ANY_SOURCE, kAnswerTag, MPI_COMM_WORLD, &flag, &status);
-    if (!flag) {
-      std::this_thread::sleep_for(std::chrono::milliseconds(20));
-      continue;
-    }
-    int length = 0;
-    MPI_Get_count(&status, MPI_CHAR, &length);
-    std::string answer(static_cast<std::size_t>(length), '\0');
-    MPI_Recv(answer.data(), length, MPI_CHAR, status.MPI_SOURCE, kAnswerTag, MPI_COMM_WORLD, MPI_STATUS_IGNORE);
-    if (!answer.empty()) on_answer(answer, status.MPI_SOURCE);  // empty: the rank's first request
-    const int next = queue.take();
-    if (next >= 0) on_handed(next, status.MPI_SOURCE);
-    MPI_Send(&next, 1, MPI_INT, status.MPI_SOURCE, kJobTag, MPI_COMM_WORLD);
-    if (next < 0) --remote;
+void run_jobs(std::vector<int> jobs, int workers, const MpiSession* mpi, const std::function<std::string(int)>& job,
+              const std::function<void(const std::string&, int)>& on_answer,
+              const std::function<void(int, int)>& on_handed) {
+  JobQueue queue(std::move(jobs));
+  auto here = [&job](int i) { job(i); };
+  if (!mpi || mpi->size() <= 1) {
+    queue.start(workers - 1, here);
+    queue.work(here);
+  } else if (mpi->rank() != 0) {
+    work_for_rank_zero(job);
+  } else {
+    queue.start(1, here);
+    serve_other_ranks(queue, *mpi, on_answer, on_handed);
   }
-}
-
-void work_for_rank_zero(const std::function<std::string(int)>& job) {
-  std::string answer;
-  for (;;) {
-    MPI_Send(answer.data(), static_cast<int>(answer.size()), MPI_CHAR, 0, kAnswerTag, MPI_COMM_WORLD);
-    int next = -1;
-    MPI_Recv(&next, 1, MPI_INT, 0, kJobTag, MPI_COMM_WORLD, MPI_STATUS_IGNORE);
-    if (next < 0) return;
-    answer = job(next);
-  }
+  queue.join();
 }
 
 }  // namespace ishibashi

@@ -6,6 +6,7 @@
 #pragma once
 #include <functional>
 #include <string>
+#include <vector>
 
 #include "analysis/batch/job_queue.h"
 
@@ -28,16 +29,17 @@ class MpiSession {
   int rank_ = 0, size_ = 1, local_size_ = 1;
 };
 
-// Rank 0, on its main thread, beside its own workers: hands the jobs of `queue` to the other
-// ranks as they ask, until each of them has been told that none is left. Each answer (a job's
-// result, never empty) goes to on_answer(answer, rank), each job handed out to on_handed(job,
-// rank). It polls, so that it takes no core from this rank's own runs.
-void serve_other_ranks(JobQueue& queue, const MpiSession& mpi,
-                       const std::function<void(const std::string& answer, int rank)>& on_answer,
-                       const std::function<void(int job, int rank)>& on_handed);
-
-// Any other rank: asks rank 0 for a job, runs it and sends what it returns (not empty) with
-// the next request, until rank 0 has none left.
-void work_for_rank_zero(const std::function<std::string(int job)>& job);
+// Runs job(i) for every job i of `jobs` (in their order): on `workers` threads of this
+// process (this one among them), or, under mpirun with more than one rank, one job per rank
+// at a time, rank 0 running one itself while its main thread hands the others theirs (it
+// polls, so that it takes no core from its own run). Every rank calls it; rank 0's list is
+// the one that counts. job(i) returns its answer for rank 0, never empty: rank 0 hears the
+// other ranks' through on_answer(answer, rank), each on its main thread as the rank asks for
+// its next job, and of each job it hands out through on_handed(job, rank). Rank 0's own jobs
+// are not answered: what job(i) did there is done. A stop request (stop_requested) hands
+// out no more jobs.
+void run_jobs(std::vector<int> jobs, int workers, const MpiSession* mpi, const std::function<std::string(int job)>& job,
+              const std::function<void(const std::string& answer, int rank)>& on_answer = {},
+              const std::function<void(int job, int rank)>& on_handed = {});
 
 }  // namespace ishibashi

@@ -152,17 +152,19 @@ SweepOutcome run_sweep(const SweepFile& sweep, const SweepOptions& o, const MpiS
   const int node_share = mpi.size() > 1 ? mpi.ranks_on_this_node() : runs_here;
   const int threads = decide_thread_count(o.threads_per_job, node_share);
   SweepOutcome outcome;
-
-  if (!root) {  // a row, or "!" and what went wrong, with each request for the next case
-    work_for_rank_zero([&](int i) {
-      try {
-        const std::string row = run_case(sweep, cases[i], threads, o.out);
-        ++outcome.ran;
-        return row;
-      } catch (const std::exception& e) {
-        ++outcome.failed;
-        return "!" + cases[i].key + ": " + e.what();
-      }
+  // A case's answer for rank 0: its row, or "!" and what went wrong.
+  auto row_of = [&](int i) {
+    try {
+      return run_case(sweep, cases[i], threads, o.out);
+    } catch (const std::exception& e) {
+      return "!" + cases[i].key + ": " + e.what();
+    }
+  };
+  if (!root) {
+    run_jobs({}, 1, &mpi, [&](int i) {
+      const std::string row = row_of(i);
+      ++(row[0] == '!' ? outcome.failed : outcome.ran);
+      return row;
     });
     return outcome;
   }
@@ -180,7 +182,6 @@ SweepOutcome run_sweep(const SweepFile& sweep, const SweepOptions& o, const MpiS
         std::to_string(mpi.size() > 1 ? mpi.size() : runs_here) + (mpi.size() > 1 ? " MPI ranks" : " at a time") + ", " +
         std::to_string(threads) + " threads each");
 
-  JobQueue queue(pending);
   std::mutex lock;  // sweep.csv and the counts; outside any time step
   std::ofstream append(table, std::ios::app);
   auto finish = [&](const std::string& message, int rank) {
@@ -197,18 +198,15 @@ SweepOutcome run_sweep(const SweepFile& sweep, const SweepOptions& o, const MpiS
     event(message.substr(0, key_end) + ": done (rank " +
           std::to_string(rank) + ")");
   };
-  queue.start(runs_here, [&](int i) {
-    event(cases[i].key + ": started");
-    try {
-      finish(run_case(sweep, cases[i], threads, o.out), 0);
-    } catch (const std::exception& e) {
-      finish("!" + cases[i].key + ": " + e.what(), 0);
-    }
-  });
-  // The other ranks' requests, on this (the main) thread.
-  serve_other_ranks(queue, mpi, finish,
-                    [&](int next, int rank) { event(cases[next].key + ": started on rank " + std::to_string(rank)); });
-  queue.join();
+  run_jobs(
+      pending, runs_here, &mpi,
+      [&](int i) {
+        event(cases[i].key + ": started");
+        const std::string row = row_of(i);
+        finish(row, 0);
+        return row;
+      },
+      finish, [&](int next, int rank) { event(cases[next].key + ": started on rank " + std::to_string(rank)); });
   append.close();
 
   outcome.fragility = write_sweep_curves(sweep, o.out, finished_sweep_rows(table));
