@@ -67,8 +67,10 @@ void write_tables(const std::vector<Job>& jobs, const StudyFile& study, const fs
 
 // A job run on this rank: kept when current, else run (a run goes on from its
 // checkpoint) and its row and stamp written; its status, time and error set in `job`.
+// `members_ran`: an ensemble's members ran as jobs of their own (run_members_across_ranks),
+// --force included.
 void run_job(Job& job, int i, const StudyFile& study, const StudyOptions& o, int threads, const std::string& name,
-             StudyProgress& progress, const std::function<void(const std::string&)>& event) {
+             StudyProgress& progress, const std::function<void(const std::string&)>& event, bool members_ran) {
   if (!o.force && is_current(job)) {
     job.status = "current";
     event(name + ": current, kept");
@@ -76,7 +78,7 @@ void run_job(Job& job, int i, const StudyFile& study, const StudyOptions& o, int
     return;
   }
   const bool ensemble = job.kind == JobKind::run && study.members >= 2;
-  if (ensemble && o.force) fs::remove_all(job.folder);
+  if (ensemble && o.force && !members_ran) fs::remove_all(job.folder);
   const bool resumed = !o.force && resumable(job);
   event(name + (ensemble ? ": an ensemble of " + std::to_string(study.members) + " members (finished ones kept)"
                 : resumed ? ": goes on from its checkpoint" : ": started"));
@@ -121,6 +123,63 @@ std::size_t read_job_answer(const std::string& answer, std::vector<Job>& jobs) {
   return std::stoul(index);
 }
 
+// Under mpirun, each ensemble run's members as jobs of their own, spread over the ranks
+// (twelve runs of five members keep sixty ranks busy, not twelve); the runs' own jobs then
+// find their members finished and make their tables and rows. The list of (run, member) is
+// the same on every rank; rank 0 empties the runs' folders first under --force. Returns, on
+// rank 0, each job's seconds of member runs (the jobs' own then take a moment).
+std::vector<double> run_members_across_ranks(const std::vector<Job>& jobs, const StudyFile& study, const StudyOptions& o,
+                                             int threads, const std::string& rank_here,
+                                             const std::function<void(const std::string&)>& event) {
+  const bool root = o.mpi->rank() == 0;
+  std::vector<std::pair<int, int>> members;  // (job, member)
+  std::vector<JobProgress> progress_members;
+  for (int j = 0; j < static_cast<int>(jobs.size()); ++j)
+    for (int k = 0; jobs[j].kind == JobKind::run && k < study.members; ++k) {
+      members.emplace_back(j, k);
+      progress_members.push_back({job_name(jobs[j]) + " member " + std::to_string(k), false});  // paced as a whole
+      if (root && o.force && k == 0) fs::remove_all(jobs[j].folder);
+    }
+  StudyProgress progress(std::move(progress_members), o.mpi->size(), o.progress_every_s,
+                         root ? event : [](const std::string&) {});
+  auto state = [](const std::string& status) {
+    return status == "ran" ? JobProgress::done : status == "current" ? JobProgress::skipped : JobProgress::failed;
+  };
+  std::vector<double> seconds(jobs.size(), 0.0);
+  std::mutex seconds_lock;  // rank 0's own member and its main thread; outside any time step
+  auto add_seconds = [&](int u, double s) {
+    const std::lock_guard<std::mutex> guard(seconds_lock);
+    seconds[members[u].first] += s;
+  };
+  // A member's answer for rank 0: "index seconds status".
+  run_jobs(
+      every_job(static_cast<int>(members.size())), 1, o.mpi,
+      [&](int u) {
+        const auto [j, k] = members[u];
+        const std::string name = job_name(jobs[j]) + " member " + std::to_string(k) + rank_here;
+        event(name + ": started");
+        progress.started(u);
+        const auto t0 = std::chrono::steady_clock::now();
+        const std::string status = ensemble_member(jobs[j], k, study, threads);
+        const double s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+        event(name + ": " + status);
+        progress.finished(u, state(status));
+        add_seconds(u, s);
+        return std::to_string(u) + " " + std::to_string(s) + " " + status;
+      },
+      [&](const std::string& answer, int) {
+        std::istringstream in(answer);
+        int u = 0;
+        double s = 0;
+        std::string status;
+        in >> u >> s >> status;
+        progress.finished(u, state(status));
+        add_seconds(u, s);
+      },
+      [&](int u, int) { progress.started(u); });
+  return seconds;
+}
+
 }  // namespace
 
 StudyOutcome run_study(const StudyFile& study_file, const StudyOptions& o) {
@@ -143,6 +202,10 @@ StudyOutcome run_study(const StudyFile& study_file, const StudyOptions& o) {
           (ranks ? std::to_string(workers) + " MPI ranks" : std::to_string(workers) + " at a time") + ", " +
           std::to_string(threads) + " threads each, outputs in " + o.out.string());
 
+  const bool members_ran = ranks && study.members >= 2;
+  const std::vector<double> member_seconds =
+      members_ran ? run_members_across_ranks(jobs, study, o, threads, rank_here, event) : std::vector<double>(jobs.size());
+
   std::vector<JobProgress> progress_jobs;
   for (const Job& job : jobs)
     progress_jobs.push_back({job_name(job), job.kind == JobKind::run});
@@ -154,7 +217,7 @@ StudyOutcome run_study(const StudyFile& study_file, const StudyOptions& o) {
   run_jobs(
       every_job(static_cast<int>(jobs.size())), workers, o.mpi,
       [&](int i) {
-        run_job(jobs[i], i, study, o, threads, job_name(jobs[i]) + rank_here, progress, event);
+        run_job(jobs[i], i, study, o, threads, job_name(jobs[i]) + rank_here, progress, event, members_ran);
         return job_answer(i, jobs[i]);
       },
       [&](const std::string& answer, int) {
@@ -166,6 +229,7 @@ StudyOutcome run_study(const StudyFile& study_file, const StudyOptions& o) {
       [&](int i, int) { progress.started(i); });
   if (!root) return {};
 
+  for (std::size_t j = 0; j < jobs.size(); ++j) jobs[j].seconds += member_seconds[j];
   StudyOutcome outcome;
   for (const Job& job : jobs) {
     outcome.ran += job.status == "ran";

@@ -108,6 +108,21 @@ std::string ensemble_job(const Job& job, const StudyFile& study, int threads) {
   return row.str();
 }
 
+// Member `member` of a run's ensemble, in the run's folder: "ran", "current" (kept),
+// "interrupted" or "failed".
+std::string ensemble_member(const Job& job, int member, const StudyFile& study, int threads) {
+  fs::create_directories(job.folder);
+  EnsembleOptions options;
+  options.out = job.folder;
+  options.members = study.members;
+  options.first_member = member;
+  options.end_member = member + 1;
+  options.threads_per_member = threads;
+  options.checkpoint_wall_s = kStudyCheckpointWallS;
+  const EnsembleOutcome e = run_ensemble(run_scenario_of(job, study, threads), options);
+  return e.ran ? "ran" : e.current ? "current" : e.interrupted ? "interrupted" : "failed";
+}
+
 // A run's row of runs.csv, and its ground motion as the report plots it. A resumable run
 // goes on from its last checkpoint; otherwise it starts afresh. `on_fraction`: how much of
 // its shaking is done, after each frame.

@@ -51,5 +51,9 @@ std::string ensemble_job(const Job& job, const StudyFile& study, int threads);
 std::string seismic_job(const Job& job, const StudyFile& study, int threads,
                         const std::function<void(double)>& on_fraction, bool resumed);
 std::string frequency_job(const Job& job, const StudyFile& study);
+// One member of a run's ensemble (study members >= 2) in the run's folder, for a job of its
+// own; its run's ensemble_job then keeps it. Returns "ran", "current" (kept), "interrupted"
+// or "failed".
+std::string ensemble_member(const Job& job, int member, const StudyFile& study, int threads);
 
 }  // namespace ishibashi
