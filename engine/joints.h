@@ -11,6 +11,7 @@
 #include <cstdint>
 #include <vector>
 
+#include "engine/model.h"
 #include "engine/state.h"
 
 namespace ishibashi {
@@ -62,5 +63,12 @@ struct JointCounts {
 
 // Updates the joints' openings, slips and crack flags from the current state.
 JointCounts measure_joints(const State& state, const JointThresholds& thresholds, Joints& joints);
+
+// How close the mortar is to cracking: over the sub-contacts whose bond holds, the largest
+// share of its strength one carries now, by the criterion that breaks a brittle bond
+// (MODEL.md section 3, contact_law.cpp): tension sigma / f_t, shear (tau + sigma tan phi) / c,
+// sigma tension positive; 0 where every bond is in compression without shear, 1 at failure
+// (a softening bond against its undamaged strength). -1: no bond left (a dry model).
+double largest_bond_utilisation(const Model& model, const State& state);
 
 }  // namespace ishibashi

@@ -476,6 +476,7 @@ def run_sections(out, study, figures):
         return []
     run_rows = [[r["scenario"], r["settled"], fmt(r["shaking_time_s"], 2),
                  "none" if r["first_opening_s"] == "" else fmt(r["first_opening_s"], 3),
+                 fmt(r.get("bond_utilisation_peak"), 2),
                  fmt(r["largest_crown_drop_m"], 1, 1000), r["fallen_stones"], r["collapse"],
                  f"{r['joints_cracked']} / {r['joints']}", fmt(r["energy_balance_error_relative"], 3, 100),
                  fmt(r["wall_s"], 0), study["study_says"].get(r["scenario"], "")]
@@ -486,7 +487,8 @@ def run_sections(out, study, figures):
             row[-1:-1] = ensemble_columns(r, study["study_outcome"].get(r["scenario"], ""))
     sections = [("Seismic runs",
                  "Settled under gravity, then shaken. First opening: seconds of shaking until a joint first "
-                 "opened by more than 1 mm (or lost its bond). Crown drop: the largest downward displacement "
+                 "opened by more than 1 mm (or lost its bond). Mortar used: until then, the largest share of "
+                 "its strength an intact bond carried (1: a bond breaks; - without mortar). Crown drop: the largest downward displacement "
                  "of the crown unit relative to the ground. Energy balance: the fraction of the energy "
                  "exchanged (ground work, dashpots, friction, bonds) that the balance misses. Study says: what "
                  "the published study reports of that run, where the study file gives it (the study's time axis "
@@ -496,7 +498,7 @@ def run_sections(out, study, figures):
                     "(of the verdict most members share, the median number of fallen stones), then the "
                     "probabilities with their 95 % Wilson intervals, and that of the study's own verdict." if ensembles
                     else ""),
-                 (["scenario", "settled", "shaking [s]", "first opening [s]", "crown drop [mm]",
+                 (["scenario", "settled", "shaking [s]", "first opening [s]", "mortar used", "crown drop [mm]",
                    "stones fallen", "collapse", "joints cracked", "energy balance [%]", "wall [s]"]
                   + (["members", "p collapse [95 %]", "p a stone falls [95 %]", "stones fallen (range)",
                       "p of the study's outcome here"] if ensembles else []) + ["study says"],

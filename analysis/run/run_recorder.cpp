@@ -15,6 +15,7 @@ namespace ishibashi {
 RunCounts count_damage(const Model& m, const State& s, const JointThresholds& thresholds, Joints& joints) {
   RunCounts c;
   c.joints = measure_joints(s, thresholds, joints);
+  c.bond_utilisation = largest_bond_utilisation(m, s);
   for (int b = 0; b < m.block_count; ++b) {
     c.left_model += s.left_model[b];
     if (is_fallen(m, s, b)) {
@@ -70,6 +71,10 @@ const HistoryColumn kHistoryColumns[] = {
     {"largest_slip_m", [](const F& f) -> V { return f.c.joints.largest_slip_m; }},
     {"fallen_stones", [](const F& f) -> V { return (long long)f.c.fallen; }},
     {"blocks_left_model", [](const F& f) -> V { return (long long)f.c.left_model; }},
+    {"bond_utilisation", [](const F& f) -> V {  // empty: no bond left
+       if (f.c.bond_utilisation < 0) return {};
+       return f.c.bond_utilisation;
+     }},
 };
 constexpr const char* kMonitorsAfter = "ground_dz_m";
 

@@ -19,11 +19,13 @@
 
 namespace ishibashi {
 
-// What a frame counts: the joints, and the stones that fell or left the model.
+// What a frame counts: the joints, how close the mortar is to cracking, and the stones
+// that fell or left the model.
 struct RunCounts {
   JointCounts joints;
   int fallen = 0, fallen_ring = 0;
   int left_model = 0;  // blocks that fell past the ground and were frozen there
+  double bond_utilisation = -1;  // largest_bond_utilisation (joints.h); -1: no bond left
 };
 RunCounts count_damage(const Model& m, const State& s, const JointThresholds& thresholds, Joints& joints);
 

@@ -23,6 +23,10 @@ const std::vector<ResultColumn>& result_columns() {
          if (r.first_opening_s < 0) return {};  // no joint opened
          return r.first_opening_s;
        }},
+      {"bond_utilisation_peak", [](const R& r) -> OutputValue {
+         if (r.bond_utilisation_peak < 0) return {};  // no bond (a dry model)
+         return r.bond_utilisation_peak;
+       }},
       {"collapse", [](const R& r) -> OutputValue { return r.collapse; }},
       {"fallen_stones", [](const R& r) -> OutputValue { return (long long)r.fallen_stones; }},
       {"fallen_ring_stones", [](const R& r) -> OutputValue { return (long long)r.fallen_ring_stones; }},

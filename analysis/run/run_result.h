@@ -18,6 +18,7 @@ namespace ishibashi {
   X(double, settle_time_s, 0)                                                                              \
   X(double, shaking_time_s, 0)         /* simulated after settling */                                      \
   X(double, first_opening_s, -1)       /* seconds of shaking until the first crack; -1: none */            \
+  X(double, bond_utilisation_peak, -1) /* largest_bond_utilisation until the first crack; -1: no bond */    \
   X(double, largest_crown_drop_m, 0)   /* of the monitored block, relative to the ground */                \
   X(int, fallen_stones, 0)                                                                                 \
   X(int, fallen_ring_stones, 0)                                                                            \

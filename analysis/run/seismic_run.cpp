@@ -266,8 +266,13 @@ void SeismicRun::shake(Progress& p) {
     world.step();
     p.ground_accel = ground.accel_m_s2();
     p.ground_displacement = ground.displacement_m();
-    if (r.first_opening_s < 0 && (k + 1) % 50 == 0 && count_damage(m, s, thresholds, p.joints).joints.cracked > 0)
-      r.first_opening_s = s.time_s - r.settle_time_s;
+    // Until the first crack, every 50 steps (0.2-2 ms, a small part of a pulse): whether a
+    // joint cracked, and how close the mortar came.
+    if (r.first_opening_s < 0 && (k + 1) % 50 == 0) {
+      const RunCounts c = count_damage(m, s, thresholds, p.joints);
+      r.bond_utilisation_peak = std::max(r.bond_utilisation_peak, c.bond_utilisation);
+      if (c.joints.cracked > 0) r.first_opening_s = s.time_s - r.settle_time_s;
+    }
     if (crown >= 0)  // the crown's drop relative to the ground since settling
       r.largest_crown_drop_m =
           std::max(r.largest_crown_drop_m, p.settled_crown.z() - s.position[crown].z() + p.ground_displacement.z());

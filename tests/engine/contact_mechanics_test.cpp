@@ -1,11 +1,13 @@
 // Contact mechanics against closed forms: a block resting on a base, sliding and
-// tipping on an incline, the vertical natural frequency, bonded joint strength.
+// tipping on an incline, the vertical natural frequency, bonded joint strength and how
+// much of it a held load uses.
 #include <gtest/gtest.h>
 
 #include <algorithm>
 #include <cmath>
 #include <vector>
 
+#include "engine/joints.h"
 #include "engine/world.h"
 #include "scenes.h"
 
@@ -213,6 +215,33 @@ TEST(Bond, ShearHoldsUpToCohesionPlusFriction) {
   // After failure only friction resists: the block slides away.
   w.run(2000);
   EXPECT_GT(w.state().velocity[1].x(), 0.1);
+}
+
+// How close the bond is to failure (largest_bond_utilisation) under a load held at a share
+// of its strength, at rest: tension sigma / f_t; shear (tau + sigma tan phi) / c with the
+// normal load's sigma < 0; none for a dry joint.
+TEST(Bond, UtilisationIsTheHeldLoadsShareOfTheStrength) {
+  const double a = 0.64, h = 0.64, strength = 2e5, area = a * a, normal = 4e4, tan_phi = std::tan(deg(33.23));
+  auto held = [&](const Vec3& load) {
+    ModelBuilder b = test::block_on_base(Vec3(a, a, a), test::stone(1.0, 33.23, strength));
+    b.set_gravity(Vec3::Zero());
+    World w(b.build(), 2e-5);
+    State& s = w.state();
+    s.applied_force[1] = load;
+    s.applied_torque[1] = Vec3(0, 0, -h / 2).cross(load);  // at the joint plane: no couple
+    w.run(20000);  // 0.4 s, h = 1: at rest
+    return largest_bond_utilisation(w.model(), s);
+  };
+  EXPECT_NEAR(held(Vec3(0, 0, 0.5 * strength * area)), 0.5, 0.005);
+  const double shear = 0.6 * (strength * area + normal * tan_phi);
+  const double expected = (shear - normal * tan_phi) / (strength * area);  // 0.472
+  EXPECT_NEAR(held(Vec3(shear, 0, -normal)), expected, 0.005 * expected);
+  EXPECT_NEAR(held(Vec3(0, 0, -normal)), 0.0, 1e-12);  // compression alone: no share of either
+
+  ModelBuilder dry = test::block_on_base(Vec3(a, a, a), test::stone());
+  World w(dry.build(), 2e-5);
+  w.run(10);
+  EXPECT_EQ(largest_bond_utilisation(w.model(), w.state()), -1.0);
 }
 
 }  // namespace
