@@ -1,7 +1,8 @@
 #!/usr/bin/python3
 """Runs of one scenario against a reference run, through time: the monitored (crown) unit's
 displacement, the joints cracked and the largest opening at chosen seconds of shaking,
-and the first opening, from each run folder's history.csv and summary.json. For
+the first opening and the bond utilisation's peak until then (how close the mortar came
+to cracking), from each run folder's history.csv and summary.json. For
 convergence studies (a step against a smaller one, a scheme against another) on the
 quantities that are not chaotic before the structure cracks.
 
@@ -49,7 +50,7 @@ def main():
     times = [float(t) for t in o.at.split(",")]
     reference = shaking_rows(o.reference)
     header = ["run"] + [f"crown at {t:g} s [m] / diff" for t in times] + [
-        f"joints cracked at {times[-1]:g} s", "first opening [s]"]
+        f"joints cracked at {times[-1]:g} s", "first opening [s]", "bond utilisation peak"]
     print("| " + " | ".join(header) + " |")
     print("|" + "---|" * len(header))
     for folder in [o.reference] + o.runs:
@@ -65,8 +66,11 @@ def main():
             cells.append(f"{value:.3g}{diff}")
         last = at(rows, times[-1])
         cells.append(last["joints_cracked"] if last else "-")
-        opening = json.load(open(folder / "summary.json")).get("first_opening_s")
+        summary = json.load(open(folder / "summary.json"))
+        opening = summary.get("first_opening_s")
         cells.append("none" if opening is None or opening < 0 else f"{opening:.3f}")
+        peak = summary.get("bond_utilisation_peak")  # programs before it, and dry runs: none
+        cells.append("-" if peak is None else f"{peak:.3f}")
         print("| " + " | ".join(cells) + " |")
 
 
