@@ -206,9 +206,12 @@ int run_scenario(const RunOptions& o) {
   const SeismicRunResult r = run.run();
   if (!o.quiet) std::fprintf(stderr, "\n");
 
-  std::printf("%s after %.2f s of shaking: %d fallen stones, %d of %d joints cracked (%d open now), largest slip %.4f m, "
+  char when[64] = "interrupted while settling";
+  if (!r.interrupted || r.shaking_time_s > 0)
+    std::snprintf(when, sizeof when, "%s after %.2f s of shaking", r.interrupted ? "interrupted" : "done", r.shaking_time_s);
+  std::printf("%s: %d fallen stones, %d of %d joints cracked (%d open now), largest slip %.4f m, "
               "largest crown drop %.4f m, first opening %s\n",
-              r.interrupted ? "interrupted" : "done", r.shaking_time_s, r.fallen_stones, r.joint_counts.cracked, r.joints,
+              when, r.fallen_stones, r.joint_counts.cracked, r.joints,
               r.joint_counts.open, r.joint_counts.largest_slip_m, r.largest_crown_drop_m,
               r.first_opening_s < 0 ? "none" : (std::to_string(r.first_opening_s) + " s").c_str());
   std::printf("energy balance error %.3g %% of the energy exchanged\n", 100 * r.balance_error_relative);

@@ -55,7 +55,8 @@ namespace {
 //     (Pair::clear_for_m, in place of 14's bound), and the line that held its stone beside
 //     the face (Pair::beside_axis).
 // 16: the run's motion hash (SeismicRunResult::motion_hash).
-constexpr char kCheckpointMagic[] = "ishibashi checkpoint 16\n";
+// 17: the bond utilisation's peak until the first crack (SeismicRunResult::bond_utilisation_peak).
+constexpr char kCheckpointMagic[] = "ishibashi checkpoint 17\n";
 
 template <class Archive, class H>
 void visit_header(Archive& a, H& h) {

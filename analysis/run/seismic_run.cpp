@@ -151,7 +151,7 @@ void SeismicRun::write_summary(Progress& p, bool finished) {
   const State& s = world_->state();
   SeismicRunResult& r = p.result;
   const Energy& e = s.energy;
-  r.shaking_time_s = s.time_s - r.settle_time_s;
+  r.shaking_time_s = p.shaking ? s.time_s - r.settle_time_s : 0;  // none while settling
   r.balance_error_j = e.balance_error_j();
   r.balance_error_relative = relative_balance_error(e);
   r.steps = s.step;
@@ -222,7 +222,9 @@ void SeismicRun::settle(Progress& p) {
   while (!stop_requested() && s.time_s < settle_max_s) {
     const long to_frame = steps_per_frame_ - s.step % steps_per_frame_, to_check = check_steps - s.step % check_steps;
     const long to_end = std::lround((settle_max_s - s.time_s) / dt_) + 1;
-    const long steps = std::min({to_frame, to_check, to_end});
+    // At most kStopCheckSteps between looks at a stop request: a check is 0.05 s of settling,
+    // ten thousand explicit steps or minutes of a large bridge, too long to wait on Ctrl-C.
+    const long steps = std::min({to_frame, to_check, to_end, kStopCheckSteps});
     world.run(steps);
     const bool last = steps == to_end;  // settle_max_s reached: a frame and a check
     const bool frame = last || s.step % steps_per_frame_ == 0;

@@ -136,6 +136,23 @@ TEST(Checkpoint, ResumedRunsWallTimeCountsEveryPart) {
   EXPECT_EQ(text_of(out / "summary.json").find("imbalance"), std::string::npos);
 }
 
+// Ctrl-C while settling stops the run at once (it looks at a stop request every few
+// hundred steps, not only at the settling's 0.05 s checks), says so, and writes no shaking
+// into summary.json; a checkpoint of the settling is kept.
+TEST(Checkpoint, RunStoppedWhileSettlingSaysSoAndKeepsACheckpoint) {
+  const auto file = scenario("ishibashi_checkpoint_settling.toml", 1.0, 0.4);
+  const auto out = tmp_dir() / "ishibashi_cp_settling";
+  std::filesystem::remove_all(out);
+  int status = 0;
+  const std::string text =
+      run_command("bash -c '" + kRun + file.string() + " --checkpoint-wall 1000 --out " + out.string() + " & run=$!; until [ -f " +
+                      (out / "blocks.pvd").string() + " ]; do sleep 0.02; done; kill -INT $run; wait $run'",
+                  &status);
+  EXPECT_NE(text.find("interrupted while settling"), std::string::npos) << text;
+  EXPECT_EQ(summary_field(out, "shaking_time_s"), "0.0,") << text_of(out / "summary.json");
+  EXPECT_TRUE(std::filesystem::exists(out / "checkpoint.bin"));
+}
+
 TEST(Checkpoint, CheckpointOfAnotherBuildOrOfChangedInputsIsRefused) {
   const auto file = scenario("ishibashi_checkpoint_refused.toml", 0.1, 20.0);
   const auto out = tmp_dir() / "ishibashi_cp_refused";
@@ -151,7 +168,7 @@ TEST(Checkpoint, CheckpointOfAnotherBuildOrOfChangedInputsIsRefused) {
   const std::string good = text_of(out / "checkpoint.bin");
 
   std::string other_build = good;
-  const std::string magic = "ishibashi checkpoint 16\n";
+  const std::string magic = "ishibashi checkpoint 17\n";
   other_build[magic.size() + 8] ^= 1;  // the program's fingerprint
   std::ofstream(out / "checkpoint.bin", std::ios::binary) << other_build;
   std::string message = run_command(kRun + "--resume " + out.string(), &status);
