@@ -6,6 +6,8 @@
 #include <cstdlib>
 #include <thread>
 
+#include "analysis/batch/job_queue.h"
+
 namespace ishibashi {
 namespace {
 

@@ -8,8 +8,6 @@
 #include <string>
 #include <vector>
 
-#include "analysis/batch/job_queue.h"
-
 namespace ishibashi {
 
 // MPI for the lifetime of a set of runs when the program was started by mpirun (or another
