@@ -24,6 +24,11 @@ inline std::string program() {
 // This test process's own temporary folder (test_main.cpp).
 inline std::filesystem::path tmp_dir() { return std::filesystem::temp_directory_path(); }
 
+// Prefix of a command run on two MPI ranks (as root in CI's containers; more ranks than
+// cores allowed).
+inline const std::string kMpirunTwoRanks =
+    "OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 mpirun --oversubscribe -np 2 ";
+
 // stdout and stderr of a shell command; *status its exit status (as pclose returns it).
 inline std::string run_command(const std::string& command, int* status) {
   std::string output;
@@ -45,6 +50,14 @@ inline int count_of(const std::string& text, const std::string& what) {
   int n = 0;
   for (std::size_t at = text.find(what); at != std::string::npos; at = text.find(what, at + 1)) ++n;
   return n;
+}
+
+// A run folder's state hash as summary.json gives it ("state_hash": "..."); empty when it
+// has none: two runs ended in the same state when these are equal and not empty.
+inline std::string state_hash_of(const std::filesystem::path& run) {
+  const std::string summary = text_of(run / "summary.json");
+  const std::size_t at = summary.find("\"state_hash\"");
+  return at == std::string::npos ? std::string() : summary.substr(at, summary.find('\n', at) - at);
 }
 
 }  // namespace ishibashi::test

@@ -56,6 +56,17 @@ Scenario run_scenario_of(const Job& job, const StudyFile& study, int threads) {
   return sc;
 }
 
+// A run's ensemble (study members >= 2) in its folder, its members checkpointed as the
+// study's runs are.
+EnsembleOptions ensemble_options(const Job& job, const StudyFile& study, int threads) {
+  EnsembleOptions options;
+  options.out = job.folder;
+  options.members = study.members;
+  options.threads_per_member = threads;
+  options.checkpoint_wall_s = kStudyCheckpointWallS;
+  return options;
+}
+
 }  // namespace
 
 const std::string kRunHeader = "scenario,model,mortar_pa," + result_csv_header() +
@@ -83,12 +94,7 @@ bool resumable(const Job& job) {
 std::string ensemble_job(const Job& job, const StudyFile& study, int threads) {
   fs::create_directories(job.folder);
   const Scenario sc = run_scenario_of(job, study, threads);
-  EnsembleOptions options;
-  options.out = job.folder;
-  options.members = study.members;
-  options.threads_per_member = threads;
-  options.checkpoint_wall_s = kStudyCheckpointWallS;
-  const EnsembleOutcome e = run_ensemble(sc, options);
+  const EnsembleOutcome e = run_ensemble(sc, ensemble_options(job, study, threads));
   if (e.interrupted > 0) throw std::runtime_error("interrupted (its members' checkpoints are kept: the next study goes on from them)");
   if (e.failed > 0 || e.finished < e.members) throw std::runtime_error(std::to_string(e.failed) + " members failed");
   write_ground_motion(sc, job.folder);
@@ -112,13 +118,9 @@ std::string ensemble_job(const Job& job, const StudyFile& study, int threads) {
 // "interrupted" or "failed".
 std::string ensemble_member(const Job& job, int member, const StudyFile& study, int threads) {
   fs::create_directories(job.folder);
-  EnsembleOptions options;
-  options.out = job.folder;
-  options.members = study.members;
+  EnsembleOptions options = ensemble_options(job, study, threads);
   options.first_member = member;
   options.end_member = member + 1;
-  options.threads_per_member = threads;
-  options.checkpoint_wall_s = kStudyCheckpointWallS;
   const EnsembleOutcome e = run_ensemble(run_scenario_of(job, study, threads), options);
   return e.ran ? "ran" : e.current ? "current" : e.interrupted ? "interrupted" : "failed";
 }

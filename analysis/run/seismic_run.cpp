@@ -222,9 +222,9 @@ void SeismicRun::settle(Progress& p) {
   while (!stop_requested() && s.time_s < settle_max_s) {
     const long to_frame = steps_per_frame_ - s.step % steps_per_frame_, to_check = check_steps - s.step % check_steps;
     const long to_end = std::lround((settle_max_s - s.time_s) / dt_) + 1;
-    // At most kStopCheckSteps between looks at a stop request: a check is 0.05 s of settling,
-    // ten thousand explicit steps or minutes of a large bridge, too long to wait on Ctrl-C.
-    const long steps = std::min({to_frame, to_check, to_end, kStopCheckSteps});
+    // At most 500 steps between looks at a stop request: a check is 0.05 s of settling, ten
+    // thousand explicit steps or minutes of a large bridge, too long to wait on Ctrl-C.
+    const long steps = std::min({to_frame, to_check, to_end, 500L});
     world.run(steps);
     const bool last = steps == to_end;  // settle_max_s reached: a frame and a check
     const bool frame = last || s.step % steps_per_frame_ == 0;

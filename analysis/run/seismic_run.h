@@ -31,7 +31,6 @@ constexpr double kCappedDtShare = 0.3;
 // Settling ends at the first check of the kinetic energy (this often) below the
 // scenario's settle_kinetic_j: 0.05 s, the presets' output interval, as before it was fixed.
 constexpr double kSettleCheckS = 0.05;
-constexpr long kStopCheckSteps = 500;  // steps between looks at a stop request while settling
 
 struct SeismicRunOptions {
   std::filesystem::path out;  // output folder (created)

@@ -24,7 +24,7 @@
 namespace ishibashi {
 namespace {
 
-using namespace test;  // run_command, text_of, count_of, kRoot, tmp_dir
+using namespace test;  // run_command, text_of, count_of, state_hash_of, kMpirunTwoRanks, kRoot, tmp_dir
 
 TEST(Ensemble, WilsonIntervalAsByHand) {
   // 3 of 10, z = 1.96: centre (0.3 + 1.96^2 / 20) / (1 + 1.96^2 / 10) = 0.49208 / 1.38415 = 0.35551,
@@ -266,29 +266,23 @@ TEST(Ensemble, MpirunRanksRunTheSameMembersAsOneMachine) {
   int status = 0;
   const std::string one = run_command(run + local.string() + " --jobs 2", &status);
   ASSERT_EQ(status, 0) << one;
-  const std::string launcher = "OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 mpirun --oversubscribe -np 2 ";
-  const std::string two = run_command(launcher + run + ranks.string(), &status);
+  const std::string two = run_command(kMpirunTwoRanks + run + ranks.string(), &status);
   ASSERT_EQ(status, 0) << two;
   EXPECT_NE(two.find("2 MPI ranks"), std::string::npos) << two;
   EXPECT_NE(two.find("3 ran, 0 were current"), std::string::npos) << two;
   EXPECT_GE(count_of(two, "(rank 1): done"), 1) << "rank 1 ran no member: " << two;
   EXPECT_EQ(count_of(two, "ensemble: 3 members"), 1) << "only rank 0 reports the ensemble: " << two;
-  auto state_hash = [](const std::filesystem::path& folder) {
-    const std::string summary = text_of(folder / "summary.json");
-    const std::size_t at = summary.find("\"state_hash\"");
-    return at == std::string::npos ? std::string() : summary.substr(at, 40);
-  };
   for (int i = 0; i < 3; ++i) {
     const std::string name = "member_00" + std::to_string(i);
-    ASSERT_FALSE(state_hash(local / name).empty()) << name;
-    EXPECT_EQ(state_hash(ranks / name), state_hash(local / name)) << name;
+    ASSERT_FALSE(state_hash_of(local / name).empty()) << name;
+    EXPECT_EQ(state_hash_of(ranks / name), state_hash_of(local / name)) << name;
   }
   EXPECT_NE(text_of(ranks / "ensemble.json").find("\"finished\": 3"), std::string::npos);
 
   // A single run is not split across ranks: refused, rather than two ranks writing one folder.
   const auto single = short_scenario("ensemble_mpi_single.toml", "");
   const std::string refused =
-      run_command(launcher + test::program() + " run " + single.string() + " --out " + (tmp_dir() / "single").string() + " 2>&1", &status);
+      run_command(kMpirunTwoRanks + test::program() + " run " + single.string() + " --out " + (tmp_dir() / "single").string() + " 2>&1", &status);
   EXPECT_NE(status, 0) << refused;
   EXPECT_NE(refused.find("only an ensemble's members (--members N) are handed out across ranks"), std::string::npos) << refused;
   EXPECT_FALSE(std::filesystem::exists(tmp_dir() / "single" / "summary.json"));

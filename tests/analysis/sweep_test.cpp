@@ -23,7 +23,7 @@
 namespace ishibashi {
 namespace {
 
-using namespace test;  // run_command, text_of, count_of, kRoot, tmp_dir
+using namespace test;  // run_command, text_of, count_of, kMpirunTwoRanks, kRoot, tmp_dir
 
 // The rows of sweep.csv without the wall time and host (they differ between machines),
 // sorted (runs finish in any order).
@@ -81,8 +81,7 @@ TEST(Sweep, OneMachineAndMpirunGiveTheSameRows) {
   EXPECT_TRUE(std::filesystem::exists(local / "runs/ishibashi_sweep_dry/kobe_ns_ew_0.5/blocks.pvd"));
   EXPECT_FALSE(std::filesystem::exists(local / "comparison.csv"));
 
-  const std::string launcher = "OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 mpirun --oversubscribe -np 2 ";
-  const std::string two = run_command(launcher + kSweep + file.string() + " --threads-per-job 1 --out " + mpi.string(), &status);
+  const std::string two = run_command(kMpirunTwoRanks + kSweep + file.string() + " --threads-per-job 1 --out " + mpi.string(), &status);
   ASSERT_EQ(status, 0) << two;
   EXPECT_NE(two.find("2 MPI ranks"), std::string::npos) << two;
   EXPECT_EQ(count_of(two, ": done (rank"), 4) << two;
