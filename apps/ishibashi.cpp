@@ -92,7 +92,7 @@ CLI::App* add_run_command(CLI::App& app, ishibashi::RunOptions& run) {
       ->excludes(probe);
   run_cmd->add_option("--jobs", run.jobs,
                       "ensemble or probe members run at once (each on cores / jobs threads); under mpirun -np N an "
-                      "ensemble's members are handed out across the ranks, one per rank at a time")
+                      "ensemble's or a probe's members are handed out across the ranks, one per rank at a time")
       ->check(CLI::Range(1, 256));
   CLI::Option* resume = run_cmd->add_option(
       "--resume", run.resume, "continue the run in this output folder from its checkpoint (bit-identical to an unbroken run)");

@@ -119,7 +119,9 @@ int run_ensemble_of(const RunOptions& o, Scenario sc) {
 // A chaos probe of the scenario (chaos_probe.h): how fast runs part that differ by far
 // less than any tolerance.
 int run_probe_of(const RunOptions& o, const Scenario& sc) {
+  const MpiSession mpi;  // under mpirun: the branch on one rank, then the members across the ranks
   ChaosProbeOptions options;
+  options.mpi = &mpi;
   options.out = o.out.empty() ? std::filesystem::path("out") / (o.scenario.stem().string() + "_probe") : o.out;
   options.members = o.probe_members;
   options.seed = o.seed >= 0 ? o.seed : 1;
@@ -131,6 +133,7 @@ int run_probe_of(const RunOptions& o, const Scenario& sc) {
   options.on_event = event_printer(o);
   stop_runs_on_interrupt();
   const ChaosProbeOutcome r = run_chaos_probe(sc, options);
+  if (mpi.rank() != 0) return 0;  // rank 0 reports
   std::printf("chaos probe: %d members branched at %.3f s of shaking, %d finished, %d interrupted, %d failed\n", r.members,
               r.branch_s, r.finished, r.interrupted, r.failed);
   for (std::size_t k = 0; k < r.parted_1cm_s.size(); ++k)
@@ -154,11 +157,11 @@ int run_scenario(const RunOptions& o) {
       throw InputError("--member-range " + o.member_range + ": a share of an ensemble, but " + o.scenario.string() +
                        " has no [ensemble] table and no --members was given");
   }
+  if (o.probe_members > 0) return run_probe_of(o, scenario);
   if (const MpiSession mpi; mpi.size() > 1)  // every rank would write the same folder
     throw InputError("run under mpirun with " + std::to_string(mpi.size()) +
-                     " ranks: only an ensemble's members (--members N) are handed out across ranks; run a single run "
-                     "or a chaos probe without mpirun (or with -np 1)");
-  if (o.probe_members > 0) return run_probe_of(o, scenario);
+                     " ranks: only an ensemble's or a chaos probe's members (--members N, --probe N) are handed out "
+                     "across ranks; run a single run without mpirun (or with -np 1)");
   SeismicRunOptions options;
   options.out = !o.resume.empty() ? o.resume : o.out.empty() ? std::filesystem::path("out") / o.scenario.stem() : o.out;
   options.dt_factor = o.dt_factor;

@@ -235,21 +235,28 @@ ChaosProbeOutcome run_chaos_probe(const Scenario& scenario, const ChaosProbeOpti
       return std::make_unique<SeismicRun>(run, options);
     };
   };
-  SeismicRunOptions branch_options;
-  branch_options.branch_at_shake_s = outcome.branch_s;
-  branch_options.checkpoint_wall_s = o.checkpoint_wall_s;
-  const int branch_threads = decide_thread_count(o.threads_per_member, 1);
-  event("chaos probe: the run to its branch at " + std::to_string(outcome.branch_s) + " s of shaking, in " + branch.string());
-  const MemberStatus branched = run_in_folder(branch, probe_key(sc, outcome.branch_s, o, -1), "branch", branch_options,
-                                              branch_threads, start_scenario(branch_threads), event);
-  if (branched == MemberStatus::interrupted || branched == MemberStatus::failed || !fs::exists(branch / "checkpoint.bin")) {
-    outcome.interrupted = branched == MemberStatus::interrupted;
-    outcome.failed = !outcome.interrupted;
-    return outcome;
-  }
+  const bool ranks = o.mpi && o.mpi->size() > 1;
+  const bool root = !ranks || o.mpi->rank() == 0;
+  const std::string on_rank = ranks ? " (rank " + std::to_string(o.mpi->rank()) + ")" : "";
 
-  const int workers = std::max(1, std::min(o.jobs, o.members));
-  const int threads = decide_thread_count(o.threads_per_member, workers);
+  // The branch: one job, on whichever rank takes it; the others wait for the members.
+  MemberStatus branched = MemberStatus::failed;
+  auto branch_job = [&](int) {
+    SeismicRunOptions branch_options;
+    branch_options.branch_at_shake_s = outcome.branch_s;
+    branch_options.checkpoint_wall_s = o.checkpoint_wall_s;
+    const int branch_threads = decide_thread_count(o.threads_per_member, 1);  // the node's only run
+    event("chaos probe: the run to its branch at " + std::to_string(outcome.branch_s) + " s of shaking, in " +
+          branch.string() + on_rank);
+    branched = run_in_folder(branch, probe_key(sc, outcome.branch_s, o, -1), "branch" + on_rank, branch_options,
+                             branch_threads, start_scenario(branch_threads), event);
+    return std::to_string(static_cast<int>(branched));
+  };
+  run_jobs({0}, 1, o.mpi, branch_job, [&](const std::string& status, int) { branched = MemberStatus(std::stoi(status)); });
+  const bool go_on = branched != MemberStatus::interrupted && branched != MemberStatus::failed && fs::exists(branch / "checkpoint.bin");
+
+  const int workers = ranks ? 1 : std::max(1, std::min(o.jobs, o.members));
+  const int threads = decide_thread_count(o.threads_per_member, ranks ? o.mpi->ranks_on_this_node() : workers);
   std::array<std::atomic<int>, 4> counts{};  // by MemberStatus
   auto job = [&](int i) {
     const fs::path folder = member_folder(o.out, i);
@@ -266,13 +273,20 @@ ChaosProbeOutcome run_chaos_probe(const Scenario& scenario, const ChaosProbeOpti
       overrides.set(&RunSettings::threads, threads);
       return SeismicRun::resume(member_options, overrides, branch / "checkpoint.bin");
     };
-    const std::string name = i == 0 ? "member 0 (reference)" : "member " + std::to_string(i);
-    ++counts[static_cast<int>(run_in_folder(folder, probe_key(sc, outcome.branch_s, o, i), name, options, threads, start, event))];
+    const std::string name = (i == 0 ? "member 0 (reference)" : "member " + std::to_string(i)) + on_rank;
+    const MemberStatus status = run_in_folder(folder, probe_key(sc, outcome.branch_s, o, i), name, options, threads, start, event);
+    ++counts[static_cast<int>(status)];
+    return std::to_string(static_cast<int>(status));
   };
-  JobQueue queue(every_job(o.members));
-  queue.start(workers - 1, job);
-  queue.work(job);
-  queue.join();
+  // Rank 0's list is the one that counts: none when the branch did not reach its point.
+  run_jobs(go_on ? every_job(o.members) : std::vector<int>{}, workers, o.mpi, job,
+           [&](const std::string& status, int) { ++counts[std::stoi(status)]; });
+  if (!root) return outcome;
+  if (!go_on) {
+    outcome.interrupted = branched == MemberStatus::interrupted;
+    outcome.failed = !outcome.interrupted;
+    return outcome;
+  }
   outcome.interrupted = counts[static_cast<int>(MemberStatus::interrupted)];
   outcome.failed = counts[static_cast<int>(MemberStatus::failed)];
   const nlohmann::json settled = nlohmann::json::parse(std::ifstream(branch / "summary.json"));

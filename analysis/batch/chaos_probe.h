@@ -24,6 +24,7 @@
 #include <string>
 #include <vector>
 
+#include "analysis/batch/mpi_ranks.h"
 #include "io/scenario_file.h"
 
 namespace ishibashi {
@@ -35,10 +36,11 @@ struct ChaosProbeOptions {
   double perturbation_m = 1e-6;    // each free stone moved this far
   double branch_at_s = -1;         // seconds of shaking; < 0: where the strong motion begins
                                    // (5 % of the record's Arias intensity)
-  int jobs = 1;                    // members at once
+  int jobs = 1;                    // members at once (under mpirun: one per rank)
   int threads_per_member = 0;      // 0: the cores shared among the jobs
   double checkpoint_wall_s = 300;  // every run's checkpoint, so that an interrupted probe resumes
   std::function<void(const std::string&)> on_event;  // a line per run started or finished
+  const MpiSession* mpi = nullptr;  // under mpirun, more than one rank: the runs handed out across them
 };
 
 struct ChaosProbeOutcome {
@@ -50,6 +52,9 @@ struct ChaosProbeOutcome {
   double largest_separation_m = 0;  // of any member at any frame
 };
 
+// Under mpirun every rank calls it: one rank runs the branch on all its node's cores while
+// the others wait, then rank 0 hands out the members as an ensemble's, and writes the tables
+// (the outcome's counts are rank 0's; the output folder on a file system the nodes share).
 ChaosProbeOutcome run_chaos_probe(const Scenario& scenario, const ChaosProbeOptions& options);
 
 // A member's positions.bin: its rows in time order, a row rewritten after a resume counted

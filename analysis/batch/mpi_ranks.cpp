@@ -39,13 +39,19 @@ void serve_other_ranks(JobQueue& queue, const MpiSession& mpi,
 }
 
 // Any other rank: asks rank 0 for a job, runs it and sends its answer with the next
-// request, until rank 0 has none left.
+// request, until rank 0 has none left. It waits for rank 0's reply by polling, as rank 0
+// does: a blocking receive spins (Open MPI's default), and a rank may wait as long as a
+// run takes (a chaos probe's branch, or the last jobs of a set of runs), on a core that the
+// node's working ranks share.
 void work_for_rank_zero(const std::function<std::string(int)>& job) {
   std::string answer;
   for (;;) {
     MPI_Send(answer.data(), static_cast<int>(answer.size()), MPI_CHAR, 0, kAnswerTag, MPI_COMM_WORLD);
-    int next = -1;
-    MPI_Recv(&next, 1, MPI_INT, 0, kJobTag, MPI_COMM_WORLD, MPI_STATUS_IGNORE);
+    int next = -1, arrived = 0;
+    MPI_Request reply;
+    MPI_Irecv(&next, 1, MPI_INT, 0, kJobTag, MPI_COMM_WORLD, &reply);
+    for (MPI_Test(&reply, &arrived, MPI_STATUS_IGNORE); !arrived; MPI_Test(&reply, &arrived, MPI_STATUS_IGNORE))
+      std::this_thread::sleep_for(std::chrono::milliseconds(20));
     if (next < 0) return;
     answer = job(next);
   }
@@ -67,7 +73,14 @@ MpiSession::MpiSession() {
 }
 
 MpiSession::~MpiSession() {
-  if (active_) MPI_Finalize();
+  if (!active_) return;
+  // A rank whose jobs ended waits here for the others' by polling: MPI_Finalize's own wait
+  // spins, on a core the node's working ranks share, for as long as their last runs take.
+  MPI_Request all_done;
+  MPI_Ibarrier(MPI_COMM_WORLD, &all_done);
+  for (int done = 0; MPI_Test(&all_done, &done, MPI_STATUS_IGNORE), !done;)
+    std::this_thread::sleep_for(std::chrono::milliseconds(20));
+  MPI_Finalize();
 }
 
 void run_jobs(std::vector<int> jobs, int workers, const MpiSession* mpi, const std::function<std::string(int)>& job,

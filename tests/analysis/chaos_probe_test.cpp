@@ -1,7 +1,8 @@
 // The chaos probe (analysis/batch/chaos_probe.h): where the strong motion begins (Arias
 // intensity against hand arithmetic); a problem that is not chaotic, a block sliding to
-// rest on a slab under a pulse, keeps its members within 1e-6 m of the reference; the
-// position series counts a row written again after a resume once.
+// rest on a slab under a pulse, keeps its members within 1e-6 m of the reference; under
+// mpirun its runs are the same as on one machine; the position series counts a row written
+// again after a resume once.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -18,7 +19,7 @@
 namespace ishibashi {
 namespace {
 
-using namespace test;  // run_command, text_of, kRoot, tmp_dir
+using namespace test;  // run_command, text_of, count_of, state_hash_of, kMpirunTwoRanks, kRoot, tmp_dir
 namespace fs = std::filesystem;
 
 TEST(ChaosProbe, StrongMotionBeginsAtFivePerCentOfTheAriasIntensity) {
@@ -108,6 +109,30 @@ TEST(ChaosProbe, BlockSlidingToRestKeepsItsMembersTogether) {
   EXPECT_EQ(status, 0) << again;
   EXPECT_NE(again.find("branch: current, kept"), std::string::npos) << again;
   EXPECT_NE(again.find("member 2: current, kept"), std::string::npos) << again;
+}
+
+// Under mpirun the branch runs on one rank and the members across both, each the same run,
+// bit for bit, as on one machine; rank 0 alone writes the tables and reports.
+TEST(ChaosProbe, MpirunRanksRunTheSameMembersAsOneMachine) {
+  const fs::path local = tmp_dir() / "probe_mpi_local", ranks = tmp_dir() / "probe_mpi_ranks";
+  fs::remove_all(local);
+  fs::remove_all(ranks);
+  const std::string probe =
+      test::program() + " run " + sliding_block_scenario().string() + " --probe 3 --perturbation 1e-7 --branch-at 0.1 --out ";
+  int status = 0;
+  const std::string one = run_command(probe + local.string() + " --jobs 2", &status);
+  ASSERT_EQ(status, 0) << one;
+  const std::string two = run_command(kMpirunTwoRanks + probe + ranks.string(), &status);
+  ASSERT_EQ(status, 0) << two;
+  EXPECT_EQ(count_of(two, "branch (rank 0): started") + count_of(two, "branch (rank 1): started"), 1)
+      << "the branch runs once: " << two;
+  EXPECT_GE(count_of(two, "(rank 1): done"), 1) << "rank 1 ran no member: " << two;
+  EXPECT_EQ(count_of(two, "chaos probe: 3 members"), 1) << "only rank 0 reports the probe: " << two;
+  for (const char* run : {"branch", "member_000", "member_001", "member_002"}) {
+    ASSERT_FALSE(state_hash_of(local / run).empty()) << run;
+    EXPECT_EQ(state_hash_of(ranks / run), state_hash_of(local / run)) << run;
+  }
+  EXPECT_EQ(text_of(ranks / "probe.csv"), text_of(local / "probe.csv"));
 }
 
 // A member's folder holds no checkpoint but its own, written after its nudge: a member
