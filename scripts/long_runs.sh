@@ -10,6 +10,7 @@
 #   nohup nice -n 19 bash scripts/long_runs.sh b_mortar b_mortar_c e_dry e_mortar > out/long_runs.log 2>&1 &
 #   nohup nice -n 19 bash scripts/long_runs.sh b_mortar_b e_mortar e_dry > out/long_runs_b.log 2>&1 &
 #   bash scripts/long_runs.sh save    # before committing: keeps the finished members
+#   bash scripts/long_runs.sh park    # at a session's end: keeps the members under way
 set -euo pipefail
 root=$(cd "$(dirname "$0")/.." && pwd)
 cd "$root"
@@ -23,7 +24,7 @@ jobs=(
   # 5406021's program, built with clang: every preset's hash as ff7154d's (perf/results,
   # clang_vs_gcc). A member's bits are the same on any number of threads. A new checkout
   # starts with an empty out/, and only the members kept in the repository (below) survive
-  # it; a member under way goes on from its checkpoint only while out/ survives.
+  # it, and the members under way parked there (`park`, below) go on from their checkpoints.
   # Issue 45 item 3's second model, B with mortar: the explicit reference, the same seed as
   # the fast path's five (session 44, scenarios/results/ensembles/b_mortar_implicit_4e-5_*);
   # 2.5 million steps a member, 3.5-6.5 ms each on one thread once the shaking has cracked
@@ -56,9 +57,12 @@ jobs=(
   # explicitly (2.699 s): its bond utilisation (5655e32's program, the first with it) through
   # 1.6 s of shaking under each scheme, the record's baseline fitted over those 1.6 s in both
   # (--duration), so that both see the same ground. The fast path's is about 20 minutes of a
-  # core, the explicit one's about an hour and a half (scenarios/results: "Session 51").
+  # core, the explicit one's about an hour and a half (scenarios/results: "Session 51"). The
+  # fast path at half its step (session 52) says whether its utilisation at that pulse
+  # converges toward the explicit run's as the step falls (lane b_mortar_u0h, beside b_mortar_u0).
   "b_mortar_u0|5655e32|out/ensembles/b_mortar_u0_implicit_4e-5|scenarios/nishida_b_kobe_mortar.toml --members 5 --member-range 0:1 --seed 1 --jobs 1 --threads 1 --duration 1.6 --damping implicit --dt 4e-5"
   "b_mortar_u0|5655e32|out/ensembles/b_mortar_u0_explicit|scenarios/nishida_b_kobe_mortar.toml --members 5 --member-range 0:1 --seed 1 --jobs 1 --threads 1 --duration 1.6"
+  "b_mortar_u0h|5655e32|out/ensembles/b_mortar_u0_implicit_2e-5|scenarios/nishida_b_kobe_mortar.toml --members 5 --member-range 0:1 --seed 1 --jobs 1 --threads 1 --duration 1.6 --damping implicit --dt 2e-5"
   "e_dry|fd2dc55|out/ensembles/e_dry_explicit|scenarios/nishida_e_kobe_dry.toml --members 5 --seed 1 --jobs 1 --threads 1"
   "e_mortar|fd2dc55|out/ensembles/e_mortar_explicit|scenarios/nishida_e_kobe_mortar.toml --members 5 --seed 1 --jobs 1 --threads 1"
 )
@@ -126,6 +130,7 @@ save_members() {  # out folder, program
     mkdir -p "$dest"
     cp "$member/inputs.key" "$member/summary.json" "$dest/"
     xz -9 -c "$member/history.csv" > "$dest/history.csv.xz"
+    rm -rf "${parked:?}/$name/$(basename "$member")"
     echo "kept $dest"
   done
   [[ -d $kept/$name ]] && sha256sum < "$2" | cut -d' ' -f1 > "$kept/$name/program.sha256"
@@ -145,6 +150,44 @@ restore_members() {  # out folder, program
   done
 }
 
+# A member under way is parked in the repository at a session's end (`long_runs.sh park`),
+# in parked/NAME/member_NNN/: started.key and checkpoint.bin (xz, a few MB), so that a new
+# checkout goes on from its checkpoint instead of from the start: a member is hours of a core,
+# more than a session gives it. Its frames before the checkpoint are not parked (hundreds of
+# MB): its .pvd lists them and ParaView misses them; the ensemble's tables need only the
+# summary and history.csv, which the checkpoint holds. A parked member leaves when it is kept.
+parked=scenarios/results/ensembles/parked
+park_members() {  # out folder, program
+  local name member dest
+  name=$(basename "$1")
+  for member in "$1"/member_*/; do
+    [[ -f $member/started.key && -f $member/checkpoint.bin ]] || continue
+    dest=$parked/$name/$(basename "$member")
+    [[ -f $dest/checkpoint.bin.xz ]] && xz -dc "$dest/checkpoint.bin.xz" | cmp -s - "$member/checkpoint.bin" && continue
+    mkdir -p "$dest"
+    cp "$member/started.key" "$dest/"
+    xz -6 -T1 -c "$member/checkpoint.bin" > "$dest/checkpoint.bin.xz.tmp"
+    mv "$dest/checkpoint.bin.xz.tmp" "$dest/checkpoint.bin.xz"
+    sha256sum < "$2" | cut -d' ' -f1 > "$parked/$name/program.sha256"
+    echo "parked $dest ($(du -h "$dest/checkpoint.bin.xz" | cut -f1))"
+  done
+}
+unpark_members() {  # out folder, program
+  local name member dest
+  name=$(basename "$1")
+  # Another program cannot resume them: its members start again.
+  same_program "$parked/$name" "$2" || return 0
+  for member in "$parked/$name"/member_*/; do
+    [[ -d $member ]] || continue
+    dest=$1/$(basename "$member")
+    [[ -f $dest/started.key || -f $dest/inputs.key ]] && continue  # under way here, or kept
+    mkdir -p "$dest"
+    xz -dc "$member/checkpoint.bin.xz" > "$dest/checkpoint.bin"
+    cp "$member/started.key" "$dest/"
+    echo "$(date -u +%FT%TZ) $dest: goes on from its parked checkpoint"
+  done
+}
+
 # Several lanes run one after the other in one process, so that a core freed by a lane's
 # last job goes on to the next lane's: `bash scripts/long_runs.sh b_mortar b_mortar_c e_dry`.
 if (($# > 1)); then
@@ -152,7 +195,7 @@ if (($# > 1)); then
   exit 0
 fi
 lane=${1:-list}
-if [[ $lane != list && $lane != save ]]; then
+if [[ $lane != list && $lane != save && $lane != park ]]; then
   # One process per lane: two would write the same folders.
   mkdir -p out
   exec 9> "out/long_runs_$lane.lock"
@@ -162,7 +205,8 @@ for job in "${jobs[@]}"; do
   IFS='|' read -r job_lane commit out args <<< "$job"
   if [[ $lane == list ]]; then
     state="not started"
-    if finished "$out" "$args"; then state=finished; elif [[ -e $out ]]; then state="under way$(progress "$out")"; fi
+    if finished "$out" "$args"; then state=finished; elif [[ -e $out ]]; then state="under way$(progress "$out")"
+    elif [[ -d $parked/$(basename "$out") ]]; then state="parked: $(cd "$parked/$(basename "$out")" && echo member_*)"; fi
     printf '%-10s %s  %-40s %s\n' "$job_lane" "$commit" "$out" "$state"
     continue
   fi
@@ -170,9 +214,14 @@ for job in "${jobs[@]}"; do
     [[ -d $out ]] && save_members "$out" "$(bash scripts/frozen_binary.sh "$commit")"
     continue
   fi
+  if [[ $lane == park ]]; then
+    [[ -d $out ]] && park_members "$out" "$(bash scripts/frozen_binary.sh "$commit")"
+    continue
+  fi
   [[ $job_lane == "$lane" ]] || continue
   bin=$(bash scripts/frozen_binary.sh "$commit")
   restore_members "$out" "$bin"
+  unpark_members "$out" "$bin"
   # shellcheck disable=SC2086  # the arguments are words
   if [[ $args == *--members* || $args == *--probe* ]]; then
     # An ensemble or a probe keeps its finished members and resumes the others from their
