@@ -107,18 +107,20 @@ JointCounts measure_joints(const State& s, const JointThresholds& t, Joints& j) 
   return counts;
 }
 
-double largest_bond_utilisation(const Model& m, const State& s) {
+double bond_utilisation(const Model& m, const State& s, int i) {
   const SubContacts& c = s.contacts;
+  if (!(c.flags[i] & SubContactFlag::bonded)) return -1;
+  const PairLaw& law = m.law(m.material[c.block_a[i]], m.material[c.block_b[i]]);
+  const double sigma = c.normal_spring(i) / c.area_m2[i], tau = c.shear_spring(i).norm() / c.area_m2[i];
+  double share = 0;
+  if (law.tensile_pa > 0) share = std::max(share, sigma / law.tensile_pa);
+  if (law.cohesion_pa > 0) share = std::max(share, (tau + sigma * law.tan_friction) / law.cohesion_pa);
+  return share;
+}
+
+double largest_bond_utilisation(const Model& m, const State& s) {
   double largest = -1;
-  for_each_sub_contact(s, [&](int i) {
-    if (!(c.flags[i] & SubContactFlag::bonded)) return;
-    const PairLaw& law = m.law(m.material[c.block_a[i]], m.material[c.block_b[i]]);
-    const double sigma = c.normal_spring(i) / c.area_m2[i], tau = c.shear_spring(i).norm() / c.area_m2[i];
-    double share = 0;
-    if (law.tensile_pa > 0) share = std::max(share, sigma / law.tensile_pa);
-    if (law.cohesion_pa > 0) share = std::max(share, (tau + sigma * law.tan_friction) / law.cohesion_pa);
-    largest = std::max(largest, share);
-  });
+  for_each_sub_contact(s, [&](int i) { largest = std::max(largest, bond_utilisation(m, s, i)); });
   return largest;
 }
 

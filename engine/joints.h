@@ -64,11 +64,14 @@ struct JointCounts {
 // Updates the joints' openings, slips and crack flags from the current state.
 JointCounts measure_joints(const State& state, const JointThresholds& thresholds, Joints& joints);
 
-// How close the mortar is to cracking: over the sub-contacts whose bond holds, the largest
-// share of its strength one carries now, by the criterion that breaks a brittle bond
-// (MODEL.md section 3, contact_law.cpp): tension sigma / f_t, shear (tau + sigma tan phi) / c,
-// sigma tension positive; 0 where every bond is in compression without shear, 1 at failure
-// (a softening bond against its undamaged strength). -1: no bond left (a dry model).
+// How close sub-contact i's mortar is to cracking: the share of its strength it carries now,
+// by the criterion that breaks a brittle bond (MODEL.md section 3, contact_law.cpp): the
+// larger of tension sigma / f_t and shear (tau + sigma tan phi) / c, sigma tension positive;
+// 0 in compression without shear, 1 at failure (a softening bond against its undamaged
+// strength). -1 where it holds no bond (dry, or cracked).
+double bond_utilisation(const Model& model, const State& state, int sub_contact);
+
+// The largest bond_utilisation over the sub-contacts; -1: no bond left (a dry model).
 double largest_bond_utilisation(const Model& model, const State& state);
 
 }  // namespace ishibashi

@@ -13,6 +13,7 @@
 #include <vtkXMLUnstructuredGridWriter.h>
 
 #include <cstdio>
+#include <limits>
 #include <sstream>
 #include <stdexcept>
 
@@ -170,16 +171,17 @@ void write_blocks_vtu(const Model& m, const State& s, const std::filesystem::pat
 }
 
 
-void write_contacts_vtu(const State& s, const std::filesystem::path& file, const Joints* joints) {
+void write_contacts_vtu(const Model& m, const State& s, const std::filesystem::path& file, const Joints* joints) {
   const SubContacts& c = s.contacts;
   const vtkIdType n = sub_contact_count(s);
   vtkNew<vtkPoints> points;
   points->SetDataTypeToDouble();
   points->SetNumberOfPoints(n);
   auto normal = vector_array("normal", n);
-  vtkNew<vtkDoubleArray> sigma, tau, opening, slip, damage;
+  vtkNew<vtkDoubleArray> sigma, tau, opening, slip, damage, utilisation;
   slip->SetName("slip_m");
   damage->SetName("bond_damage");  // a softening bond's lost share of strength (0 for a brittle one)
+  utilisation->SetName("bond_utilisation");
   sigma->SetName("normal_stress_pa");
   tau->SetName("shear_stress_pa");
   opening->SetName("opening_m");
@@ -203,6 +205,8 @@ void write_contacts_vtu(const State& s, const std::filesystem::path& file, const
     opening->InsertNextValue(std::max(0.0, c.gap_m[i]));
     slip->InsertNextValue(c.slip_m[i]);
     damage->InsertNextValue(c.bond_damage[i]);
+    const double share = bond_utilisation(m, s, i);
+    utilisation->InsertNextValue(share >= 0 ? share : std::numeric_limits<double>::quiet_NaN());
     const std::uint8_t f = c.flags[i];
     const int code = (f & SubContactFlag::open)      ? 3
                      : (f & SubContactFlag::sliding) ? 2
@@ -229,7 +233,7 @@ void write_contacts_vtu(const State& s, const std::filesystem::path& file, const
     ++id;
   });
   grid->SetPoints(points);
-  for (vtkDataArray* a : std::initializer_list<vtkDataArray*>{normal, sigma, tau, opening, slip, damage, state, original, block_a, block_b})
+  for (vtkDataArray* a : std::initializer_list<vtkDataArray*>{normal, sigma, tau, opening, slip, damage, utilisation, state, original, block_a, block_b})
     grid->GetPointData()->AddArray(a);
   if (joints)
     for (vtkDataArray* a : std::initializer_list<vtkDataArray*>{joint_opening, joint_slip, joint_cracked})
@@ -263,7 +267,7 @@ void VtkSeriesWriter::write(const Model& model, const State& state, const Vec3& 
   if (kind_ == Kind::blocks)
     write_blocks_vtu(model, state, directory_ / vtu, ground_displacement_m);
   else
-    write_contacts_vtu(state, directory_ / vtu, joints);
+    write_contacts_vtu(model, state, directory_ / vtu, joints);
   times_.push_back(state.time_s);
   files_.push_back(vtu);
 

@@ -23,10 +23,14 @@ void write_blocks_vtu(const Model& model, const State& state, const std::filesys
 
 // The sub-contacts as points (one vertex cell each), so cracks can be seen: point data
 // normal (a -> b), normal_stress_pa (tension positive), shear_stress_pa, opening_m
-// (positive gap), slip_m (accumulated sliding), state (0 bonded, 1 elastic, 2 sliding, 3 open, 4 broken: lost its
-// bond, in contact), original (1: part of a joint in contact at the start), block_a,
-// block_b.
-void write_contacts_vtu(const State& state, const std::filesystem::path& file);
+// (positive gap), slip_m (accumulated sliding), bond_damage, bond_utilisation (the share
+// of its strength the bond carries, bond_utilisation in engine/joints.h; NaN where no bond
+// holds, which ParaView leaves out of the colour range), state (0 bonded, 1 elastic, 2
+// sliding, 3 open, 4 broken: lost its bond, in contact), original (1: part of a joint in
+// contact at the start), block_a, block_b; with `joints`, their joint's joint_opening_m,
+// joint_slip_m and joint_cracked.
+void write_contacts_vtu(const Model& model, const State& state, const std::filesystem::path& file,
+                        const Joints* joints = nullptr);
 
 // The blocks with one point array per mode, mode_1, mode_2, ...: each vertex's
 // displacement in that mode (mass-normalised), for ParaView's Warp By Vector / animation;

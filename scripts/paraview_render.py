@@ -11,7 +11,8 @@ from paraview.simple import (ColorBy, GetActiveViewOrCreate, Hide, PVDReader, Re
 run_dir, png_dir = sys.argv[1], sys.argv[2]
 expected = {
     "blocks": ("CELLS", ["displacement_relative_to_ground", "displacement", "velocity", "fallen", "part"]),
-    "contacts": ("POINTS", ["state", "opening_m", "slip_m", "bond_damage", "joint_opening_m", "joint_slip_m", "joint_cracked"]),
+    "contacts": ("POINTS", ["state", "opening_m", "slip_m", "bond_damage", "bond_utilisation", "joint_opening_m", "joint_slip_m",
+                            "joint_cracked"]),
 }
 view = GetActiveViewOrCreate("RenderView")
 view.ViewSize = [1280, 720]

@@ -6,6 +6,7 @@
 #include <vtkUnstructuredGrid.h>
 
 #include <algorithm>
+#include <cmath>
 #include <filesystem>
 #include <fstream>
 
@@ -13,6 +14,7 @@
 #include "geometry/demo_scenes.h"
 #include "io/vtk_input.h"
 #include "io/vtk_output.h"
+#include "scenes.h"
 
 namespace ishibashi {
 namespace {
@@ -59,6 +61,39 @@ TEST(VtkOutput, SeriesReadsBackWithBlocksAndArrays) {
   // No temporary files are left behind.
   for (const auto& f : std::filesystem::directory_iterator(dir))
     EXPECT_EQ(f.path().string().find(".tmp"), std::string::npos) << f.path();
+}
+
+// The contacts' bond_utilisation read back: a bonded block held in tension at half its
+// strength carries 0.5 at every point (uniform tension, no shear); a dry joint pressed by
+// the same load holds no bond at its points: NaN.
+TEST(VtkOutput, ContactPointsCarryTheirBondUtilisation) {
+  const auto dir = std::filesystem::temp_directory_path() / "ishibashi_vtk_bond_test";
+  std::filesystem::remove_all(dir);
+  const double a = 0.64, strength = 2e5;
+  auto utilisation = [&](const Material& stone, double load_n, const char* name) {
+    ModelBuilder b = test::block_on_base(Vec3(a, a, a), stone);
+    b.set_gravity(Vec3::Zero());
+    World w(b.build(), 2e-5);
+    const Vec3 load(0, 0, load_n);
+    w.state().applied_force[1] = load;
+    w.state().applied_torque[1] = Vec3(0, 0, -a / 2).cross(load);  // at the joint plane: no couple
+    w.run(20000);  // 0.4 s, h = 1: at rest
+    VtkSeriesWriter writer(dir, name, VtkSeriesWriter::Kind::contacts);
+    writer.write(w.model(), w.state());
+    vtkUnstructuredGrid* grid = read_vtu(read_pvd(writer.pvd_path()).back().file);
+    std::vector<double> values;
+    if (vtkDataArray* array = grid->GetPointData()->GetArray("bond_utilisation"))
+      for (vtkIdType i = 0; i < array->GetNumberOfTuples(); ++i) values.push_back(array->GetComponent(i, 0));
+    grid->Delete();
+    return values;
+  };
+  const double half = 0.5 * strength * a * a;
+  const std::vector<double> bonded = utilisation(test::stone(1.0, 33.23, strength), half, "bonded");
+  ASSERT_GE(bonded.size(), 4u);
+  for (double u : bonded) EXPECT_NEAR(u, 0.5, 0.005);
+  const std::vector<double> dry = utilisation(test::stone(), -half, "dry");
+  ASSERT_GE(dry.size(), 4u);
+  for (double u : dry) EXPECT_TRUE(std::isnan(u)) << u;
 }
 
 TEST(VtkInput, MissingOrMalformedPvdIsAClearError) {
