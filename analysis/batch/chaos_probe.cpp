@@ -187,6 +187,58 @@ void write_probe_tables(const Scenario& sc, const ChaosProbeOptions& o, double b
   write_text_atomically(o.out / "probe.json", j.dump(2) + "\n");
 }
 
+using Event = std::function<void(const std::string&)>;
+
+// What the probe's runs share: the scenario, the options, the branch point (seconds of
+// shaking), the rank's mark for the event lines (empty on one machine) and where they go.
+struct ProbeRuns {
+  const Scenario& sc;
+  const ChaosProbeOptions& o;
+  double branch_s;
+  std::string on_rank;
+  Event event;
+};
+
+// The run to the branch point, in OUT/branch/, on all the node's cores (no other run of
+// the probe runs while it does).
+MemberStatus run_branch(const ProbeRuns& p) {
+  SeismicRunOptions options;
+  options.branch_at_shake_s = p.branch_s;
+  options.checkpoint_wall_s = p.o.checkpoint_wall_s;
+  const int threads = decide_thread_count(p.o.threads_per_member, 1);
+  const fs::path branch = p.o.out / "branch";
+  p.event("chaos probe: the run to its branch at " + std::to_string(p.branch_s) + " s of shaking, in " + branch.string() +
+          p.on_rank);
+  auto start = [&](const SeismicRunOptions& branch_options) {
+    Scenario run = p.sc;
+    run.settings.threads = threads;
+    return std::make_unique<SeismicRun>(run, branch_options);
+  };
+  return run_in_folder(branch, probe_key(p.sc, p.branch_s, p.o, -1), "branch" + p.on_rank, options, threads, start, p.event);
+}
+
+// Member i from the branch's checkpoint, in OUT/member_NNN/: member 0 as the branch left
+// it, each other with its stones nudged before its first step.
+MemberStatus run_member(const ProbeRuns& p, int i, int threads) {
+  const ChaosProbeOptions& o = p.o;
+  const fs::path folder = member_folder(o.out, i), branch = o.out / "branch";
+  SeismicRunOptions options;
+  options.checkpoint_wall_s = o.checkpoint_wall_s;
+  options.on_resume = [&](const Model& m, State& s) {
+    if (i > 0) nudge_stones(m, s, o.seed, i, o.perturbation_m);
+    append_positions(folder / "positions.bin", s);
+  };
+  options.on_frame = [&](const State& s, double) { append_positions(folder / "positions.bin", s); };
+  auto start = [&](const SeismicRunOptions& member_options) {
+    copy_branch(branch, folder);
+    RunOverrides overrides;
+    overrides.set(&RunSettings::threads, threads);
+    return SeismicRun::resume(member_options, overrides, branch / "checkpoint.bin");
+  };
+  const std::string name = (i == 0 ? "member 0 (reference)" : "member " + std::to_string(i)) + p.on_rank;
+  return run_in_folder(folder, probe_key(p.sc, p.branch_s, o, i), name, options, threads, start, p.event);
+}
+
 }  // namespace
 
 PositionSeries read_positions(const fs::path& file) {
@@ -223,58 +275,27 @@ ChaosProbeOutcome run_chaos_probe(const Scenario& scenario, const ChaosProbeOpti
                      std::to_string(motion.duration_s()) + " s");
   fs::create_directories(o.out);
   std::mutex report_lock;  // serialises on_event; outside any time step
-  auto event = [&](const std::string& text) {
+  const Event event = [&](const std::string& text) {
     const std::lock_guard<std::mutex> lock(report_lock);
     if (o.on_event) o.on_event(text);
   };
-  const fs::path branch = o.out / "branch";
-  auto start_scenario = [&](int threads) {
-    return [&sc, threads](const SeismicRunOptions& options) {
-      Scenario run = sc;
-      run.settings.threads = threads;
-      return std::make_unique<SeismicRun>(run, options);
-    };
-  };
   const bool ranks = o.mpi && o.mpi->size() > 1;
   const bool root = !ranks || o.mpi->rank() == 0;
-  const std::string on_rank = ranks ? " (rank " + std::to_string(o.mpi->rank()) + ")" : "";
+  const ProbeRuns runs{sc, o, outcome.branch_s, ranks ? " (rank " + std::to_string(o.mpi->rank()) + ")" : "", event};
 
   // The branch: one job, on whichever rank takes it; the others wait for the members.
   MemberStatus branched = MemberStatus::failed;
-  auto branch_job = [&](int) {
-    SeismicRunOptions branch_options;
-    branch_options.branch_at_shake_s = outcome.branch_s;
-    branch_options.checkpoint_wall_s = o.checkpoint_wall_s;
-    const int branch_threads = decide_thread_count(o.threads_per_member, 1);  // the node's only run
-    event("chaos probe: the run to its branch at " + std::to_string(outcome.branch_s) + " s of shaking, in " +
-          branch.string() + on_rank);
-    branched = run_in_folder(branch, probe_key(sc, outcome.branch_s, o, -1), "branch" + on_rank, branch_options,
-                             branch_threads, start_scenario(branch_threads), event);
-    return std::to_string(static_cast<int>(branched));
-  };
-  run_jobs({0}, 1, o.mpi, branch_job, [&](const std::string& status, int) { branched = MemberStatus(std::stoi(status)); });
-  const bool go_on = branched != MemberStatus::interrupted && branched != MemberStatus::failed && fs::exists(branch / "checkpoint.bin");
+  run_jobs(
+      {0}, 1, o.mpi, [&](int) { return std::to_string(static_cast<int>(branched = run_branch(runs))); },
+      [&](const std::string& status, int) { branched = MemberStatus(std::stoi(status)); });
+  const bool go_on = branched != MemberStatus::interrupted && branched != MemberStatus::failed &&
+                     fs::exists(o.out / "branch" / "checkpoint.bin");
 
   const int workers = ranks ? 1 : std::max(1, std::min(o.jobs, o.members));
   const int threads = decide_thread_count(o.threads_per_member, ranks ? o.mpi->ranks_on_this_node() : workers);
   std::array<std::atomic<int>, 4> counts{};  // by MemberStatus
   auto job = [&](int i) {
-    const fs::path folder = member_folder(o.out, i);
-    SeismicRunOptions options;
-    options.checkpoint_wall_s = o.checkpoint_wall_s;
-    options.on_resume = [&, i](const Model& m, State& s) {
-      if (i > 0) nudge_stones(m, s, o.seed, i, o.perturbation_m);
-      append_positions(folder / "positions.bin", s);
-    };
-    options.on_frame = [&](const State& s, double) { append_positions(folder / "positions.bin", s); };
-    auto start = [&](const SeismicRunOptions& member_options) {
-      copy_branch(branch, folder);
-      RunOverrides overrides;
-      overrides.set(&RunSettings::threads, threads);
-      return SeismicRun::resume(member_options, overrides, branch / "checkpoint.bin");
-    };
-    const std::string name = (i == 0 ? "member 0 (reference)" : "member " + std::to_string(i)) + on_rank;
-    const MemberStatus status = run_in_folder(folder, probe_key(sc, outcome.branch_s, o, i), name, options, threads, start, event);
+    const MemberStatus status = run_member(runs, i, threads);
     ++counts[static_cast<int>(status)];
     return std::to_string(static_cast<int>(status));
   };
@@ -289,7 +310,7 @@ ChaosProbeOutcome run_chaos_probe(const Scenario& scenario, const ChaosProbeOpti
   }
   outcome.interrupted = counts[static_cast<int>(MemberStatus::interrupted)];
   outcome.failed = counts[static_cast<int>(MemberStatus::failed)];
-  const nlohmann::json settled = nlohmann::json::parse(std::ifstream(branch / "summary.json"));
+  const nlohmann::json settled = nlohmann::json::parse(std::ifstream(o.out / "branch" / "summary.json"));
   write_probe_tables(sc, o, outcome.branch_s, settled["settle_time_s"].get<double>(), outcome);
   return outcome;
 }
