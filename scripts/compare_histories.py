@@ -6,11 +6,12 @@ to cracking), from each run folder's history.csv and summary.json. For
 convergence studies (a step against a smaller one, a scheme against another) on the
 quantities that are not chaotic before the structure cracks.
 
-    scripts/compare_histories.py REFERENCE RUN [RUN ...] [--at 1,2,3,3.5]
+    scripts/compare_histories.py REFERENCE RUN [RUN ...] [--at 1,2,3,3.5] [--column NAME]
 
 Prints a Markdown table: per run, the crown unit's displacement (the length of its
-dx, dy, dz relative to the ground) at each time and its difference from the reference's
-as a share of it, then the joints cracked and the first opening.
+dx, dy, dz relative to the ground) at each time, or history.csv's column NAME there
+(bond_utilisation, joints_open, ...), and its difference from the reference's as a share
+of it, then the joints cracked and the first opening.
 """
 import argparse
 import csv
@@ -46,10 +47,15 @@ def main():
     parser.add_argument("reference", type=Path)
     parser.add_argument("runs", type=Path, nargs="+")
     parser.add_argument("--at", default="1,2,3,3.5", help="seconds of shaking, comma-separated")
+    parser.add_argument("--column", help="history.csv's column to compare at those times (default: the crown's displacement)")
     o = parser.parse_args()
     times = [float(t) for t in o.at.split(",")]
     reference = shaking_rows(o.reference)
-    header = ["run"] + [f"crown at {t:g} s [m] / diff" for t in times] + [
+    if o.column and o.column not in reference[0][1]:
+        parser.error(f"{o.reference}/history.csv has no column {o.column}: it has {', '.join(reference[0][1])}")
+    quantity = (lambda row: float(row[o.column] or "nan")) if o.column else crown
+    name = o.column or "crown [m]"
+    header = ["run"] + [f"{name} at {t:g} s / diff" for t in times] + [
         f"joints cracked at {times[-1]:g} s", "first opening [s]", "bond utilisation peak"]
     print("| " + " | ".join(header) + " |")
     print("|" + "---|" * len(header))
@@ -61,8 +67,8 @@ def main():
             if row is None:
                 cells.append("-")
                 continue
-            value = crown(row)
-            diff = "" if folder == o.reference or ref is None else f" / {100 * (value / crown(ref) - 1):+.1f} %"
+            value = quantity(row)
+            diff = "" if folder == o.reference or ref is None else f" / {100 * (value / quantity(ref) - 1):+.1f} %"
             cells.append(f"{value:.3g}{diff}")
         last = at(rows, times[-1])
         cells.append(last["joints_cracked"] if last else "-")
