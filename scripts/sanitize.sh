@@ -25,9 +25,9 @@
 #   Study.RunsAsEnsembles* (a study of two members and its report): the same code.
 #   Study.RunSettingsOnTheCommandLine* (three short studies of model A): the overrides'
 #   plain code, the run path of Run.ShortSeismicRun*.
-#   Ensemble.Mpirun* and Study.Mpirun*: model A's runs on one machine and under mpirun, as
-#   Sweep.* (OpenMPI's own allocations would be reported as leaks); the runs' code stays in
-#   Run.ShortSeismicRun*.
+#   Ensemble.Mpirun*, Study.Mpirun* and ChaosProbe.Mpirun*: runs on one machine and under
+#   mpirun, as Sweep.* (OpenMPI's own allocations would be reported as leaks); the runs'
+#   code stays in Run.ShortSeismicRun* and ChaosProbe.BlockSliding*.
 #   Run.FinerFrames* (5 min: two runs of model A that differ in their frames only) and
 #   Impulse.FaceUnitBesideTheCrown* (1 min): the run and impulse paths of
 #   Run.ShortSeismicRun* and the other Impulse.* tests, which stay.
@@ -44,4 +44,4 @@ cmake --build "$build" --target engine_tests step_allocation_tests io_tests anal
 export ASAN_OPTIONS=detect_leaks=1:abort_on_error=1
 export UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1
 cd "$build" && ctest --output-on-failure --timeout 600 -j 2 \
-  -E 'PresetHashes\.|ArchRing\..*Stands|Impact\.EdgeAndCornerDrops|Impact\.RandomDrops|LimitState\.|Presets\..*nishida_[b-f]|SeismicRun\.|Study\.(QuickStudy|Interrupted|RunsAsEnsembles|RunSettingsOnTheCommandLine|Mpirun)|Sweep\.|Checkpoint\.|Determinism\..*OneToFourThreads|BondBending\.BondedWall|Run\.ProfileTableAndTrace|Ensemble\.(PerturbedBridge|RunMembers|Mpirun)|Run\.FinerFrames|Impulse\.FaceUnitBesideTheCrown'
+  -E 'PresetHashes\.|ArchRing\..*Stands|Impact\.EdgeAndCornerDrops|Impact\.RandomDrops|LimitState\.|Presets\..*nishida_[b-f]|SeismicRun\.|Study\.(QuickStudy|Interrupted|RunsAsEnsembles|RunSettingsOnTheCommandLine|Mpirun)|Sweep\.|Checkpoint\.|Determinism\..*OneToFourThreads|BondBending\.BondedWall|Run\.ProfileTableAndTrace|Ensemble\.(PerturbedBridge|RunMembers|Mpirun)|ChaosProbe\.Mpirun|Run\.FinerFrames|Impulse\.FaceUnitBesideTheCrown'
