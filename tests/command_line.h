@@ -24,6 +24,16 @@ inline std::string program() {
 // This test process's own temporary folder (test_main.cpp).
 inline std::filesystem::path tmp_dir() { return std::filesystem::temp_directory_path(); }
 
+// A box from `at` to `at` + `size` (m), as an OFF file that a model's [import] reads.
+inline std::filesystem::path box_off_file(const std::filesystem::path& file, const double (&at)[3], const double (&size)[3]) {
+  std::ofstream out(file);
+  out << "OFF\n8 6 0\n";
+  for (int k = 0; k < 8; ++k)
+    out << at[0] + (k & 1 ? size[0] : 0) << ' ' << at[1] + (k & 2 ? size[1] : 0) << ' ' << at[2] + (k & 4 ? size[2] : 0) << '\n';
+  out << "4 0 2 3 1\n4 4 5 7 6\n4 0 1 5 4\n4 2 6 7 3\n4 0 4 6 2\n4 1 3 7 5\n";
+  return file;
+}
+
 // Prefix of a command run on two MPI ranks (as root in CI's containers; more ranks than
 // cores allowed).
 inline const std::string kMpirunTwoRanks =

@@ -56,7 +56,9 @@ namespace {
 //     the face (Pair::beside_axis).
 // 16: the run's motion hash (SeismicRunResult::motion_hash).
 // 17: the bond utilisation's peak until the first crack (SeismicRunResult::bond_utilisation_peak).
-constexpr char kCheckpointMagic[] = "ishibashi checkpoint 17\n";
+// 18: its largest sample since the last frame, and whether bonds are left (history.csv's
+//     bond_utilisation is the frame interval's peak).
+constexpr char kCheckpointMagic[] = "ishibashi checkpoint 18\n";
 
 template <class Archive, class H>
 void visit_header(Archive& a, H& h) {

@@ -126,9 +126,11 @@ RunRecorder::RunRecorder(std::filesystem::path out, const Model& model, std::vec
   if (view_.lower_m.x() > view_.upper_m.x()) view_.lower_m = view_.upper_m = Vec3::Zero();
 }
 
-RunCounts RunRecorder::record(const char* phase, const State& s, const Vec3& ga, const Vec3& gd, Joints& joints) {
+RunCounts RunRecorder::record(const char* phase, const State& s, const Vec3& ga, const Vec3& gd, Joints& joints,
+                              double bond_utilisation_since_frame) {
   const Model& m = model_;
-  const RunCounts c = count_damage(m, s, thresholds_, joints);
+  RunCounts c = count_damage(m, s, thresholds_, joints);
+  c.bond_utilisation = std::max(c.bond_utilisation, bond_utilisation_since_frame);
   for (int b = 0; b < m.block_count; ++b)
     if (s.left_model[b] && !reported_left_[b]) {
       reported_left_[b] = 1;

@@ -53,8 +53,12 @@ class RunRecorder {
   // One row of history.csv and one frame of each series, of the state now (and view.pvsm
   // rewritten, its colour scale the largest displacement so far); the ground's
   // acceleration ga and displacement gd (monitored displacements are relative to it).
-  // Warns once of each block that left the model. Returns the frame's counts.
-  RunCounts record(const char* phase, const State& s, const Vec3& ga, const Vec3& gd, Joints& joints);
+  // Warns once of each block that left the model. The row's bond utilisation is the
+  // largest of the state's now and `bond_utilisation_since_frame` (the run's samples since
+  // the last frame: the mortar's stress swings faster than frames come). Returns the
+  // frame's counts.
+  RunCounts record(const char* phase, const State& s, const Vec3& ga, const Vec3& gd, Joints& joints,
+                   double bond_utilisation_since_frame = -1);
   void write_summary(const RunDescription& run, const SeismicRunResult& r, const State& s, const Joints& joints,
                      bool finished) const;
 

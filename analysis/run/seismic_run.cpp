@@ -124,11 +124,15 @@ struct SeismicRun::Progress {
   Clock::time_point wall0 = Clock::now(), checkpoint_wall = Clock::now();
   double wall_before_s = 0;  // of the earlier parts of a resumed run, each to its last checkpoint
   double checkpoint_time_s = 0;
+  // The bond utilisation's largest sample since the last frame (every 50 steps of shaking,
+  // while bonds are left); -1: none.
+  double utilisation_since_frame = -1;
+  bool bonds_left = true;
   double wall_s() const { return wall_before_s + std::chrono::duration<double>(Clock::now() - wall0).count(); }
 
   template <class Archive>
   void visit(Archive& a) {
-    a.field(shaking), a.field(shake_step);
+    a.field(shaking), a.field(shake_step), a.field(utilisation_since_frame), a.field(bonds_left);
     result.for_each_field([&](auto& field) { a.field(field); });
     for (int i = 0; i < 3; ++i) a.field(settled_crown[i]);
     recorder.visit(a);
@@ -137,7 +141,8 @@ struct SeismicRun::Progress {
   // Records a frame and takes its counts into the result.
   void record(const char* phase, const Model& m, const State& s) {
     const Clock::time_point start = Clock::now();
-    const RunCounts c = recorder.record(phase, s, ground_accel, ground_displacement, joints);
+    const RunCounts c = recorder.record(phase, s, ground_accel, ground_displacement, joints, utilisation_since_frame);
+    utilisation_since_frame = -1;
     result.output_wall_s += std::chrono::duration<double>(Clock::now() - start).count();
     result.joint_counts = c.joints;
     result.fallen_stones = c.fallen;
@@ -268,12 +273,20 @@ void SeismicRun::shake(Progress& p) {
     world.step();
     p.ground_accel = ground.accel_m_s2();
     p.ground_displacement = ground.displacement_m();
-    // Until the first crack, every 50 steps (0.2-2 ms, a small part of a pulse): whether a
-    // joint cracked, and how close the mortar came.
-    if (r.first_opening_s < 0 && (k + 1) % 50 == 0) {
-      const RunCounts c = count_damage(m, s, thresholds, p.joints);
-      r.bond_utilisation_peak = std::max(r.bond_utilisation_peak, c.bond_utilisation);
-      if (c.joints.cracked > 0) r.first_opening_s = s.time_s - r.settle_time_s;
+    // Every 50 steps (0.2-2 ms, a small part of a pulse): how close the mortar came to
+    // cracking, for the next frame's row, and until the first crack whether a joint cracked.
+    if ((k + 1) % 50 == 0 && (p.bonds_left || r.first_opening_s < 0)) {
+      double utilisation;
+      if (r.first_opening_s < 0) {
+        const RunCounts c = count_damage(m, s, thresholds, p.joints);
+        utilisation = c.bond_utilisation;
+        r.bond_utilisation_peak = std::max(r.bond_utilisation_peak, utilisation);
+        if (c.joints.cracked > 0) r.first_opening_s = s.time_s - r.settle_time_s;
+      } else {
+        utilisation = largest_bond_utilisation(m, s);
+      }
+      p.utilisation_since_frame = std::max(p.utilisation_since_frame, utilisation);
+      p.bonds_left = utilisation >= 0;  // a broken bond never forms again while shaking
     }
     if (crown >= 0)  // the crown's drop relative to the ground since settling
       r.largest_crown_drop_m =

@@ -19,7 +19,7 @@
 namespace ishibashi {
 namespace {
 
-using namespace test;  // run_command, text_of, count_of, state_hash_of, kMpirunTwoRanks, kRoot, tmp_dir
+using namespace test;  // run_command, text_of, count_of, state_hash_of, box_off_file, kMpirunTwoRanks, kRoot, tmp_dir
 namespace fs = std::filesystem;
 
 TEST(ChaosProbe, StrongMotionBeginsAtFivePerCentOfTheAriasIntensity) {
@@ -36,24 +36,13 @@ TEST(ChaosProbe, StrongMotionBeginsAtFivePerCentOfTheAriasIntensity) {
   EXPECT_NEAR(arias_time_s(g, 1.0), 1.999, 2e-3);  // the vertical component does not count
 }
 
-// A box from (0, 0, 0) to `size` moved by `at`, as an OFF file.
-fs::path box_file(const std::string& name, const Vec3& at, const Vec3& size) {
-  const fs::path f = tmp_dir() / name;
-  std::ofstream out(f);
-  out << "OFF\n8 6 0\n";
-  for (int k = 0; k < 8; ++k)
-    out << at.x() + (k & 1 ? size.x() : 0) << ' ' << at.y() + (k & 2 ? size.y() : 0) << ' ' << at.z() + (k & 4 ? size.z() : 0) << '\n';
-  out << "4 0 2 3 1\n4 4 5 7 6\n4 0 1 5 4\n4 2 6 7 3\n4 0 4 6 2\n4 1 3 7 5\n";
-  return f;
-}
-
 // A 1 x 1 x 0.3 m stone on a fixed slab, the ground pulsed in x at 1 g for 0.2 s and then
 // at -0.5 g for 0.4 s, to rest (friction 0.655: the stone slips about 9 cm in the first
 // pulse and sticks in the second; with a base three times its height it cannot tip).
 fs::path sliding_block_scenario() {
   const fs::path model = tmp_dir() / "probe_sliding_block.toml";
-  std::ofstream(model) << "[import]\nfiles = [\"" << box_file("probe_stone.off", {1.5, 1.5, 0.5}, {1, 1, 0.3}).string()
-                       << "\"]\nfixed_files = [\"" << box_file("probe_slab.off", {0, 0, 0}, {4, 4, 0.5}).string() << "\"]\n";
+  std::ofstream(model) << "[import]\nfiles = [\"" << box_off_file(tmp_dir() / "probe_stone.off", {1.5, 1.5, 0.5}, {1, 1, 0.3}).string()
+                       << "\"]\nfixed_files = [\"" << box_off_file(tmp_dir() / "probe_slab.off", {0, 0, 0}, {4, 4, 0.5}).string() << "\"]\n";
   const fs::path record = tmp_dir() / "probe_pulse.txt";
   std::ofstream pulse(record);
   for (int k = 0; k < 100; ++k) pulse << (k >= 20 && k < 40 ? 1.0 : k >= 40 && k < 80 ? -0.5 : 0.0) << '\n';
