@@ -142,6 +142,31 @@ def crown_figure(out, runs, figures):
     return save(fig, figures / "crown_displacement.png")
 
 
+def bond_utilisation_figure(out, runs, figures):
+    """Each mortar run's bond utilisation through the shaking (members thin): how close its
+    mortar came to cracking, and when; none without mortar runs."""
+    curves = []
+    for r in runs:
+        for k, folder in enumerate([run_folder(out, r)] + members_of(out, r)):
+            shake, t0 = shaking_rows(folder)
+            if shake and any(x.get("bond_utilisation") for x in shake):
+                t = [number(x["time_s"]) - t0 for x in shake]
+                curves.append((r["scenario"], k, t, [number(x["bond_utilisation"]) for x in shake]))
+    if not curves:
+        return None
+    names = list(dict.fromkeys(c[0] for c in curves))
+    fig, axes = panels(len(names), 2.6)
+    for a, name in zip(axes, names):
+        for _, k, t, u in (c for c in curves if c[0] == name):
+            a.plot(t, u, lw=1.2 if k == 0 else 0.5, alpha=1 if k == 0 else 0.45, color="C3")
+        a.axhline(1.0, color="k", ls="--", lw=0.7)
+        a.set_ylim(0, 1.1)
+        finish_panel(a, f"{name}: the largest share of its strength a bond carries (1: it breaks; none left: no line)",
+                     "time of shaking [s]", "bond utilisation")
+    fig.tight_layout()
+    return save(fig, figures / "bond_utilisation.png")
+
+
 def spectra_figure(out, frequencies, figures):
     if not frequencies:
         return None
@@ -488,7 +513,8 @@ def run_sections(out, study, figures):
     sections = [("Seismic runs",
                  "Settled under gravity, then shaken. First opening: seconds of shaking until a joint first "
                  "opened by more than 1 mm (or lost its bond). Mortar used: until then, the largest share of "
-                 "its strength an intact bond carried (1: a bond breaks; - without mortar). Crown drop: the largest downward displacement "
+                 "its strength an intact bond carried (1: a bond breaks; - without mortar; the figure of each mortar run "
+                 "gives it through the shaking, each frame the largest since the frame before). Crown drop: the largest downward displacement "
                  "of the crown unit relative to the ground. Energy balance: the fraction of the energy "
                  "exchanged (ground work, dashpots, friction, bonds) that the balance misses. Study says: what "
                  "the published study reports of that run, where the study file gives it (the study's time axis "
@@ -504,7 +530,7 @@ def run_sections(out, study, figures):
                       "p of the study's outcome here"] if ensembles else []) + ["study says"],
                   run_rows),
                  [ground_motion_figure(out, runs, figures), crown_figure(out, runs, figures),
-                  energy_figure(out, runs, figures)])]
+                  bond_utilisation_figure(out, runs, figures), energy_figure(out, runs, figures)])]
     snapshots, animations = [], []
     for r in runs:
         if not frames(run_folder(out, r)):

@@ -29,14 +29,14 @@ TEST(Study, QuickStudyWritesTablesAndAReportWithEveryFigureThenKeepsCurrentOutpu
   EXPECT_EQ(count_of(text_of(out / "frequencies.csv"), "\n"), 3);
   // Model A's first modes by modal analysis: 22.53, 20.99, 41.91 Hz.
   EXPECT_NE(text_of(out / "frequencies.csv").find(",22.52"), std::string::npos) << text_of(out / "frequencies.csv");
-  // The report: ground motion, crown, spectra, energy, the mode shapes of each frequency
-  // analysis and one snapshot per run, and an animation of each run
+  // The report: ground motion, crown, the mortar run's bond utilisation, spectra, energy,
+  // the mode shapes of each frequency analysis and one snapshot per run, and an animation of each run
   // (scripts/check_report.py checks their frames in CI).
   const std::string html = text_of(out / "report.html");
-  EXPECT_EQ(count_of(html, "src='data:image/png;base64,"), 8) << html.substr(0, 500);
+  EXPECT_EQ(count_of(html, "src='data:image/png;base64,"), 9) << html.substr(0, 500);
   EXPECT_EQ(count_of(html, "src='data:image/gif;base64,"), 2);
   const std::string md = text_of(out / "report.md");
-  EXPECT_EQ(count_of(md, "](figures/"), 10);
+  EXPECT_EQ(count_of(md, "](figures/"), 11);
   // What it said while it worked: a progress line after each job, the last with all done.
   EXPECT_EQ(count_of(first, "progress: "), 4) << first;
   EXPECT_NE(first.find("progress: 4 of 4 jobs done\n"), std::string::npos) << first;
@@ -47,7 +47,7 @@ TEST(Study, QuickStudyWritesTablesAndAReportWithEveryFigureThenKeepsCurrentOutpu
   EXPECT_NE(md.find("| 17.6 |"), std::string::npos) << "model A's x frequency in the study";
   EXPECT_NE(md.find("| collapses in plane: first horizontal crack at 4.0 s"), std::string::npos);
   EXPECT_EQ(count_of(text_of(out / "reference.csv"), "\n"), 14);  // header, 3 models, 5 verdicts, 5 outcomes
-  for (const char* figure : {"ground_motion.png", "crown_displacement.png", "impulse_spectra.png", "energy.png",
+  for (const char* figure : {"ground_motion.png", "crown_displacement.png", "bond_utilisation.png", "impulse_spectra.png", "energy.png",
                              "mode_shapes_nishida_a_corners.png", "mode_shapes_nishida_a_moments.png"})
     EXPECT_GT(std::filesystem::file_size(out / "figures" / figure), 10000u) << figure;
 
