@@ -74,28 +74,28 @@ void gather_block(const Model& m, State& s, std::ptrdiff_t b) {
   s.torque[b] = t + s.applied_torque[b];
 }
 
-double prescribed_power_of_chunk(const State& s, int k) {
-  // Side by side over the chunk's pairs, whose forces the same thread's contact law wrote.
+double prescribed_power(const Model& m, State& s) {
   double power = 0.0;
-  for (int q = s.prescribed_entry_begin[k]; q < s.prescribed_entry_begin[k + 1]; ++q) {
-    const auto [entry, block] = s.prescribed_entry[q];
-    const int p = entry >> 1;
-    const Vec3 f = (entry & 1) ? s.pair_force_n[p] : Vec3(-s.pair_force_n[p]);
-    power -= f.dot(s.velocity[block]) + s.pair_moment_nm[entry].dot(s.angular_velocity[block]);
+  for (int b = 0; b < m.block_count; ++b)
+    if (m.motion[b] == Motion::prescribed) {
+      power -= 0.5 * (s.prescribed_force_before[b].dot(s.velocity[b]) + s.prescribed_moment_before[b].dot(s.angular_velocity[b]));
+      s.prescribed_force_before[b] = s.prescribed_moment_before[b] = Vec3::Zero();
+    }
+  for (const auto& [entry, block] : s.prescribed_entry) {
+    const Vec3 f = (entry & 1) ? s.pair_force_n[entry >> 1] : Vec3(-s.pair_force_n[entry >> 1]);
+    const Vec3& moment = s.pair_moment_nm[entry];
+    power -= 0.5 * (f.dot(s.velocity[block]) + moment.dot(s.angular_velocity[block]));
+    s.prescribed_force_before[block] += f;
+    s.prescribed_moment_before[block] += moment;
   }
   return power;
 }
 
-double gather_forces(const Model& m, State& s) {
+void gather_forces(const Model& m, State& s) {
   const int nb = m.block_count;
-  std::array<double, kStageChunks> parts{};
-  parallel_chunks(nb, stage_chunks(nb), [&](std::ptrdiff_t begin, std::ptrdiff_t end, int k) {
+  parallel_chunks(nb, stage_chunks(nb), [&](std::ptrdiff_t begin, std::ptrdiff_t end, int) {
     for (std::ptrdiff_t b = begin; b < end; ++b) gather_block(m, s, b);
-    parts[k] = prescribed_power_of_chunk(s, k);
   });
-  double power = 0.0;
-  for (double p : parts) power += p;
-  return power;
 }
 
 }  // namespace ishibashi

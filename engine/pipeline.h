@@ -76,12 +76,17 @@ void update_damping_caps(const Model& model, State& state, double dt_s);
 void update_pair_index(const Model& model, State& state);
 
 // gather.cpp: resultant force and torque on each block, race-free (block -> contacts index).
-// Returns the power that prescribed blocks put into the system (W).
-double gather_forces(const Model& model, State& state);
-// The same for block b alone (State::force and torque), and the prescribed blocks' power
-// over the sides of the pairs in chunk k of the pair loops (State::prescribed_entry_begin).
+void gather_forces(const Model& model, State& state);
+// The same for block b alone (State::force and torque).
 void gather_block(const Model& model, State& state, std::ptrdiff_t b);
-double prescribed_power_of_chunk(const State& state, int k);
+// The mean power the prescribed blocks put into the system over the step that moved them
+// to this pose (W): the trapezoid rule, their contact forces at the pose before
+// (State::prescribed_force_before, which it then sets to this pose's) and at this one, times
+// the velocities that moved them. (The force at this pose alone, a right Riemann sum, made
+// the ground's work drift by dt m a^2 / 4 a second under a harmonic ground of amplitude a:
+// as much as a stone riding it rigidly exchanges.) One pass over the prescribed blocks'
+// pair sides in pair order: the same sum on any number of threads.
+double prescribed_power(const Model& model, State& state);
 
 // implicit_damping.cpp (Damping::implicit), between gather and integrate: the
 // dashpot forces at the end-of-step velocities (backward Euler), added to State::force and
@@ -110,10 +115,6 @@ struct BlockEnergy {
 BlockEnergy integrate(const Model& model, State& state, double dt_s);
 // integrate.cpp: the gather and integrate in one pass over the blocks, each block's
 // forces gathered just before it moves (explicit dashpots: nothing comes between them).
-struct ForcesAndMotion {
-  BlockEnergy energy;
-  double prescribed_power_w = 0.0;  // gather_forces' result
-};
-ForcesAndMotion gather_and_integrate(const Model& model, State& state, double dt_s);
+BlockEnergy gather_and_integrate(const Model& model, State& state, double dt_s);
 
 }  // namespace ishibashi

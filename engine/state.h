@@ -267,6 +267,10 @@ struct State {
 
   // ---- bookkeeping ----
   Energy energy;
+  // (nb) each prescribed block's contact force (N) and moment about its centroid (N m) at
+  // the previous step's pose: the ground's work over a step takes their mean with this
+  // pose's (prescribed_power, gather.cpp).
+  std::vector<Vec3> prescribed_force_before, prescribed_moment_before;
   double last_gravitational_j = 0.0;     // potentials of the previous step (see World::step)
   double last_elastic_j = 0.0;
   bool energy_started = false;

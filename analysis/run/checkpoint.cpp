@@ -58,7 +58,9 @@ namespace {
 // 17: the bond utilisation's peak until the first crack (SeismicRunResult::bond_utilisation_peak).
 // 18: its largest sample since the last frame, and whether bonds are left (history.csv's
 //     bond_utilisation is the frame interval's peak).
-constexpr char kCheckpointMagic[] = "ishibashi checkpoint 18\n";
+// 19: the prescribed blocks' contact forces at the previous pose (State::prescribed_force_before:
+//     the ground's work by the trapezoid rule).
+constexpr char kCheckpointMagic[] = "ishibashi checkpoint 19\n";
 
 template <class Archive, class H>
 void visit_header(Archive& a, H& h) {

@@ -112,6 +112,7 @@ void visit_state(Archive& a, S& s) {
   a.field(s.pairs_valid);
   s.contacts.for_each_array([&](auto& array) { a.field(array); });
   a.field(s.energy), a.field(s.last_gravitational_j), a.field(s.last_elastic_j);
+  a.field(s.prescribed_force_before), a.field(s.prescribed_moment_before);
   a.field(s.energy_started);
   a.field(s.profile);
 }
