@@ -48,6 +48,9 @@ void update_pair_index(const Model& m, State& s) {
     }
   }
   s.prescribed_entry_begin[chunks] = static_cast<int>(s.prescribed_entry.size());
+  s.prescribed_block.clear();  // the ground's blocks, for prescribed_power (not a pass over nb a step)
+  for (int b = 0; b < nb; ++b)
+    if (m.motion[b] == Motion::prescribed) s.prescribed_block.push_back(b);
   s.pair_index_valid = true;
 }
 
@@ -74,13 +77,12 @@ void gather_block(const Model& m, State& s, std::ptrdiff_t b) {
   s.torque[b] = t + s.applied_torque[b];
 }
 
-double prescribed_power(const Model& m, State& s) {
+double prescribed_power(const Model&, State& s) {
   double power = 0.0;
-  for (int b = 0; b < m.block_count; ++b)
-    if (m.motion[b] == Motion::prescribed) {
-      power -= 0.5 * (s.prescribed_force_before[b].dot(s.velocity[b]) + s.prescribed_moment_before[b].dot(s.angular_velocity[b]));
-      s.prescribed_force_before[b] = s.prescribed_moment_before[b] = Vec3::Zero();
-    }
+  for (int b : s.prescribed_block) {
+    power -= 0.5 * (s.prescribed_force_before[b].dot(s.velocity[b]) + s.prescribed_moment_before[b].dot(s.angular_velocity[b]));
+    s.prescribed_force_before[b] = s.prescribed_moment_before[b] = Vec3::Zero();
+  }
   for (const auto& [entry, block] : s.prescribed_entry) {
     const Vec3 f = (entry & 1) ? s.pair_force_n[entry >> 1] : Vec3(-s.pair_force_n[entry >> 1]);
     const Vec3& moment = s.pair_moment_nm[entry];

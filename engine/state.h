@@ -248,6 +248,7 @@ struct State {
   std::vector<std::array<int, 2>> prescribed_entry;  // {entry (as in block_pair), its
   std::vector<int> prescribed_entry_begin;  // block} where that block is prescribed, in pair
                                          // order; chunk k's from prescribed_entry_begin[k]
+  std::vector<int> prescribed_block;     // the prescribed blocks, in order (prescribed_power)
   bool pair_index_valid = false;
   std::vector<double> damping_scale;     // (nb) factor on the dashpots of a block's sub-contacts
                                          // (a pair takes the smaller): 1 unless
