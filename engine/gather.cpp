@@ -9,6 +9,23 @@
 #include "engine/pipeline.h"
 
 namespace ishibashi {
+namespace {
+
+// The list of pair sides on prescribed blocks changed (State::prescribed_entry_next): the
+// previous pose's forces of the sides listed until now are summed per block, since the
+// trapezoid rule needs only each block's total of them, and the new list starts from none.
+void carry_prescribed_forces(State& s) {
+  for (std::size_t q = 0; q < s.prescribed_entry.size(); ++q) {
+    const int block = s.prescribed_entry[q][1];
+    s.prescribed_force_carried[block] += s.prescribed_entry_force_before[q];
+    s.prescribed_moment_carried[block] += s.prescribed_entry_moment_before[q];
+  }
+  s.prescribed_entry.swap(s.prescribed_entry_next);
+  s.prescribed_entry_force_before.assign(s.prescribed_entry.size(), Vec3::Zero());
+  s.prescribed_entry_moment_before.assign(s.prescribed_entry.size(), Vec3::Zero());
+}
+
+}  // namespace
 
 void update_pair_index(const Model& m, State& s) {
   // Counting sort of (pair, side) entries by block; entry 2p is side a, 2p+1 side b.
@@ -37,18 +54,20 @@ void update_pair_index(const Model& m, State& s) {
     s.pair_chunk_begin[k] = k == chunks ? np : p;
   }
   // The sides of pairs that touch a prescribed block, for the power it puts in.
-  s.prescribed_entry.clear();
+  std::vector<std::array<int, 2>>& listed = s.prescribed_entry_next;
+  listed.clear();
   s.prescribed_entry_begin.resize(chunks + 1);
   for (int k = 0; k < chunks; ++k) {
-    s.prescribed_entry_begin[k] = static_cast<int>(s.prescribed_entry.size());
+    s.prescribed_entry_begin[k] = static_cast<int>(listed.size());
     for (int q = s.pair_chunk_begin[k]; q < s.pair_chunk_begin[k + 1]; ++q) {
       const int a = s.pairs[q].a, b = s.pairs[q].b;
-      if (m.motion[a] == Motion::prescribed) s.prescribed_entry.push_back({2 * q, a});
-      if (m.motion[b] == Motion::prescribed) s.prescribed_entry.push_back({2 * q + 1, b});
+      if (m.motion[a] == Motion::prescribed) listed.push_back({2 * q, a});
+      if (m.motion[b] == Motion::prescribed) listed.push_back({2 * q + 1, b});
     }
   }
-  s.prescribed_entry_begin[chunks] = static_cast<int>(s.prescribed_entry.size());
-  s.prescribed_block.clear();  // the ground's blocks, for prescribed_power (not a pass over nb a step)
+  s.prescribed_entry_begin[chunks] = static_cast<int>(listed.size());
+  if (listed != s.prescribed_entry) carry_prescribed_forces(s);
+  s.prescribed_block.clear();  // the ground's blocks, for carried_prescribed_power (not a pass over nb a step)
   for (int b = 0; b < nb; ++b)
     if (m.motion[b] == Motion::prescribed) s.prescribed_block.push_back(b);
   s.pair_index_valid = true;
@@ -77,27 +96,40 @@ void gather_block(const Model& m, State& s, std::ptrdiff_t b) {
   s.torque[b] = t + s.applied_torque[b];
 }
 
-double prescribed_power(const Model&, State& s) {
+double prescribed_power_of_chunk(State& s, int k) {
+  // Side by side over the chunk's pairs, whose forces the same thread's contact law wrote.
   double power = 0.0;
-  for (int b : s.prescribed_block) {
-    power -= 0.5 * (s.prescribed_force_before[b].dot(s.velocity[b]) + s.prescribed_moment_before[b].dot(s.angular_velocity[b]));
-    s.prescribed_force_before[b] = s.prescribed_moment_before[b] = Vec3::Zero();
-  }
-  for (const auto& [entry, block] : s.prescribed_entry) {
+  for (int q = s.prescribed_entry_begin[k]; q < s.prescribed_entry_begin[k + 1]; ++q) {
+    const auto [entry, block] = s.prescribed_entry[q];
     const Vec3 f = (entry & 1) ? s.pair_force_n[entry >> 1] : Vec3(-s.pair_force_n[entry >> 1]);
     const Vec3& moment = s.pair_moment_nm[entry];
-    power -= 0.5 * (f.dot(s.velocity[block]) + moment.dot(s.angular_velocity[block]));
-    s.prescribed_force_before[block] += f;
-    s.prescribed_moment_before[block] += moment;
+    power -= 0.5 * ((f + s.prescribed_entry_force_before[q]).dot(s.velocity[block]) +
+                    (moment + s.prescribed_entry_moment_before[q]).dot(s.angular_velocity[block]));
+    s.prescribed_entry_force_before[q] = f;
+    s.prescribed_entry_moment_before[q] = moment;
   }
   return power;
 }
 
-void gather_forces(const Model& m, State& s) {
+double carried_prescribed_power(State& s) {
+  double power = 0.0;
+  for (int b : s.prescribed_block) {
+    power -= 0.5 * (s.prescribed_force_carried[b].dot(s.velocity[b]) + s.prescribed_moment_carried[b].dot(s.angular_velocity[b]));
+    s.prescribed_force_carried[b] = s.prescribed_moment_carried[b] = Vec3::Zero();
+  }
+  return power;
+}
+
+double gather_forces(const Model& m, State& s) {
   const int nb = m.block_count;
-  parallel_chunks(nb, stage_chunks(nb), [&](std::ptrdiff_t begin, std::ptrdiff_t end, int) {
+  std::array<double, kStageChunks> parts{};
+  parallel_chunks(nb, stage_chunks(nb), [&](std::ptrdiff_t begin, std::ptrdiff_t end, int k) {
     for (std::ptrdiff_t b = begin; b < end; ++b) gather_block(m, s, b);
+    parts[k] = prescribed_power_of_chunk(s, k);
   });
+  double power = carried_prescribed_power(s);
+  for (double p : parts) power += p;
+  return power;
 }
 
 }  // namespace ishibashi

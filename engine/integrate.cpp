@@ -52,13 +52,17 @@ bool integrate_block(const Model& m, State& s, double dt, const Vec3& down, std:
 
 // The pass over the blocks in the stage chunks (those of the gather and the pair loops),
 // gathering each block's forces first when `gather`; the chunks' sums added in chunk order.
-BlockEnergy integrate_blocks(const Model& m, State& s, double dt, bool gather) {
+ForcesAndMotion integrate_blocks(const Model& m, State& s, double dt, bool gather) {
   std::array<BlockEnergy, kStageChunks> parts{};
+  std::array<double, kStageChunks> power{};
   std::array<int, kStageChunks> first_not_finite;
   first_not_finite.fill(-1);
   const Vec3 down = m.gravity_m_s2.norm() > 0 ? Vec3(m.gravity_m_s2.normalized()) : Vec3::Zero();
   const int chunks = stage_chunks(m.block_count);
   parallel_chunks(m.block_count, chunks, [&](std::ptrdiff_t begin, std::ptrdiff_t end, int k) {
+    // Before this chunk's blocks move: the power reads the prescribed blocks' velocities
+    // (which no pass changes) and the pair forces.
+    if (gather) power[k] = prescribed_power_of_chunk(s, k);
     BlockEnergy e;
     for (std::ptrdiff_t b = begin; b < end; ++b) {
       if (gather) gather_block(m, s, b);
@@ -75,19 +79,21 @@ BlockEnergy integrate_blocks(const Model& m, State& s, double dt, bool gather) {
           << " s, step " << s.step << "; the time step is probably too large for its contacts, or a load is invalid";
       throw ModelError(msg.str());
     }
-  BlockEnergy total;
+  ForcesAndMotion total;
+  if (gather) total.prescribed_power_w = carried_prescribed_power(s);
   for (int k = 0; k < chunks; ++k) {
-    total.kinetic_j += parts[k].kinetic_j;
-    total.gravitational_j += parts[k].gravitational_j;
-    total.left_model_j += parts[k].left_model_j;
+    total.energy.kinetic_j += parts[k].kinetic_j;
+    total.energy.gravitational_j += parts[k].gravitational_j;
+    total.energy.left_model_j += parts[k].left_model_j;
+    total.prescribed_power_w += power[k];
   }
   return total;
 }
 
 }  // namespace
 
-BlockEnergy integrate(const Model& m, State& s, double dt) { return integrate_blocks(m, s, dt, false); }
+BlockEnergy integrate(const Model& m, State& s, double dt) { return integrate_blocks(m, s, dt, false).energy; }
 
-BlockEnergy gather_and_integrate(const Model& m, State& s, double dt) { return integrate_blocks(m, s, dt, true); }
+ForcesAndMotion gather_and_integrate(const Model& m, State& s, double dt) { return integrate_blocks(m, s, dt, true); }
 
 }  // namespace ishibashi

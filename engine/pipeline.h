@@ -76,17 +76,23 @@ void update_damping_caps(const Model& model, State& state, double dt_s);
 void update_pair_index(const Model& model, State& state);
 
 // gather.cpp: resultant force and torque on each block, race-free (block -> contacts index).
-void gather_forces(const Model& model, State& state);
+// Returns the mean power the prescribed blocks put in over the step that moved them here (W),
+// as gather_and_integrate does.
+double gather_forces(const Model& model, State& state);
 // The same for block b alone (State::force and torque).
 void gather_block(const Model& model, State& state, std::ptrdiff_t b);
-// The mean power the prescribed blocks put into the system over the step that moved them
-// to this pose (W): the trapezoid rule, their contact forces at the pose before
-// (State::prescribed_force_before, which it then sets to this pose's) and at this one, times
-// the velocities that moved them. (The force at this pose alone, a right Riemann sum, made
-// the ground's work drift by dt m a^2 / 4 a second under a harmonic ground of amplitude a:
-// as much as a stone riding it rigidly exchanges.) One pass over the prescribed blocks'
-// pair sides in pair order: the same sum on any number of threads.
-double prescribed_power(const Model& model, State& state);
+// The ground's work over a step by the trapezoid rule: the mean of the prescribed blocks'
+// contact forces at the pose before and at this one, times the velocities that moved them.
+// (The force at this pose alone, a right Riemann sum, made the ground's work drift by
+// dt m a^2 / 4 a second under a harmonic ground of amplitude a: as much as a stone riding
+// it rigidly exchanges.) Over the sides of the pairs in chunk k of the pair loops
+// (State::prescribed_entry_begin), on the thread whose contact law wrote their forces
+// (a serial pass over every side on one thread cost model F 15 % of its two-thread step);
+// each side's force at this pose is kept for the next step's mean.
+double prescribed_power_of_chunk(State& state, int k);
+// The same for the forces at the pose before of the sides no longer listed since the pair
+// list changed (State::prescribed_force_carried); serial, over the prescribed blocks.
+double carried_prescribed_power(State& state);
 
 // implicit_damping.cpp (Damping::implicit), between gather and integrate: the
 // dashpot forces at the end-of-step velocities (backward Euler), added to State::force and
@@ -115,6 +121,10 @@ struct BlockEnergy {
 BlockEnergy integrate(const Model& model, State& state, double dt_s);
 // integrate.cpp: the gather and integrate in one pass over the blocks, each block's
 // forces gathered just before it moves (explicit dashpots: nothing comes between them).
-BlockEnergy gather_and_integrate(const Model& model, State& state, double dt_s);
+struct ForcesAndMotion {
+  BlockEnergy energy;
+  double prescribed_power_w = 0.0;  // as gather_forces returns it
+};
+ForcesAndMotion gather_and_integrate(const Model& model, State& state, double dt_s);
 
 }  // namespace ishibashi

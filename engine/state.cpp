@@ -28,8 +28,8 @@ State make_initial_state(const Model& model) {
   s.torque.assign(nb, Vec3::Zero());
   s.left_model.assign(nb, 0);
   s.damping_scale.assign(nb, 1.0);
-  s.prescribed_force_before.assign(nb, Vec3::Zero());
-  s.prescribed_moment_before.assign(nb, Vec3::Zero());
+  s.prescribed_force_carried.assign(nb, Vec3::Zero());
+  s.prescribed_moment_carried.assign(nb, Vec3::Zero());
   s.rotation.resize(nb);
   s.face_normal_world.resize(model.face_normal_local.size());
   s.face_offset_world.resize(model.face_offset_local.size());

@@ -248,7 +248,8 @@ struct State {
   std::vector<std::array<int, 2>> prescribed_entry;  // {entry (as in block_pair), its
   std::vector<int> prescribed_entry_begin;  // block} where that block is prescribed, in pair
                                          // order; chunk k's from prescribed_entry_begin[k]
-  std::vector<int> prescribed_block;     // the prescribed blocks, in order (prescribed_power)
+  std::vector<std::array<int, 2>> prescribed_entry_next;  // scratch of update_pair_index
+  std::vector<int> prescribed_block;     // the prescribed blocks, in order
   bool pair_index_valid = false;
   std::vector<double> damping_scale;     // (nb) factor on the dashpots of a block's sub-contacts
                                          // (a pair takes the smaller): 1 unless
@@ -268,10 +269,13 @@ struct State {
 
   // ---- bookkeeping ----
   Energy energy;
-  // (nb) each prescribed block's contact force (N) and moment about its centroid (N m) at
-  // the previous step's pose: the ground's work over a step takes their mean with this
-  // pose's (prescribed_power, gather.cpp).
-  std::vector<Vec3> prescribed_force_before, prescribed_moment_before;
+  // The ground's work over a step takes the mean of its contact forces at the pose before and
+  // at this one (prescribed_power_of_chunk, gather.cpp). The pose before's: (prescribed_entry)
+  // each listed pair side's force on its prescribed block (N) and moment about the block's
+  // centroid (N m); (nb) per prescribed block, those of the sides listed before the pair list
+  // last changed.
+  std::vector<Vec3> prescribed_entry_force_before, prescribed_entry_moment_before;
+  std::vector<Vec3> prescribed_force_carried, prescribed_moment_carried;
   double last_gravitational_j = 0.0;     // potentials of the previous step (see World::step)
   double last_elastic_j = 0.0;
   bool energy_started = false;

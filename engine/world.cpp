@@ -124,9 +124,10 @@ void World::step() {
   // (a block moved half the margin): between rebuilds a block's joints barely change.
   if (rebuilt && m.options.damping == Damping::capped) timed(Stage::damping_caps, [&] { update_damping_caps(m, s, dt_s_); });
   const double elastic = timed(Stage::contact_law, [&] { return apply_contact_law(m, s, dt_s_); });
+  double prescribed_power = 0;
   BlockEnergy before;
   if (m.options.damping == Damping::implicit) {
-    timed(Stage::gather, [&] { gather_forces(m, s); });
+    prescribed_power = timed(Stage::gather, [&] { return gather_forces(m, s); });
     const DampingSolve solve = timed(Stage::damping_solve, [&] { return solve_implicit_damping(m, s, dt_s_); });
     s.energy.damping_j -= solve.work_j;
     s.energy.prescribed_work_j += solve.prescribed_power_w * dt_s_;
@@ -134,7 +135,9 @@ void World::step() {
     if (!solve.converged) ++p.damping_unconverged;
     before = timed(Stage::integrate, [&] { return integrate(m, s, dt_s_); });
   } else {
-    before = timed(Stage::gather_integrate, [&] { return gather_and_integrate(m, s, dt_s_); });
+    const ForcesAndMotion pass = timed(Stage::gather_integrate, [&] { return gather_and_integrate(m, s, dt_s_); });
+    prescribed_power = pass.prescribed_power_w;
+    before = pass.energy;
   }
 
   // Energy at this step, i.e. of the pose and the velocities integrate started from. v
@@ -154,7 +157,7 @@ void World::step() {
   e.elastic_j = 0.5 * (s.last_elastic_j + elastic);
   s.last_gravitational_j = gravitational;
   s.last_elastic_j = elastic;
-  e.prescribed_work_j += prescribed_power(m, s) * dt_s_;
+  e.prescribed_work_j += prescribed_power * dt_s_;
   e.left_model_j += before.left_model_j;
 
   const double step_end = team_of_thread.now_s();

@@ -58,9 +58,11 @@ namespace {
 // 17: the bond utilisation's peak until the first crack (SeismicRunResult::bond_utilisation_peak).
 // 18: its largest sample since the last frame, and whether bonds are left (history.csv's
 //     bond_utilisation is the frame interval's peak).
-// 19: the prescribed blocks' contact forces at the previous pose (State::prescribed_force_before:
+// 19: the prescribed blocks' contact forces at the previous pose (per block:
 //     the ground's work by the trapezoid rule).
-constexpr char kCheckpointMagic[] = "ishibashi checkpoint 19\n";
+// 20: those forces per pair side, so that the pass that wrote them sums the ground's work
+//     (State::prescribed_entry_force_before), and per block for the sides no longer listed.
+constexpr char kCheckpointMagic[] = "ishibashi checkpoint 20\n";
 
 template <class Archive, class H>
 void visit_header(Archive& a, H& h) {
