@@ -51,8 +51,12 @@ const std::string kRun = test::program() + " run --quiet ";
 // Runs the scenario whole, and again killed with SIGKILL at a random moment after its
 // first checkpoint (a random part, up to max_part, of the whole run's wall time later, so
 // that a loaded machine only stretches the test) and resumed; both must end the same.
-// `options`: more `run` options.
-void expect_killed_run_resumes_bit_identical(const std::string& name, const std::string& options, double max_part) {
+// `options`: more `run` options. `while_shaking`: the random moment counts from the
+// history's second row of shaking instead, so that the run resumes with the ground moving
+// (a checkpoint every 0.01 s: one lies between that row and the kill), which is where the
+// ground's work over the step across the checkpoint needs its forces at the pose before.
+void expect_killed_run_resumes_bit_identical(const std::string& name, const std::string& options, double max_part,
+                                             bool while_shaking = false) {
   const auto file = scenario(name + ".toml");
   const auto whole = tmp_dir() / (name + "_whole"), killed = tmp_dir() / (name + "_killed");
   std::filesystem::remove_all(whole);
@@ -66,11 +70,15 @@ void expect_killed_run_resumes_bit_identical(const std::string& name, const std:
   const unsigned seed = device();
   std::mt19937 random(seed);
   const double kill_after_s = std::uniform_real_distribution<double>(0.0, max_part * whole_s)(random);
-  SCOPED_TRACE("killed " + std::to_string(kill_after_s) + " s after its first checkpoint (seed " + std::to_string(seed) + ")");
+  SCOPED_TRACE("killed " + std::to_string(kill_after_s) + " s after " + (while_shaking ? "its second row of shaking" : "its first checkpoint") +
+               " (seed " + std::to_string(seed) + ")");
   const std::string checkpoint = (killed / "checkpoint.bin").string();
-  run_command("bash -c '" + kRun + file.string() + options + " --checkpoint-every 0.05 --out " + killed.string() +
-                  " & run=$!; while [ ! -f " + checkpoint + " ] && kill -0 $run 2> /dev/null; do sleep 0.02; done; sleep " +
-                  std::to_string(kill_after_s) + "; kill -KILL $run; wait $run'",
+  const std::string history = (killed / "history.csv").string();
+  const std::string started_when = while_shaking ? "[ $(cat " + history + " 2> /dev/null | grep -c ,shake,) -lt 2 ]" : "[ ! -f " + checkpoint + " ]";
+  run_command("bash -c '" + kRun + file.string() + options + " --checkpoint-every " + (while_shaking ? "0.01" : "0.05") +
+                  " --out " + killed.string() + " & run=$!; while " + started_when +
+                  " && kill -0 $run 2> /dev/null; do sleep 0.02; done; sleep " + std::to_string(kill_after_s) +
+                  "; kill -KILL $run; wait $run'",
               &status);
   ASSERT_TRUE(WIFEXITED(status) && WEXITSTATUS(status) == 128 + SIGKILL) << "the run was not killed: status " << status;
   ASSERT_TRUE(std::filesystem::exists(killed / "checkpoint.bin"));
@@ -99,6 +107,12 @@ TEST(Checkpoint, RunWithCappedDashpotsResumesBitIdentical) {
 // it, the resumed run's solves would stop at other iterates.
 TEST(Checkpoint, RunWithImplicitDashpotsResumesBitIdentical) {
   expect_killed_run_resumes_bit_identical("ishibashi_checkpoint_implicit", " --damping implicit", 0.4);
+}
+
+// Killed while the ground moves: the resumed run's first step takes the ground's contact
+// forces at the pose before from the checkpoint (the trapezoid rule of its work).
+TEST(Checkpoint, RunKilledWhileShakingResumesBitIdentical) {
+  expect_killed_run_resumes_bit_identical("ishibashi_checkpoint_shaking", "", 0.3, /*while_shaking=*/true);
 }
 
 // A resumed run's wall time is the work of every part: stopped (SIGINT, which writes a
