@@ -52,9 +52,10 @@ const std::string kRun = test::program() + " run --quiet ";
 // first checkpoint (a random part, up to max_part, of the whole run's wall time later, so
 // that a loaded machine only stretches the test) and resumed; both must end the same.
 // `options`: more `run` options. `while_shaking`: the random moment counts from the
-// history's second row of shaking instead, so that the run resumes with the ground moving
-// (a checkpoint every 0.01 s: one lies between that row and the kill), which is where the
-// ground's work over the step across the checkpoint needs its forces at the pose before.
+// history's second row of shaking instead (checkpoints are written at the frames, each
+// after its row: the first row's lies before the kill), so that the run resumes with the
+// ground moving, where the ground's work over the step across the checkpoint needs its
+// forces at the pose before.
 void expect_killed_run_resumes_bit_identical(const std::string& name, const std::string& options, double max_part,
                                              bool while_shaking = false) {
   const auto file = scenario(name + ".toml");
@@ -75,8 +76,8 @@ void expect_killed_run_resumes_bit_identical(const std::string& name, const std:
   const std::string checkpoint = (killed / "checkpoint.bin").string();
   const std::string history = (killed / "history.csv").string();
   const std::string started_when = while_shaking ? "[ $(cat " + history + " 2> /dev/null | grep -c ,shake,) -lt 2 ]" : "[ ! -f " + checkpoint + " ]";
-  run_command("bash -c '" + kRun + file.string() + options + " --checkpoint-every " + (while_shaking ? "0.01" : "0.05") +
-                  " --out " + killed.string() + " & run=$!; while " + started_when +
+  run_command("bash -c '" + kRun + file.string() + options + " --checkpoint-every 0.05 --out " + killed.string() +
+                  " & run=$!; while " + started_when +
                   " && kill -0 $run 2> /dev/null; do sleep 0.02; done; sleep " + std::to_string(kill_after_s) +
                   "; kill -KILL $run; wait $run'",
               &status);
