@@ -1,6 +1,7 @@
 #include "engine/thread_tuner.h"
 
 #include <algorithm>
+#include <cmath>
 
 namespace ishibashi {
 
@@ -24,16 +25,28 @@ void ThreadTuner::record(double step_s) {
   const double per_step = window_s_ / window_steps_;
   window_s_ = 0;
   window_steps_ = 0;
-  ++windows_;
   if (current_ != best_) {  // a probe ended: move if it was clearly faster
     cost_[current_] = per_step;
-    if (per_step < kMargin * cost_[best_]) best_ = current_;
+    if (per_step < kMargin * cost_[best_]) {
+      best_ = current_;
+      probe_every_ = kProbeEvery;
+    } else if (kMargin * per_step > cost_[best_]) {  // clearly slower: the next probe later
+      probe_every_ = std::min(2 * probe_every_, kProbeEveryMost);
+    }
     current_ = best_;
+    windows_to_probe_ = probe_every_;
+    cost_after_probe_ = 0;
     return;
   }
   // The best size's cost follows the machine's load (a running average of its windows).
   cost_[best_] = cost_[best_] > 0 ? 0.5 * (cost_[best_] + per_step) : per_step;
-  if (windows_ % kProbeEvery != 0) return;
+  if (cost_after_probe_ == 0) {
+    cost_after_probe_ = cost_[best_];
+  } else if (std::abs(cost_[best_] - cost_after_probe_) > kLoadChange * cost_after_probe_) {
+    probe_every_ = kProbeEvery;  // the load changed since the last probe: as at first
+    windows_to_probe_ = std::min(windows_to_probe_, kProbeEvery);
+  }
+  if (--windows_to_probe_ > 0) return;
   const int last = static_cast<int>(ladder_.size()) - 1;
   int probe = best_ + (probe_down_ ? -1 : 1);
   if (probe < 0 || probe > last) probe = best_ + (probe_down_ ? 1 : -1);
