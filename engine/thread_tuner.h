@@ -36,7 +36,7 @@ class ThreadTuner {
   static constexpr int kProbeEvery = 8;     // windows at the best size between probes, at first
   static constexpr int kProbeEveryMost = 64;  // ... after probes that kept losing
   static constexpr double kMargin = 0.9;    // a probe must save 10 % to move
-  static constexpr double kLoadChange = 0.3;  // the best size's cost moving this much: probe
+  static constexpr double kLoadChange = 0.3;  // the best size's cost moving this much: back to kProbeEvery
 
  private:
   std::vector<int> ladder_;    // 1, 2, 4, ..., max_threads
