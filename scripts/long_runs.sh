@@ -7,7 +7,7 @@
 # (scripts/frozen_binary.sh), so that a later build never changes a comparison half way. The
 # results and what they mean: scenarios/results/README.md.
 #
-#   nohup nice -n 19 bash scripts/long_runs.sh b_mortar b_mortar_c e_dry e_mortar > out/long_runs.log 2>&1 &
+#   nohup nice -n 19 bash scripts/long_runs.sh b_mortar_h e_dry e_mortar > out/long_runs.log 2>&1 &
 #   nohup nice -n 19 bash scripts/long_runs.sh b_mortar_b e_mortar e_dry > out/long_runs_b.log 2>&1 &
 #   bash scripts/long_runs.sh save    # before committing: keeps the finished members
 #   bash scripts/long_runs.sh park    # at a session's end: keeps the members under way
