@@ -67,9 +67,6 @@ void update_pair_index(const Model& m, State& s) {
   }
   s.prescribed_entry_begin[chunks] = static_cast<int>(listed.size());
   if (listed != s.prescribed_entry) carry_prescribed_forces(s);
-  s.prescribed_block.clear();  // the ground's blocks, for carried_prescribed_power (not a pass over nb a step)
-  for (int b = 0; b < nb; ++b)
-    if (m.motion[b] == Motion::prescribed) s.prescribed_block.push_back(b);
   s.pair_index_valid = true;
 }
 

@@ -30,6 +30,8 @@ State make_initial_state(const Model& model) {
   s.damping_scale.assign(nb, 1.0);
   s.prescribed_force_carried.assign(nb, Vec3::Zero());
   s.prescribed_moment_carried.assign(nb, Vec3::Zero());
+  for (int b = 0; b < nb; ++b)  // a block's motion never changes: listed once
+    if (model.motion[b] == Motion::prescribed) s.prescribed_block.push_back(b);
   s.rotation.resize(nb);
   s.face_normal_world.resize(model.face_normal_local.size());
   s.face_offset_world.resize(model.face_offset_local.size());

@@ -249,7 +249,7 @@ struct State {
   std::vector<int> prescribed_entry_begin;  // block} where that block is prescribed, in pair
                                          // order; chunk k's from prescribed_entry_begin[k]
   std::vector<std::array<int, 2>> prescribed_entry_next;  // scratch of update_pair_index
-  std::vector<int> prescribed_block;     // the prescribed blocks, in order
+  std::vector<int> prescribed_block;     // the prescribed blocks, in order (make_initial_state)
   bool pair_index_valid = false;
   std::vector<double> damping_scale;     // (nb) factor on the dashpots of a block's sub-contacts
                                          // (a pair takes the smaller): 1 unless
