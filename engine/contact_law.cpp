@@ -95,21 +95,34 @@ double apply_contact_law(const Model& m, State& s, double dt) {
   s.pair_force_n.resize(np);
   s.pair_moment_nm.resize(2 * np);
   const bool implicit_dashpots = m.options.damping == Damping::implicit;
+  const int chunks = static_cast<int>(s.pair_chunk_begin.size()) - 1;
   if (implicit_dashpots) {
     s.implicit.blocks.resize(np);
     s.implicit.pair_matrix.resize(np);
+    s.implicit.changed.resize(chunks);
+    s.implicit.changed_count.resize(chunks, 0);
   }
+  // Pair pi's blocks for the solve (b = -1: no dashpots), noting a change for its lists.
+  auto set_dashpot_blocks = [&s](std::ptrdiff_t pi, int a, int b, int k) {
+    ImplicitDamping& w = s.implicit;
+    if (w.blocks[pi][1] != b) {
+      int& n = w.changed_count[k];
+      if (n < ImplicitDamping::kChangedPerChunk) w.changed[k][n] = static_cast<int>(pi);
+      ++n;
+    }
+    w.blocks[pi] = {a, b};
+  };
   std::array<EnergyParts, kStageChunks> parts{};
   // Pair by pair: what the sub-contacts of a pair share (blocks, velocities, law) is
   // loaded once, and their resultant is summed here so that the gather works on pairs.
-  parallel_ranges(s.pair_chunk_begin.data(), static_cast<int>(s.pair_chunk_begin.size()) - 1, [&](std::ptrdiff_t begin, std::ptrdiff_t end, int k) {
+  parallel_ranges(s.pair_chunk_begin.data(), chunks, [&](std::ptrdiff_t begin, std::ptrdiff_t end, int k) {
     // The chunk's energy sums, J: plain locals, each kept in its own register (in_own_register).
     double elastic_j = 0, damping_j = 0, friction_j = 0, bond_j = 0;
     for (std::ptrdiff_t pi = begin; pi < end; ++pi) {
       const Pair& pair = s.pairs[pi];
       if (pair.sub_count == 0) {
         s.pair_force_n[pi] = s.pair_moment_nm[2 * pi] = s.pair_moment_nm[2 * pi + 1] = Vec3::Zero();
-        if (implicit_dashpots) s.implicit.blocks[pi] = {pair.a, -1};  // no dashpots: the solve skips it
+        if (implicit_dashpots) set_dashpot_blocks(pi, pair.a, -1, k);  // no dashpots: the solve skips it
         continue;
       }
       const int a = pair.a, b = pair.b;
@@ -265,7 +278,7 @@ double apply_contact_law(const Model& m, State& s, double dt) {
           Sym6f& stored = s.implicit.pair_matrix[pi];
           for (int i = 0; i < 21; ++i) stored.v[i] = static_cast<float>(k.v[i]);
         }
-        s.implicit.blocks[pi] = {a, closed ? b : -1};
+        set_dashpot_blocks(pi, a, closed ? b : -1, k);
       }
       s.pair_force_n[pi] = pair_force;
       s.pair_moment_nm[2 * pi] = -pair_torque;                         // on a, about x_a

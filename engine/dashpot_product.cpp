@@ -1,7 +1,9 @@
 // The dashpot matrix's product (dashpot_product.h): the pass over the pairs.
 #include "engine/dashpot_product.h"
 
+#include <algorithm>
 #include <array>
+#include <cassert>
 
 #include "engine/pair_damping.h"
 #include "engine/parallel.h"
@@ -60,54 +62,73 @@ void pair_resultant(const State& s, const double* xa, const double* xb, std::ptr
   resultant_inline(s, xa, xb, p, on_a, on_b);
 }
 
-// Model F's pairs without sub-contacts (a third, scattered) would cost the passes a
-// mispredicted branch each, and so would this index if it tested them with branches: it
-// counts and writes without one (a chunk's slot past its last entry is a dummy).
+namespace {
+
+// Block i's lists from its entries of State::block_pair: its pairs with dashpots where it
+// is a (pair order: the entries are), then those where it is b. Written without a branch per
+// entry (model F's pairs without dashpots, most of a cracked bridge's, lie scattered): an
+// entry that does not belong is written and then overwritten, at worst in the spare slot.
+void make_block_lists(State& s, std::ptrdiff_t i) {
+  ImplicitDamping& w = s.implicit;
+  int at = dashpot_lists_begin(s, i);
+  for (int q = s.block_pair_begin[i]; q < s.block_pair_begin[i + 1]; ++q) {
+    const int p = s.block_pair[q] >> 1;
+    w.dashpot_pairs[at] = p;
+    at += (~s.block_pair[q] & 1) & int{has_dashpots(w, p)};
+  }
+  w.a_end[i] = at;
+  for (int q = s.block_pair_begin[i]; q < s.block_pair_begin[i + 1]; ++q) {
+    const int p = s.block_pair[q] >> 1;
+    w.dashpot_pairs[at] = p;
+    at += (s.block_pair[q] & 1) & int{has_dashpots(w, p)};
+  }
+  w.b_end[i] = at;
+}
+
+// Whether every block's lists are those make_block_lists would make now (debug builds).
+[[maybe_unused]] bool lists_are_current(const State& s, int nb) {
+  const ImplicitDamping& w = s.implicit;
+  for (int i = 0; i < nb; ++i) {
+    int at = dashpot_lists_begin(s, i);
+    for (int side = 0; side < 2; ++side) {
+      for (int q = s.block_pair_begin[i]; q < s.block_pair_begin[i + 1]; ++q)
+        if ((s.block_pair[q] & 1) == side && has_dashpots(w, s.block_pair[q] >> 1) && w.dashpot_pairs[at++] != s.block_pair[q] >> 1)
+          return false;
+      if (at != (side == 0 ? w.a_end[i] : w.b_end[i])) return false;
+    }
+  }
+  return true;
+}
+
+}  // namespace
+
+// Once a step, after the contact law. Most steps change the dashpots of a few pairs (model
+// F cracked: about 14 a step, in three steps of four): only their two blocks' lists are
+// made again. Every block's, in the block loops' chunks, when the pair list changed or a
+// chunk of the contact law noted more changes than it keeps.
 void index_pairs_with_dashpots(const Model& m, State& s) {
   ImplicitDamping& w = s.implicit;
   const int nb = m.block_count;
-  const int chunks = static_cast<int>(s.pair_chunk_begin.size()) - 1;
-  w.pairs_of_a_begin.resize(nb + 1);
-  w.pairs_of_b_begin.resize(nb + 1);
-  w.pairs_of_a.resize(s.pairs.size());
-  w.pairs_of_b.resize(s.pairs.size());
-  // 1 where entry q of State::block_pair is pair p's side b and p has dashpots.
-  auto b_side_with_dashpots = [&](int q) { return (s.block_pair[q] & 1) & int{has_dashpots(w, s.block_pair[q] >> 1)}; };
-  // Per chunk (the pair loops' and the block loops' chunks share their blocks): counts,
-  // then each chunk writes from its offset.
-  std::array<int, kStageChunks + 1> a_offset{}, b_offset{};
-  parallel_ranges(s.pair_chunk_begin.data(), chunks, [&](std::ptrdiff_t begin, std::ptrdiff_t end, int k) {
-    int count = 0;
-    for (std::ptrdiff_t p = begin; p < end; ++p) count += has_dashpots(w, p);
-    a_offset[k + 1] = count;
-    count = 0;
-    for (int q = s.block_pair_begin[std::ptrdiff_t{nb} * k / chunks]; q < s.block_pair_begin[std::ptrdiff_t{nb} * (k + 1) / chunks]; ++q)
-      count += b_side_with_dashpots(q);
-    b_offset[k + 1] = count;
-  });
-  for (int k = 0; k < chunks; ++k) a_offset[k + 1] += a_offset[k], b_offset[k + 1] += b_offset[k];
-  parallel_ranges(s.pair_chunk_begin.data(), chunks, [&](std::ptrdiff_t begin, std::ptrdiff_t end, int k) {
-    int dummy;
-    int at = a_offset[k];
-    std::ptrdiff_t p = begin;
-    for (std::ptrdiff_t block = std::ptrdiff_t{nb} * k / chunks; block < std::ptrdiff_t{nb} * (k + 1) / chunks; ++block) {
-      w.pairs_of_a_begin[block] = at;
-      for (; p < end && w.blocks[p][0] == block; ++p) {
-        *(at < a_offset[k + 1] ? &w.pairs_of_a[at] : &dummy) = static_cast<int>(p);
-        at += has_dashpots(w, p);
+  bool all = w.lists_stale || w.a_end.size() != static_cast<std::size_t>(nb);
+  for (int n : w.changed_count) all |= n > ImplicitDamping::kChangedPerChunk;
+  if (all) {
+    w.dashpot_pairs.resize(s.block_pair.size() + nb);
+    w.a_end.resize(nb);
+    w.b_end.resize(nb);
+    parallel_chunks(nb, stage_chunks(nb), [&](std::ptrdiff_t begin, std::ptrdiff_t end, int) {
+      for (std::ptrdiff_t i = begin; i < end; ++i) make_block_lists(s, i);
+    });
+    w.lists_stale = false;
+  } else {
+    for (std::size_t k = 0; k < w.changed_count.size(); ++k)
+      for (int c = 0; c < w.changed_count[k]; ++c) {
+        const Pair& pair = s.pairs[w.changed[k][c]];
+        make_block_lists(s, pair.a);
+        make_block_lists(s, pair.b);
       }
-    }
-    at = b_offset[k];
-    for (std::ptrdiff_t b = std::ptrdiff_t{nb} * k / chunks; b < std::ptrdiff_t{nb} * (k + 1) / chunks; ++b) {
-      w.pairs_of_b_begin[b] = at;
-      for (int q = s.block_pair_begin[b]; q < s.block_pair_begin[b + 1]; ++q) {
-        *(at < b_offset[k + 1] ? &w.pairs_of_b[at] : &dummy) = s.block_pair[q] >> 1;
-        at += b_side_with_dashpots(q);
-      }
-    }
-  });
-  w.pairs_of_a_begin[nb] = a_offset[chunks];
-  w.pairs_of_b_begin[nb] = b_offset[chunks];
+  }
+  std::fill(w.changed_count.begin(), w.changed_count.end(), 0);
+  assert(lists_are_current(s, nb));
 }
 
 namespace {
@@ -127,10 +148,10 @@ void pair_products(const Model& m, State& s, VelocityOf&& velocity_of) {
       double xa[6];
       velocity_of(a, xa);
       const Vec3& position_a = s.position[a];
-      int q = w.pairs_of_a_begin[a];
-      const int last = w.pairs_of_a_begin[a + 1];
+      int q = dashpot_lists_begin(s, a);
+      const int last = w.a_end[a];
       for (; q + 1 < last; q += 2) {
-        const int p0 = w.pairs_of_a[q], p1 = w.pairs_of_a[q + 1];
+        const int p0 = w.dashpot_pairs[q], p1 = w.dashpot_pairs[q + 1];
         const int b0 = w.blocks[p0][1], b1 = w.blocks[p1][1];
         double x0[6], x1[6];
         velocity_of(b0, x0);
@@ -147,7 +168,7 @@ void pair_products(const Model& m, State& s, VelocityOf&& velocity_of) {
         for (int i = 0; i < 6; ++i) out0[i] = on_b[i][0], out1[i] = on_b[i][1];
       }
       if (q < last) {
-        const int p = w.pairs_of_a[q];
+        const int p = w.dashpot_pairs[q];
         double xb[6];
         velocity_of(w.blocks[p][1], xb);
         resultant_inline(s, xa, xb, p, on_a, w.on_b[p].data());

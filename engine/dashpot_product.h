@@ -14,11 +14,13 @@ namespace ishibashi {
 // Whether pair p has dashpots this step (the contact law marks one without sub-contacts).
 inline bool has_dashpots(const ImplicitDamping& w, std::ptrdiff_t p) { return w.blocks[p][1] >= 0; }
 
-// Once a step, after the contact law: the pairs with dashpots, in pair order, each
-// block's range of those where it is a (pairs are sorted by a), and each block's list of
-// those where it is b (in the gather's order). The passes then loop over them without a
-// test per pair.
+// Once a step, after the contact law: each block's lists of its pairs with dashpots
+// (ImplicitDamping::dashpot_pairs): the passes loop over them without a test per pair.
 void index_pairs_with_dashpots(const Model& m, State& s);
+
+// Where block i's lists begin in ImplicitDamping::dashpot_pairs: its range of
+// State::block_pair's length, and one spare slot per block before it.
+inline int dashpot_lists_begin(const State& s, std::ptrdiff_t i) { return s.block_pair_begin[i] + static_cast<int>(i); }
 
 // The product's pass over the pairs at x (x zero where not solved), into
 // ImplicitDamping::on_a and on_b.
@@ -39,8 +41,8 @@ inline Vec6 gathered(const State& s, std::ptrdiff_t b) {
   const ImplicitDamping& w = s.implicit;
   const double* own = w.on_a[b].data();
   double f[6] = {own[0], own[1], own[2], own[3], own[4], own[5]};
-  for (int q = w.pairs_of_b_begin[b]; q < w.pairs_of_b_begin[b + 1]; ++q) {
-    const double* r = w.on_b[w.pairs_of_b[q]].data();
+  for (int q = w.a_end[b]; q < w.b_end[b]; ++q) {
+    const double* r = w.on_b[w.dashpot_pairs[q]].data();
     for (int i = 0; i < 6; ++i) f[i] += r[i];
   }
   return Vec6(f[0], f[1], f[2], f[3], f[4], f[5]);

@@ -67,6 +67,7 @@ void update_pair_index(const Model& m, State& s) {
   }
   s.prescribed_entry_begin[chunks] = static_cast<int>(listed.size());
   if (listed != s.prescribed_entry) carry_prescribed_forces(s);
+  s.implicit.lists_stale = true;  // the solve's lists of pairs with dashpots follow block_pair
   s.pair_index_valid = true;
 }
 

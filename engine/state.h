@@ -179,10 +179,20 @@ struct ImplicitDamping {
   // centroid (N m), on b per pair, and on each block summed over the pairs where it is a.
   std::vector<Vec6> on_b;              // (np)
   std::vector<Vec6> on_a;              // (nb)
-  // The pairs with dashpots this step: those where block i is a at pairs_of_a[
-  // pairs_of_a_begin[i] .. pairs_of_a_begin[i + 1]), in pair order; where it is b, likewise
-  // in pairs_of_b, in the order of State::block_pair.
-  std::vector<int> pairs_of_a_begin, pairs_of_a, pairs_of_b_begin, pairs_of_b;
+  // The pairs with dashpots this step, block i's in a range of its own (its entries of
+  // State::block_pair and a spare slot, from dashpot_lists_begin(i)): those where it is a, in
+  // pair order, up to a_end[i]; then those where it is b, in block_pair's order, up to
+  // b_end[i]. A block's lists need no other block's, so a step makes anew only those of the
+  // blocks whose pairs' dashpots came or went.
+  std::vector<int> dashpot_pairs;  // (2 np + nb)
+  std::vector<int> a_end, b_end;   // (nb)
+  // The pairs whose dashpots came or went (blocks[p][1] changed) since the lists were made,
+  // per chunk of the contact law's pass, up to kChangedPerChunk each (past that, and when
+  // the pair list changed, `lists_stale`: every block's lists are made anew).
+  static constexpr int kChangedPerChunk = 8;
+  std::vector<std::array<int, kChangedPerChunk>> changed;  // (chunks)
+  std::vector<int> changed_count;                          // (chunks)
+  bool lists_stale = true;
   std::vector<Vec6> velocity;          // (nb) v* (without dashpots); prescribed: theirs
   std::vector<Vec6> delta;             // (nb) v_new - v*; last step's is the solve's first guess
   std::vector<Vec6> residual, preconditioned, direction, product;  // (nb) conjugate gradients

@@ -8,6 +8,7 @@
 #include <cmath>
 #include <random>
 
+#include "engine/dashpot_product.h"
 #include "engine/pair_damping.h"
 #include "engine/world.h"
 #include "geometry/demo_scenes.h"
@@ -251,6 +252,38 @@ TEST(ImplicitDamping, SolveSkipsExactlyThePairsWhoseJointsAreAllOpen) {
   });
   EXPECT_GT(open_pairs, 0);
   EXPECT_GT(closed_pairs, 0);
+}
+
+// The solve's lists of pairs with dashpots (ImplicitDamping::dashpot_pairs) are made anew
+// only for the blocks of pairs whose dashpots came or went: after every step of the shaken
+// wall, each block's lists are those read off the pairs, and joints opened and closed
+// between steps whose pair list did not change (so the lists were kept and mended).
+TEST(ImplicitDamping, DashpotListsFollowTheJointsAsTheyOpenAndClose) {
+  std::vector<int> had_dashpots;
+  std::vector<std::pair<int, int>> had_pairs;
+  int mended_steps = 0;
+  shaken_wall(1, [&](const State& s, int step) {
+    const ImplicitDamping& w = s.implicit;
+    for (int i = 0; i + 1 < static_cast<int>(s.block_pair_begin.size()); ++i) {
+      std::vector<int> as_a, as_b;
+      for (int q = s.block_pair_begin[i]; q < s.block_pair_begin[i + 1]; ++q) {
+        const int p = s.block_pair[q] >> 1;
+        if (w.blocks[p][1] >= 0) ((s.block_pair[q] & 1) ? as_b : as_a).push_back(p);
+      }
+      const int begin = dashpot_lists_begin(s, i);
+      ASSERT_EQ(std::vector<int>(w.dashpot_pairs.begin() + begin, w.dashpot_pairs.begin() + w.a_end[i]), as_a)
+          << "block " << i << " at step " << step;
+      ASSERT_EQ(std::vector<int>(w.dashpot_pairs.begin() + w.a_end[i], w.dashpot_pairs.begin() + w.b_end[i]), as_b)
+          << "block " << i << " at step " << step;
+    }
+    std::vector<int> has(s.pairs.size());
+    std::vector<std::pair<int, int>> pairs(s.pairs.size());
+    for (std::size_t p = 0; p < s.pairs.size(); ++p) has[p] = w.blocks[p][1] >= 0, pairs[p] = {s.pairs[p].a, s.pairs[p].b};
+    mended_steps += pairs == had_pairs && has != had_dashpots;
+    had_dashpots = has;
+    had_pairs = pairs;
+  });
+  EXPECT_GT(mended_steps, 10);
 }
 
 // The solve's tolerance (ModelOptions::damping_solve_tolerance): from the same state, a
