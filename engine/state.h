@@ -187,8 +187,8 @@ struct ImplicitDamping {
   std::vector<int> dashpot_pairs;  // (2 np + nb)
   std::vector<int> a_end, b_end;   // (nb)
   // The pairs whose dashpots came or went (blocks[p][1] changed) since the lists were made,
-  // per chunk of the contact law's pass, up to kChangedPerChunk each (past that, and when
-  // the pair list changed, `lists_stale`: every block's lists are made anew).
+  // per chunk of the contact law's pass, up to kChangedPerChunk each. Past that, or when the
+  // pair list changed (lists_stale), every block's lists are made anew.
   static constexpr int kChangedPerChunk = 8;
   std::vector<std::array<int, kChangedPerChunk>> changed;  // (chunks)
   std::vector<int> changed_count;                          // (chunks)
