@@ -46,10 +46,11 @@ void update_in_place(State& s, const Pair& pair) {
   }
 }
 
-// Appends the new manifold of a pair to `out`, each point with the history (springs,
-// bond, slip) of its match among the pair's current sub-contacts.
+// Writes the new manifold of a pair into `out` from `first`, each point with the history
+// (springs, bond, slip) of its match among the pair's current sub-contacts. `out` grows
+// by doubling, so a chunk's buffer soon stops growing at all.
 void append_rebuilt(const Model& m, const State& s, const Pair& pair, const Manifold& manifold, bool first_detection,
-                    double dt_s, SubContacts& out) {
+                    double dt_s, SubContacts& out, std::size_t first) {
   const SubContacts& old = s.contacts;
   const int old_begin = pair.sub_begin, old_end = pair.sub_begin + pair.sub_count;
   const int incident_block = pair.axis_kind == 1 ? pair.a : pair.b;
@@ -57,8 +58,8 @@ void append_rebuilt(const Model& m, const State& s, const Pair& pair, const Mani
   const PairLaw& law = m.law(m.material[pair.a], m.material[pair.b]);
   const bool bondable = first_detection && !m.options.bonds_when_settled && law.carries_bond();
   const double reach = 1e-2 * std::min(m.size_m[pair.a], m.size_m[pair.b]);
-  const std::size_t first = out.size();
-  out.resize(first + manifold.size());
+  const std::size_t last = first + manifold.size();
+  if (out.size() < last) out.resize(std::max(last, 2 * out.size()));
   for (int i = 0; i < manifold.size(); ++i) {
     const ManifoldPoint& p = manifold.points[i];
     const std::size_t j = first + i;
@@ -132,10 +133,10 @@ void append_rebuilt(const Model& m, const State& s, const Pair& pair, const Mani
   // of the energy exchanged before, 0.15 % after).
   double before = 0, after = 0;
   for (int q = old_begin; q < old_end; ++q) before += old.spring_energy(q);
-  for (std::size_t j = first; j < out.size(); ++j) after += out.spring_energy(j);
+  for (std::size_t j = first; j < last; ++j) after += out.spring_energy(j);
   if (after > 0 && after != before) {
     const double scale = std::sqrt(before / after);
-    for (std::size_t j = first; j < out.size(); ++j) {
+    for (std::size_t j = first; j < last; ++j) {
       out.normal_stretch_m[j] *= scale;
       out.shear_stretch_m[j] *= scale;
     }

@@ -33,14 +33,17 @@ constexpr int kDeadShare = 256;
 // or its sub-contacts updated in place. A rebuilt manifold with as many points as before
 // goes straight on into the pair's own range (its history read from there first): as a
 // loop of its own after this one, it ran in a third of model F's steps and in most of a
-// cracked bridge's. Returns how the sub-contact layout changed.
+// cracked bridge's. The pairs whose counts changed are listed per chunk, their new
+// sub-contacts from the buffer's start, in pair order. Returns how the layout changed.
 Layout build_manifolds(const Model& m, State& s, bool first_detection, double dt_s) {
   const int chunks = static_cast<int>(s.pair_chunk_begin.size()) - 1;
   s.chunk_contacts.resize(chunks);
-  s.chunk_regroup.assign(chunks, 0);
+  s.chunk_rebuilt.resize(chunks);
   parallel_ranges(s.pair_chunk_begin.data(), chunks, [&](std::ptrdiff_t begin, std::ptrdiff_t end, int k) {
     SubContacts& out = s.chunk_contacts[k];
-    out.clear();
+    std::vector<int>& rebuilt = s.chunk_rebuilt[k];
+    rebuilt.clear();
+    int used = 0;  // out's entries in use (its arrays only grow: a resize a pair cost 3 % of a late step)
     thread_local Manifold manifold;  // one per thread, reused
     thread_local PairWorld world;
     for (std::ptrdiff_t pi = begin; pi < end; ++pi) {
@@ -50,24 +53,23 @@ Layout build_manifolds(const Model& m, State& s, bool first_detection, double dt
         if (pair.sub_count > 0) update_in_place(s, pair);
         continue;
       }
-      const int first = static_cast<int>(out.size());
       if (manifold.size() == pair.sub_count) {  // placed: its range is its own
         if (manifold.size() == 0) continue;
-        append_rebuilt(m, s, pair, manifold, first_detection, dt_s, out);
-        s.contacts.copy_range(out, first, manifold.size(), pair.sub_begin);
-        out.resize(first);
+        append_rebuilt(m, s, pair, manifold, first_detection, dt_s, out, used);
+        s.contacts.copy_range(out, used, manifold.size(), pair.sub_begin);
         continue;
       }
-      pair.rebuilt_begin = first;
+      pair.rebuilt_begin = used;
       pair.rebuilt_count = manifold.size();
-      s.chunk_regroup[k] = static_cast<std::uint8_t>(Layout::regroup);
-      append_rebuilt(m, s, pair, manifold, first_detection, dt_s, out);
+      rebuilt.push_back(static_cast<int>(pi));
+      append_rebuilt(m, s, pair, manifold, first_detection, dt_s, out, used);
+      used += manifold.size();
     }
   });
-  std::uint8_t change = static_cast<std::uint8_t>(s.pairs_changed ? Layout::regroup : Layout::unchanged);
-  for (std::uint8_t r : s.chunk_regroup) change = std::max(change, r);
+  bool changed = s.pairs_changed;
+  for (const std::vector<int>& rebuilt : s.chunk_rebuilt) changed |= !rebuilt.empty();
   s.pairs_changed = false;
-  return static_cast<Layout>(change);
+  return changed ? Layout::regroup : Layout::unchanged;
 }
 
 // Rebuilt pairs (their counts changed: the others were placed) get new ranges after the
@@ -77,20 +79,16 @@ void append_changed(State& s) {
   const int chunks = static_cast<int>(s.pair_chunk_begin.size()) - 1;
   std::array<int, kStageChunks + 1> chunk_at{};  // chunk k appends from chunk_at[k]
   std::array<int, kStageChunks> chunk_dead{};
-  parallel_ranges(s.pair_chunk_begin.data(), chunks, [&](std::ptrdiff_t begin, std::ptrdiff_t end, int k) {
-    int count = 0;
-    for (std::ptrdiff_t pi = begin; pi < end; ++pi)
-      count += std::max(s.pairs[pi].rebuilt_count, 0);
-    chunk_at[k + 1] = count;
-  });
   chunk_at[0] = static_cast<int>(s.contacts.size());
-  for (int k = 0; k < chunks; ++k) chunk_at[k + 1] += chunk_at[k];
+  for (int k = 0; k < chunks; ++k) {
+    chunk_at[k + 1] = chunk_at[k];
+    for (int pi : s.chunk_rebuilt[k]) chunk_at[k + 1] += s.pairs[pi].rebuilt_count;
+  }
   s.contacts.resize(chunk_at[chunks]);
-  parallel_ranges(s.pair_chunk_begin.data(), chunks, [&](std::ptrdiff_t begin, std::ptrdiff_t end, int k) {
+  parallel_ranges(s.pair_chunk_begin.data(), chunks, [&](std::ptrdiff_t, std::ptrdiff_t, int k) {
     int at = chunk_at[k], dead = 0;
-    for (std::ptrdiff_t pi = begin; pi < end; ++pi) {
+    for (int pi : s.chunk_rebuilt[k]) {
       Pair& pair = s.pairs[pi];
-      if (pair.rebuilt_count < 0) continue;
       dead += pair.sub_count;
       pair.sub_begin = at;
       pair.sub_count = pair.rebuilt_count;

@@ -113,9 +113,10 @@ void edge_manifold(const Model& m, const State& s, const PairWorld& w, int a, in
 // ---- contact_history.cpp ----
 // A barely moved face contact keeps its sub-contacts; only their geometry follows the poses.
 void update_in_place(State& s, const Pair& pair);
-// Appends the new manifold of a pair to `out`, each point with the history (springs,
-// bond, slip) of its match among the pair's current sub-contacts.
+// Writes the new manifold of a pair into `out` from index `first` (growing it when it is
+// too short), each point with the history (springs, bond, slip) of its match among the
+// pair's current sub-contacts.
 void append_rebuilt(const Model& m, const State& s, const Pair& pair, const Manifold& manifold, bool first_detection,
-                    double dt_s, SubContacts& out);
+                    double dt_s, SubContacts& out, std::size_t first);
 
 }  // namespace ishibashi

@@ -242,8 +242,10 @@ struct State {
                                          // in pair order
   SubContacts next_contacts;             // where the narrowphase lays them out densely anew
                                          // (the pair list changed, or dead entries piled up)
-  std::vector<SubContacts> chunk_contacts;  // per-chunk output of re-clipped pairs
-  std::vector<std::uint8_t> chunk_regroup; // per chunk: 1 a pair was rebuilt, 2 one changed its count
+  std::vector<SubContacts> chunk_contacts;  // per chunk: its re-clipped pairs' sub-contacts
+                                         // (the arrays only grow: their size is room, not content)
+  std::vector<std::vector<int>> chunk_rebuilt;  // per chunk: the pairs whose count changed this
+                                         // step, in pair order (Pair::rebuilt_begin, rebuilt_count)
   bool pairs_changed = true;             // the pair list changed since the last narrowphase
   std::vector<Vec3> pair_force_n;        // (np) resultant force of a pair's sub-contacts on b
   std::vector<Vec3> pair_moment_nm;      // (2 np) moment of the pair's forces on a about a's
