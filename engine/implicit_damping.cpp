@@ -26,52 +26,70 @@ namespace {
 Vec3 linear(const Vec6& v) { return v.head<3>(); }
 Vec3 angular(const Vec6& v) { return v.tail<3>(); }
 
+// (linear, angular) as one 6-vector. Not Eigen's comma initializer: its blocks have sizes
+// known only at run time, and that generic loop was 1.2 % of a cracked bridge's step.
+Vec6 stacked(const Vec3& linear, const Vec3& angular) {
+  Vec6 v;
+  v.head<3>() = linear;
+  v.tail<3>() = angular;
+  return v;
+}
+
 bool solved(const Model& m, const State& s, std::ptrdiff_t b) { return m.motion[b] == Motion::free && !s.left_model[b]; }
 
 // Block b's mass matrix applied to x (world frame): m x_v and R I R^T x_w.
 Vec6 mass_times(const Model& m, const State& s, std::ptrdiff_t b, const Vec6& x) {
   const Mat3& r = s.rotation[b];
-  Vec6 y;
-  y << m.mass_kg[b] * linear(x), r * m.inertia_kg_m2[b].cwiseProduct(r.transpose() * angular(x));
-  return y;
+  return stacked(m.mass_kg[b] * linear(x), r * m.inertia_kg_m2[b].cwiseProduct(r.transpose() * angular(x)));
 }
 
-Mat6 full(const Sym6f& k) {
-  Mat6 f;
-  int at = 0;
-  for (int i = 0; i < 6; ++i)
-    for (int j = 0; j <= i; ++j, ++at) f(i, j) = f(j, i) = k.v[at];
-  return f;
+// A pair matrix's three 3x3 blocks, K = [[k11, k12], [k12^T, k22]].
+struct PairBlocks {
+  Mat3 k11, k12, k22;
+};
+PairBlocks blocks_of(const Sym6f& k) {
+  PairBlocks out;
+  for (int i = 0; i < 3; ++i)
+    for (int j = 0; j < 3; ++j) {
+      out.k11(i, j) = k.v[kSymIndex[i][j]];
+      out.k12(i, j) = k.v[kSymIndex[i][3 + j]];
+      out.k22(i, j) = k.v[kSymIndex[3 + i][3 + j]];
+    }
+  return out;
 }
 
 // Block b's diagonal block of M + dt C, inverted. Its pairs' matrices: as they are where b
 // is a (its velocity enters v0 and w with a minus sign), and S^T K S where b is b, with
-// S = [[I, [d]x], [0, I]] mapping (v_b, w_b) to (v0, w), d = x_b - x_a.
+// S = [[I, [d]x], [0, I]] mapping (v_b, w_b) to (v0, w), d = x_b - x_a. Summed as 3x3
+// blocks (Eigen's corner views of a 6x6 ran through its generic loops).
 Mat6 diagonal_inverse(const Model& m, const State& s, std::ptrdiff_t b, double dt) {
-  Mat6 d = Mat6::Zero();
+  Mat3 d11 = Mat3::Zero(), d12 = Mat3::Zero(), d22 = Mat3::Zero();
   for (int q = s.block_pair_begin[b]; q < s.block_pair_begin[b + 1]; ++q) {
     const int entry = s.block_pair[q], p = entry >> 1;
     if (!has_dashpots(s.implicit, p)) continue;
-    const Mat6 k = full(s.implicit.pair_matrix[p]);
+    const PairBlocks k = blocks_of(s.implicit.pair_matrix[p]);
+    d11 += k.k11;
     if (!(entry & 1)) {
-      d += k;
+      d12 += k.k12;
+      d22 += k.k22;
       continue;
     }
     const Vec3 dv = s.position[b] - s.position[s.implicit.blocks[p][0]];
     Mat3 dx;  // [d]x
     dx << 0, -dv.z(), dv.y(), dv.z(), 0, -dv.x(), -dv.y(), dv.x(), 0;
-    const Mat3 k11 = k.topLeftCorner<3, 3>(), k12 = k.topRightCorner<3, 3>(), k22 = k.bottomRightCorner<3, 3>();
-    const Mat3 upper = k11 * dx + k12;  // top-right of S^T K S
-    d.topLeftCorner<3, 3>() += k11;
-    d.topRightCorner<3, 3>() += upper;
-    d.bottomLeftCorner<3, 3>() += upper.transpose();
-    d.bottomRightCorner<3, 3>() += dx.transpose() * upper + k12.transpose() * dx + k22;
+    const Mat3 upper = k.k11 * dx + k.k12;  // top-right of S^T K S
+    d12 += upper;
+    d22 += dx.transpose() * upper + k.k12.transpose() * dx + k.k22;
   }
-  d *= dt;
   const Mat3& rot = s.rotation[b];
-  d.topLeftCorner<3, 3>().diagonal().array() += m.mass_kg[b];
-  d.bottomRightCorner<3, 3>() += rot * m.inertia_kg_m2[b].asDiagonal() * rot.transpose();
-  return d.llt().solve(Mat6::Identity());
+  d11 *= dt;
+  d11.diagonal().array() += m.mass_kg[b];
+  Mat6 d;
+  d.topLeftCorner<3, 3>() = d11;
+  d.topRightCorner<3, 3>() = dt * d12;
+  d.bottomLeftCorner<3, 3>() = dt * d12.transpose();
+  d.bottomRightCorner<3, 3>() = dt * d22 + rot * m.inertia_kg_m2[b].asDiagonal() * rot.transpose();
+  return inverse_of_spd(d);
 }
 
 // fn(b) on every solved block, in fixed chunks; returns the sums of its N values, each
@@ -118,11 +136,11 @@ double first_residual(const Model& m, State& s, double dt, bool refresh, double*
       const Vec3& inertia = m.inertia_kg_m2[b];
       Vec3 wb = r.transpose() * s.angular_velocity[b];
       wb += (r.transpose() * s.torque[b] - wb.cross(inertia.cwiseProduct(wb))).cwiseQuotient(inertia) * dt;
-      v << s.velocity[b] + (s.force[b] / m.mass_kg[b] + m.gravity_m_s2) * dt, r * wb;
+      v = stacked(s.velocity[b] + (s.force[b] / m.mass_kg[b] + m.gravity_m_s2) * dt, r * wb);
       w.product[b] = v + x[b];
     } else {
       if (m.motion[b] == Motion::prescribed)
-        v << s.velocity[b], s.angular_velocity[b];
+        v = stacked(s.velocity[b], s.angular_velocity[b]);
       else
         v.setZero();
       x[b].setZero();
@@ -187,8 +205,7 @@ void book(const Model& m, State& s, double dt, DampingSolve& result) {
   ImplicitDamping& w = s.implicit;
   result.work_j = for_solved_blocks(m, s, [&](std::ptrdiff_t b) {
     const Vec6 impulse = mass_times(m, s, b, w.delta[b]);
-    Vec6 before;
-    before << s.velocity[b], s.angular_velocity[b];
+    const Vec6 before = stacked(s.velocity[b], s.angular_velocity[b]);
     w.velocity[b] += w.delta[b];
     s.force[b] += linear(impulse) / dt;
     s.torque[b] += angular(impulse) / dt;
@@ -208,8 +225,7 @@ void book(const Model& m, State& s, double dt, DampingSolve& result) {
                       const auto [a, b] = w.blocks[p];
                       Vec6 on_a = Vec6::Zero(), on_b;
                       pair_resultant(s, w.velocity[a].data(), w.velocity[b].data(), p, on_a.data(), on_b.data());
-                      Vec6 v;
-                      v << s.velocity[block], s.angular_velocity[block];
+                      const Vec6 v = stacked(s.velocity[block], s.angular_velocity[block]);
                       power += ((entry & 1) ? on_b : on_a).dot(v);
                     }
                     parts[k] = power;

@@ -83,6 +83,31 @@ double worst_sinking_error(Damping damping, double steps_per_period) {
   return worst;
 }
 
+// The preconditioner's inverse (inverse_of_spd) of matrices shaped like a stone's block of
+// M + dt C (masses of tonnes, inertias about a hundred kg m^2, dashpot terms from none to
+// a thousand times those, coupled): D times it is the identity, it is symmetric, and it is
+// Eigen's LLT inverse to round-off; a matrix with a negative eigenvalue gives NaN.
+TEST(ImplicitDamping, PreconditionerInverseIsTheInverse) {
+  std::mt19937 random(11);
+  std::uniform_real_distribution<double> u(-1.0, 1.0), exponent(-3.0, 3.0);
+  for (int trial = 0; trial < 200; ++trial) {
+    Mat6 a;
+    for (int i = 0; i < 6; ++i)
+      for (int j = 0; j < 6; ++j) a(i, j) = u(random);
+    Mat6 d = std::pow(10.0, exponent(random)) * 1000.0 * a * a.transpose();
+    d.topLeftCorner<3, 3>().diagonal().array() += 2000.0;
+    d.bottomRightCorner<3, 3>().diagonal().array() += 100.0 * (1.0 + u(random));
+    const Mat6 inverse = inverse_of_spd(d);
+    EXPECT_LT((d * inverse - Mat6::Identity()).norm(), 1e-9) << "trial " << trial;
+    EXPECT_EQ((inverse - inverse.transpose()).norm(), 0.0);
+    const Mat6 eigen = d.llt().solve(Mat6::Identity());
+    EXPECT_LT((inverse - eigen).norm(), 1e-9 * eigen.norm()) << "trial " << trial;
+  }
+  Mat6 indefinite = Mat6::Identity();
+  indefinite(4, 4) = -1.0;
+  EXPECT_TRUE(std::isnan(inverse_of_spd(indefinite)(5, 5)));
+}
+
 TEST(ImplicitDamping, CriticallyDampedStoneSinksAsTheClosedFormAndConvergesAsDtHalves) {
   const double coarse = worst_sinking_error(Damping::implicit, 25);
   const double fine = worst_sinking_error(Damping::implicit, 50);
