@@ -28,10 +28,10 @@ Vec3 angular(const Vec6& v) { return v.tail<3>(); }
 
 // (linear, angular) as one 6-vector. Not Eigen's comma initializer: its blocks have sizes
 // known only at run time, and that generic loop was 1.2 % of a cracked bridge's step.
-Vec6 stacked(const Vec3& linear, const Vec3& angular) {
+Vec6 stacked(const Vec3& translation, const Vec3& rotation) {
   Vec6 v;
-  v.head<3>() = linear;
-  v.tail<3>() = angular;
+  v.head<3>() = translation;
+  v.tail<3>() = rotation;
   return v;
 }
 

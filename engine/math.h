@@ -24,7 +24,7 @@ inline Quat quat_from_rotation_vector(const Vec3& rotation_rad) {
 // read), through its Cholesky factor L: D^-1 = L^-T L^-1, exactly symmetric. Written out
 // because Eigen's LLT solve with a matrix right-hand side goes through its generic
 // kernels (3 % of a cracked bridge's implicit step, refreshing the preconditioner).
-// NaN where d is not positive definite, as Eigen's would be.
+// NaN where d is not positive definite (the square root of a negative pivot).
 inline Mat6 inverse_of_spd(const Mat6& d) {
   double l[6][6] = {};  // L, lower
   for (int j = 0; j < 6; ++j) {
