@@ -43,7 +43,8 @@ Layout build_manifolds(const Model& m, State& s, bool first_detection, double dt
     SubContacts& out = s.chunk_contacts[k];
     std::vector<int>& rebuilt = s.chunk_rebuilt[k];
     rebuilt.clear();
-    int used = 0;  // out's entries in use (its arrays only grow: a resize a pair cost 3 % of a late step)
+    int used = 0;  // out's entries in use; its arrays keep their size from step to step
+                   // (resized for each pair, they took 3 % of a late step)
     thread_local Manifold manifold;  // one per thread, reused
     thread_local PairWorld world;
     for (std::ptrdiff_t pi = begin; pi < end; ++pi) {
