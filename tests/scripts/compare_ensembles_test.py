@@ -1,8 +1,10 @@
 #!/usr/bin/python3
 """scripts/compare_ensembles.py's exact tests against hand arithmetic, and its table from
-two small ensembles written here (member folders with summary.json and history.csv), the
-same with one of them as an ensemble.csv."""
+two small ensembles written here (member folders with summary.json and history.csv, one
+history kept as history.csv.xz), the same with one of them as an ensemble.csv; the
+members' median curve by hand, and the figure written."""
 import json
+import lzma
 import subprocess
 import sys
 import tempfile
@@ -27,6 +29,13 @@ assert close(c.rank_sum_p([1, 2, 3], [4, 5, 6]), 2 / 20)
 assert close(c.rank_sum_p([1, 2, 3, 4, 5], [6, 7, 8, 9, 10]), 2 / 252)
 assert close(c.rank_sum_p([1, 1, 2], [1, 2, 2]), 1.0)  # ties: mid-ranks, A's sum is the mean
 assert c.mid_ranks([5, 1, 5, 3]) == [3.5, 1, 3.5, 2]
+# The median curve: members read at each 0.1 s within all their frames (0.05-0.2 s), between
+# frames by linear interpolation. At 0.1 s: 1, 3 (half way from 2 to 4) and 10 -> 3; at
+# 0.2 s: 2, 5, 20 -> 5.
+grid, middle = c.median_curve([([0.0, 0.1, 0.2, 0.3], [0, 1, 2, 3]), ([0.05, 0.15, 0.25], [2, 4, 6]),
+                               ([0.0, 0.2], [0, 20])], 0.1)
+assert close(grid[0], 0.1) and close(grid[1], 0.2) and len(grid) == 2, grid
+assert all(close(x, y) for x, y in zip(middle, [3, 5])), middle
 
 
 def write_member(folder, fallen, ring, opening, fall_frame):
@@ -35,8 +44,8 @@ def write_member(folder, fallen, ring, opening, fall_frame):
                "fallen_stones": fallen, "fallen_ring_stones": ring, "first_opening_s": opening,
                "largest_crown_drop_m": 0.01 * fallen, "joints_cracked": 100 + fallen}
     (folder / "summary.json").write_text(json.dumps(summary))
-    rows = ["time_s,phase,fallen_stones"] + [f"{0.5 + 0.1 * i},shake,{fallen if i >= fall_frame else 0}"
-                                             for i in range(10)]
+    rows = ["time_s,phase,block7_dz_m,fallen_stones"] + [
+        f"{0.5 + 0.1 * i},shake,{-0.001 * i},{fallen if i >= fall_frame else 0}" for i in range(10)]
     (folder / "history.csv").write_text("\n".join(rows) + "\n")
 
 
@@ -46,9 +55,15 @@ with tempfile.TemporaryDirectory() as tmp:
         write_member(tmp / "a" / f"member_{m:03d}", fallen, ring, 1.0 + m, 4)
     for m, (fallen, ring) in enumerate([(20, 5), (30, 6), (40, 7)]):
         write_member(tmp / "b" / f"member_{m:03d}", fallen, ring, 4.0 + m, 2)
+    history = tmp / "b" / "member_001" / "history.csv"  # kept as scenarios/results keeps members
+    with lzma.open(history.with_suffix(".csv.xz"), "wt") as xz:
+        xz.write(history.read_text())
+    history.unlink()
     (tmp / "b" / "member_003").mkdir()  # a member not finished: left out
     table = subprocess.run([sys.executable, str(ROOT / "scripts" / "compare_ensembles.py"), str(tmp / "a"),
-                            str(tmp / "b"), "--labels", "A", "B"], check=True, capture_output=True, text=True).stdout
+                            str(tmp / "b"), "--labels", "A", "B", "--figure", str(tmp / "members.png")],
+                           check=True, capture_output=True, text=True).stdout
+    assert (tmp / "members.png").read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
     assert "| A (3 members) | B (3 members) |" in table, table
     assert "| any stone falls | 2 of 3 | 3 of 3 | 1.000 (Fisher) |" in table, table
     assert "| stones fallen | 3 (0 to 9) | 30 (20 to 40) | 0.100 (rank sum) |" in table, table
@@ -72,4 +87,4 @@ with tempfile.TemporaryDirectory() as tmp:
                              f"{tmp / 'b'}+{tmp / 'b2'}", "--labels", "A", "B"], check=True, capture_output=True,
                             text=True).stdout
     assert shares == table, shares + "\n" + table
-print("compare_ensembles: exact tests and table as computed by hand")
+print("compare_ensembles: exact tests, table and median curve as computed by hand; the figure written")
