@@ -4,7 +4,7 @@ their distributions differ beyond sampling error? For a scheme against another (
 item 3: the implicit dashpots against the explicit reference, a solve's tolerance against
 a tighter one), each ensemble's members drawn alike.
 
-    scripts/compare_ensembles.py ENSEMBLE_A ENSEMBLE_B [--labels "name A" "name B"]
+    scripts/compare_ensembles.py ENSEMBLE_A ENSEMBLE_B [--labels "name A" "name B"] [--figure PNG]
 
 An ENSEMBLE is the ensemble's folder: each member folder's summary.json (finished members
 only, so an ensemble still running can be compared so far) and its history.csv (or
@@ -169,8 +169,8 @@ def spread(values, form):
     return f"{form.format(median(values))} ({form.format(min(values))} to {form.format(max(values))})"
 
 
-def draw(runs, labels, path, frame_s=0.05):
-    """The figure of --figure (frame_s: the members' output interval, history.csv's frames)."""
+def draw(runs, labels, path):
+    """The figure of --figure."""
     import matplotlib
     matplotlib.use("Agg")  # headless
     import matplotlib.pyplot as plt
@@ -179,6 +179,8 @@ def draw(runs, labels, path, frame_s=0.05):
         series = [s["series"] for s in found if "series" in s]
         if not series:
             raise SystemExit(f"{label}: --figure needs its members' histories (member folders, not an ensemble.csv)")
+        times = series[0][0]
+        frame_s = (times[-1] - times[0]) / (len(times) - 1)  # the members' output interval
         for a, column in zip(axes, (1, 2)):
             for one in series:
                 a.plot(one[0], one[column], lw=0.6, alpha=0.5, color=colour)
