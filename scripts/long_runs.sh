@@ -90,7 +90,7 @@ finished() {
 }
 
 # How far a job under way has shaken: each run's (each member's) seconds of shaking and wall
-# seconds so far, from its summary.json; a run still settling (no summary yet) by the last
+# seconds so far, from its summary.json (a finished one's fallen stones); a run still settling (no summary yet) by the last
 # row of its history.csv.
 progress() {
   python3 - "$1" << 'PY'
@@ -109,7 +109,7 @@ for run in runs:
         s = json.loads((run / "summary.json").read_text())
     except ValueError:
         continue
-    state = "done" if s.get("finished") else f"{s.get('shaking_time_s', 0):.2f} s shaken"
+    state = f"done ({s.get('fallen_stones')} fallen)" if s.get("finished") else f"{s.get('shaking_time_s', 0):.2f} s shaken"
     parts.append(f"{run.name}: {state}, {s.get('wall_s', 0) / 3600:.1f} h")
 print(": " + "; ".join(parts) if parts else "")
 PY
