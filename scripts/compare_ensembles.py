@@ -185,7 +185,7 @@ def draw(runs, labels, path):
             for one in series:
                 a.plot(one[0], one[column], lw=0.6, alpha=0.5, color=colour)
             grid, middle = median_curve([(one[0], one[column]) for one in series], frame_s)
-            a.plot(grid, middle, lw=1.8, color=colour, label=f"{label}: {len(series)} members (median bold)")
+            a.plot(grid, middle, lw=1.8, color=colour, label=f"{label}: {len(series)} member{'' if len(series) == 1 else 's'} (median bold)")
     axes[0].set_ylabel("crown unit dz [mm]")
     axes[1].set_ylabel("stones fallen")
     axes[1].set_xlabel("time of shaking [s]")
