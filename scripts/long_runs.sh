@@ -90,8 +90,8 @@ finished() {
 }
 
 # How far a job under way has shaken: each run's (each member's) seconds of shaking and wall
-# seconds so far, from its summary.json (a finished one's fallen stones); a run still settling (no summary yet) by the last
-# row of its history.csv.
+# seconds so far, from its summary.json (a finished one's fallen stones); a run still
+# settling (no summary yet) by the last row of its history.csv.
 progress() {
   python3 - "$1" << 'PY'
 import json, pathlib, sys
@@ -109,7 +109,10 @@ for run in runs:
         s = json.loads((run / "summary.json").read_text())
     except ValueError:
         continue
-    state = f"done ({s.get('fallen_stones')} fallen)" if s.get("finished") else f"{s.get('shaking_time_s', 0):.2f} s shaken"
+    if s.get("finished"):
+        state = f"done ({s.get('fallen_stones')} fallen)"
+    else:
+        state = f"{s.get('shaking_time_s', 0):.2f} s shaken"
     parts.append(f"{run.name}: {state}, {s.get('wall_s', 0) / 3600:.1f} h")
 print(": " + "; ".join(parts) if parts else "")
 PY
