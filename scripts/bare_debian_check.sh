@@ -21,7 +21,7 @@ unmount() {
 trap unmount EXIT
 if ! command -v debootstrap > /dev/null; then
   $sudo apt-get update -q
-  DEBIAN_FRONTEND=noninteractive $sudo apt-get install -y -q --no-install-recommends debootstrap
+  $sudo env DEBIAN_FRONTEND=noninteractive apt-get install -y -q --no-install-recommends debootstrap
 fi
 unmount
 $sudo rm -rf "$bare"
