@@ -35,7 +35,7 @@ int run_build(const BuildOptions& o) {
 
   if (!report.ok()) {
     for (const std::string& e : report.errors) std::printf("  error: %s\n", e.c_str());
-    std::printf("validation failed: %zu errors\n", report.errors.size());
+    std::printf("validation failed: %zu error%s\n", report.errors.size(), report.errors.size() == 1 ? "" : "s");
     return 3;
   }
   const Model& model = compiled.model;

@@ -15,7 +15,7 @@
 #include "analysis/run/seismic_run.h"
 #include "engine/cores.h"
 #include "io/chrome_trace.h"
-#include "io/input_error.h"
+#include "geometry/input_error.h"
 
 namespace ishibashi {
 namespace {

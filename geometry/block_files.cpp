@@ -12,6 +12,7 @@
 #include <numeric>
 
 #include "geometry/convex_hull.h"
+#include "geometry/input_error.h"
 
 namespace ishibashi {
 namespace {
@@ -40,10 +41,10 @@ void read_off(const std::filesystem::path& file, std::vector<Point>& points, std
         return true;
       }
     }
-    throw std::runtime_error(file.string() + ": the file ends at line " + std::to_string(line_number) + " before the OFF data does");
+    throw InputError(file.string() + ": the file ends at line " + std::to_string(line_number) + " before the OFF data does");
   };
   auto fail = [&](const std::string& what) {
-    throw std::runtime_error(file.string() + ":" + std::to_string(line_number) + ": " + what);
+    throw InputError(file.string() + ":" + std::to_string(line_number) + ": " + what);
   };
   std::istringstream fields;
   next(fields);
@@ -77,7 +78,7 @@ void read_off(const std::filesystem::path& file, std::vector<Point>& points, std
 }  // namespace
 
 std::vector<Polyhedron> read_block_file(const std::filesystem::path& file) {
-  if (!std::filesystem::exists(file)) throw std::runtime_error(file.string() + ": no such file");
+  if (!std::filesystem::exists(file)) throw InputError(file.string() + ": no such file");
   std::vector<Point> points;
   std::vector<std::vector<std::size_t>> polygons;
   std::string ext = file.extension().string();
@@ -85,20 +86,20 @@ std::vector<Polyhedron> read_block_file(const std::filesystem::path& file) {
   if (ext == ".off") read_off(file, points, polygons);  // throws with the line on bad input
   else if (!CGAL::IO::read_polygon_soup(file.string(), points, polygons)) polygons.clear();
   if (polygons.empty())
-    throw std::runtime_error(file.string() + ": not a readable OFF, OBJ or STL mesh (or it holds no faces)");
+    throw InputError(file.string() + ": not a readable OFF, OBJ or STL mesh (or it holds no faces)");
   // CGAL reads what the file says: a face may name a vertex the file does not have.
   for (std::size_t i = 0; i < polygons.size(); ++i) {
     if (polygons[i].size() < 3)
-      throw std::runtime_error(file.string() + ": face " + std::to_string(i + 1) + " has " +
+      throw InputError(file.string() + ": face " + std::to_string(i + 1) + " has " +
                                std::to_string(polygons[i].size()) + " corners; a face needs at least 3");
     for (std::size_t v : polygons[i])
       if (v >= points.size())
-        throw std::runtime_error(file.string() + ": face " + std::to_string(i + 1) + " names vertex " + std::to_string(v + 1) +
+        throw InputError(file.string() + ": face " + std::to_string(i + 1) + " names vertex " + std::to_string(v + 1) +
                                  " of " + std::to_string(points.size()));
   }
   for (std::size_t v = 0; v < points.size(); ++v)
     if (!std::isfinite(points[v].x()) || !std::isfinite(points[v].y()) || !std::isfinite(points[v].z()))
-      throw std::runtime_error(file.string() + ": vertex " + std::to_string(v + 1) + " has a coordinate that is not a number");
+      throw InputError(file.string() + ": vertex " + std::to_string(v + 1) + " has a coordinate that is not a number");
   // STL repeats every corner: merge equal points so that faces share vertices. (OFF and
   // OBJ index their vertices; merging there would weld touching blocks together.)
   if (ext == ".stl") CGAL::Polygon_mesh_processing::merge_duplicate_points_in_polygon_soup(points, polygons);

@@ -12,7 +12,7 @@
 namespace ishibashi {
 
 // Reads every closed component of the file as one block, as the file gives it (faces
-// may be triangles). Throws std::runtime_error naming the file when it cannot be read.
+// may be triangles). Throws InputError naming the file (and the line) when it cannot be read.
 std::vector<Polyhedron> read_block_file(const std::filesystem::path& file);
 
 // Writes the blocks into one file (their components), format from the extension

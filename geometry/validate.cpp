@@ -165,11 +165,13 @@ ValidationReport validate_blocks(const std::vector<Polyhedron>& blocks, const st
     sound[b] = 1;
   }
 
-  // Candidate pairs: bounding boxes that touch or overlap (CGAL's box intersection).
+  // Candidate pairs: bounding boxes that touch or overlap (CGAL's box intersection). An
+  // unsound block's box is there too: a block beside it may rest on it, so it is not called
+  // floating (its fault is already reported).
   using Box = CGAL::Box_intersection_d::Box_with_info_d<double, 3, std::size_t>;
   std::vector<Box> boxes;
   for (std::size_t b = 0; b < blocks.size(); ++b) {
-    if (!sound[b]) continue;
+    if (blocks[b].vertices.empty()) continue;
     Vec3 lo = blocks[b].vertices[0], hi = lo;
     for (const Vec3& v : blocks[b].vertices) {
       lo = lo.cwiseMin(v);
@@ -191,6 +193,10 @@ ValidationReport validate_blocks(const std::vector<Polyhedron>& blocks, const st
   const double shrink = 1e-6 * std::max(1.0, assembly);
   std::vector<char> touches(blocks.size(), 0);
   for (const auto& [a, b] : candidates) {
+    if (!sound[a] || !sound[b]) {
+      touches[a] = touches[b] = 1;
+      continue;
+    }
     const double common = overlap_volume(blocks[a], planes[a], blocks[b], planes[b], shrink);
     if (common > overlap_tolerance_m3) {
       ++r.overlapping_pairs;

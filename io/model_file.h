@@ -8,7 +8,7 @@
 #include <vector>
 
 #include "geometry/bridge.h"
-#include "io/input_error.h"
+#include "geometry/input_error.h"
 
 namespace ishibashi {
 

@@ -13,7 +13,7 @@
 #include <vector>
 
 #include "engine/model.h"
-#include "io/input_error.h"
+#include "geometry/input_error.h"
 
 namespace ishibashi {
 

@@ -18,7 +18,7 @@
 #include "analysis/run/seismic_run.h"
 #include "engine/cores.h"
 #include "io/atomic_file.h"
-#include "io/input_error.h"
+#include "geometry/input_error.h"
 #include "io/scenario_file.h"
 
 namespace ishibashi {

@@ -5,7 +5,7 @@
 #include <iterator>
 
 #include "analysis/model/fingerprint.h"
-#include "io/input_error.h"
+#include "geometry/input_error.h"
 
 namespace ishibashi {
 

@@ -16,7 +16,7 @@
 #include <vector>
 
 #include "command_line.h"
-#include "io/input_error.h"
+#include "geometry/input_error.h"
 #include "analysis/batch/sweep_table.h"
 #include "io/sweep_file.h"
 

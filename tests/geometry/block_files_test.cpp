@@ -6,6 +6,7 @@
 #include "engine/mass_properties.h"
 #include "geometry/arch_ring.h"
 #include "geometry/block_files.h"
+#include "geometry/input_error.h"
 
 namespace ishibashi {
 namespace {
@@ -55,14 +56,15 @@ TEST(BlockFiles, StlTrianglesAreMergedIntoFaces) {
 }
 
 TEST(BlockFiles, MissingOrMalformedFileIsAClearError) {
-  EXPECT_THROW(read_block_file("/nonexistent/blocks.off"), std::runtime_error);
+  // InputError: the command prints "input error" and exits with status 2, as for a bad scenario.
+  EXPECT_THROW(read_block_file("/nonexistent/blocks.off"), InputError);
   const auto file = std::filesystem::temp_directory_path() / "ishibashi_bad.off";
   std::ofstream(file) << "OFF\n3 1 0\n0 0 0\n1 0\n";
   try {
     read_block_file(file);
     FAIL() << "no error";
-  } catch (const std::runtime_error& e) {
-    EXPECT_NE(std::string(e.what()).find("ishibashi_bad.off"), std::string::npos);
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("ishibashi_bad.off:4"), std::string::npos) << e.what();
   }
 }
 

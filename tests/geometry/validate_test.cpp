@@ -91,5 +91,24 @@ TEST(Validate, FloatingBlockIsReported) {
   EXPECT_THAT(r.errors[0], HasSubstr("floats"));
 }
 
+// A stone resting on a bad block is not reported as floating as well: the bad block's
+// fault is the one error (the ground under an L-shaped stone, then under an open one).
+// A stone clear of everything still floats.
+TEST(Validate, BlockOnABadBlockIsNotCalledFloating) {
+  const Polyhedron ground = make_box(Vec3(0, 0, -0.5), Vec3(10, 10, 1));
+  const Polyhedron l_shape = make_prism({Vec3(0, 0, 0), Vec3(2, 0, 0), Vec3(2, 1, 0), Vec3(1, 1, 0), Vec3(1, 2, 0), Vec3(0, 2, 0)}, 0, 1);
+  Polyhedron open = make_box(Vec3(0, 0, 0.5), Vec3(1, 1, 1));
+  open.faces.pop_back();
+  for (const Polyhedron& bad : {l_shape, open}) {
+    const auto r = validate_blocks({ground, bad}, {"ground", "bad"});
+    ASSERT_EQ(r.errors.size(), 1u) << r.errors.back();
+    EXPECT_THAT(r.errors[0], HasSubstr("'bad'"));
+  }
+  const auto r = validate_blocks({ground, l_shape, make_box(Vec3(0, 0, 9), Vec3(1, 1, 1))}, {"ground", "ell", "stray"});
+  ASSERT_EQ(r.errors.size(), 2u);
+  EXPECT_THAT(r.errors[1], HasSubstr("'stray'"));
+  EXPECT_THAT(r.errors[1], HasSubstr("floats"));
+}
+
 }  // namespace
 }  // namespace ishibashi

@@ -10,7 +10,7 @@
 #include <map>
 #include <sstream>
 
-#include "io/input_error.h"
+#include "geometry/input_error.h"
 #include "io/scenario_file.h"
 
 namespace ishibashi {
