@@ -11,10 +11,11 @@
 #   nohup nice -n 19 bash scripts/long_runs.sh e_mortar e_dry b_mortar_q2 b_mortar_q > out/long_runs_b.log 2>&1 &
 #   bash scripts/long_runs.sh save    # before committing: keeps the finished members
 #   bash scripts/long_runs.sh park    # at a session's end: keeps the members under way
-# Never edit this file while a lane runs: bash reads a script as it goes, so a lane ending
-# after the edit would go on at its old byte offset in the new text. Stop the lanes first
-# (kill the bash processes, then Ctrl-C each program: SIGINT writes its checkpoint), edit,
-# and start them again.
+# The whole script is one brace group ending in `exit`: bash reads a script as it goes, so
+# without it a lane that ends after this file was edited would read on at its old byte
+# offset in the new text and could run a fragment of the job loop again. A group is read
+# whole before it runs, so an edit reaches only the lanes started after it.
+{
 set -euo pipefail
 root=$(cd "$(dirname "$0")/.." && pwd)
 cd "$root"
@@ -259,3 +260,5 @@ for job in "${jobs[@]}"; do
     "$bin" run $args --out "$out" --checkpoint-wall 300 --quiet
   fi
 done
+exit
+}
