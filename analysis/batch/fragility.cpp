@@ -55,13 +55,24 @@ FragilityFit fit_lognormal_fragility(const std::vector<double>& intensity, const
     if (failed[i]) lowest_failure = std::min(lowest_failure, lnx[i]);
     else highest_survival = std::max(highest_survival, lnx[i]);
   }
-  if (fit.failures == 0 || fit.failures == fit.outcomes || lowest_failure > highest_survival) {
-    // No finite maximum: the median lies between the highest survival and the lowest failure.
+  if (fit.failures == 0 || fit.failures == fit.outcomes || lowest_failure >= highest_survival) {
+    // No finite maximum: the median lies between the highest survival and the lowest failure
+    // (beta -> 0). When they are one level (outcomes mixed there only, as an ensemble's
+    // members at one intensity are), the median is that level and the likelihood's
+    // supremum that of its own failure share, p^f (1 - p)^s; Newton's method would stop
+    // at whatever small beta its iterations reached.
     fit.degenerate = true;
     const double lo = std::isfinite(highest_survival) ? highest_survival : lowest_failure;
     const double hi = std::isfinite(lowest_failure) ? lowest_failure : highest_survival;
     fit.median = std::exp(0.5 * (lo + hi));
     fit.beta = 0;
+    if (lowest_failure == highest_survival) {
+      int at_failed = 0, at_stood = 0;
+      for (std::size_t i = 0; i < lnx.size(); ++i)
+        if (lnx[i] == lowest_failure) (failed[i] ? at_failed : at_stood) += 1;
+      const double p = static_cast<double>(at_failed) / (at_failed + at_stood);
+      fit.log_likelihood = at_failed * std::log(p) + at_stood * std::log(1.0 - p);
+    }
     return fit;
   }
   // Newton's method from beta = 0.5 at the mean intensity, halving steps that do not

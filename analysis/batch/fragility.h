@@ -13,8 +13,8 @@ struct FragilityFit {
   double log_likelihood = 0;
   int outcomes = 0, failures = 0;
   // Every run failed, none did, or the outcomes are separated (all failures above all
-  // survivals: the maximum likelihood beta is 0). median and beta are then only bounds
-  // (both 0 without any outcome).
+  // survivals, or at one level mixed and separated elsewhere: the maximum likelihood beta
+  // is 0). median and beta are then only bounds (both 0 without any outcome).
   bool degenerate = false;
 };
 
@@ -28,7 +28,7 @@ double failure_probability(const FragilityFit& fit, double intensity);
 // of a curve fitted to each against one fitted to both, and its p-value, the chance of a
 // statistic this large if they share one curve (chi-square, 2 degrees of freedom:
 // exp(-statistic / 2); Wilks' theorem, an approximation that needs tens of outcomes per
-// set). A degenerate fit's likelihood is its supremum, 1.
+// set). A degenerate fit's likelihood is its supremum: 1, or the mixed level's own.
 struct FragilityComparison {
   double statistic = 0;
   double p_value = 1;

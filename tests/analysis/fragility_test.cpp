@@ -39,6 +39,14 @@ TEST(Fragility, SeparatedOrOneSidedOutcomesAreDegenerate) {
   const FragilityFit none = fit_lognormal_fragility({}, {});
   EXPECT_TRUE(none.degenerate);
   EXPECT_EQ(none.median, 0.0);  // not NaN: a sweep stopped before a variant's first run
+  // Mixed at one level only (five members at 0.6 g, two fail), separated elsewhere: beta
+  // has no finite maximum either. The median is that level, and the likelihood's
+  // supremum is 0.4^2 0.6^3 (the level's own failure share).
+  const FragilityFit one_level = fit_lognormal_fragility({0.2, 0.4, 0.6, 0.6, 0.6, 0.6, 0.6, 0.8, 1.0}, {0, 0, 1, 1, 0, 0, 0, 1, 1});
+  EXPECT_TRUE(one_level.degenerate);
+  EXPECT_EQ(one_level.beta, 0.0);
+  EXPECT_NEAR(one_level.median, 0.6, 1e-12);
+  EXPECT_NEAR(one_level.log_likelihood, 2 * std::log(0.4) + 3 * std::log(0.6), 1e-12);
   const FragilityFit mixed = fit_lognormal_fragility({0.1, 0.2, 0.3, 0.4, 0.5}, {0, 1, 0, 1, 1});
   EXPECT_FALSE(mixed.degenerate);
   EXPECT_GT(mixed.beta, 0);
