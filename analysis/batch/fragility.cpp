@@ -55,7 +55,10 @@ FragilityFit fit_lognormal_fragility(const std::vector<double>& intensity, const
     if (failed[i]) lowest_failure = std::min(lowest_failure, lnx[i]);
     else highest_survival = std::max(highest_survival, lnx[i]);
   }
-  if (fit.failures == 0 || fit.failures == fit.outcomes || lowest_failure >= highest_survival) {
+  // One level: the same intensity within rounding (a sweep scales each record to a level,
+  // so records at one level differ in their last bits).
+  constexpr double kSameLevel = 1e-9;  // in ln x
+  if (fit.failures == 0 || fit.failures == fit.outcomes || lowest_failure > highest_survival - kSameLevel) {
     // No finite maximum: the median lies between the highest survival and the lowest failure
     // (beta -> 0). When they are one level (outcomes mixed there only, as an ensemble's
     // members at one intensity are), the median is that level and the likelihood's
@@ -66,10 +69,12 @@ FragilityFit fit_lognormal_fragility(const std::vector<double>& intensity, const
     const double hi = std::isfinite(lowest_failure) ? lowest_failure : highest_survival;
     fit.median = std::exp(0.5 * (lo + hi));
     fit.beta = 0;
-    if (lowest_failure == highest_survival) {
+    if (std::abs(lowest_failure - highest_survival) <= kSameLevel) {
       int at_failed = 0, at_stood = 0;
-      for (std::size_t i = 0; i < lnx.size(); ++i)
-        if (lnx[i] == lowest_failure) (failed[i] ? at_failed : at_stood) += 1;
+      for (std::size_t i = 0; i < lnx.size(); ++i) {
+        if (failed[i]) at_failed += lnx[i] <= highest_survival + kSameLevel;
+        else at_stood += lnx[i] >= lowest_failure - kSameLevel;
+      }
       const double p = static_cast<double>(at_failed) / (at_failed + at_stood);
       fit.log_likelihood = at_failed * std::log(p) + at_stood * std::log(1.0 - p);
     }

@@ -47,6 +47,15 @@ TEST(Fragility, SeparatedOrOneSidedOutcomesAreDegenerate) {
   EXPECT_EQ(one_level.beta, 0.0);
   EXPECT_NEAR(one_level.median, 0.6, 1e-12);
   EXPECT_NEAR(one_level.log_likelihood, 2 * std::log(0.4) + 3 * std::log(0.6), 1e-12);
+  // The same with that level's runs a bit apart, as records scaled to one level are.
+  const double below = std::nextafter(0.6, 0.0), above = std::nextafter(0.6, 1.0);
+  for (const auto& [at_failure, at_survival] : {std::pair{below, above}, std::pair{above, below}}) {
+    const FragilityFit apart = fit_lognormal_fragility({0.2, 0.4, at_failure, at_failure, at_survival, 0.6, 0.6, 0.8, 1.0},
+                                                       {0, 0, 1, 1, 0, 0, 0, 1, 1});
+    EXPECT_TRUE(apart.degenerate);
+    EXPECT_NEAR(apart.median, 0.6, 1e-12);
+    EXPECT_NEAR(apart.log_likelihood, 2 * std::log(0.4) + 3 * std::log(0.6), 1e-12);
+  }
   const FragilityFit mixed = fit_lognormal_fragility({0.1, 0.2, 0.3, 0.4, 0.5}, {0, 1, 0, 1, 1});
   EXPECT_FALSE(mixed.degenerate);
   EXPECT_GT(mixed.beta, 0);
