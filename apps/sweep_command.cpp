@@ -27,7 +27,7 @@ int run_sweep_command(const SweepCommandOptions& o) {
     const FragilityFit& f = s.fit;
     std::printf("fragility of %s (lognormal, maximum likelihood, %d runs, %d failures): median PGA %.3f g, beta %.3f%s\n",
                 s.scenario.c_str(), f.outcomes, f.failures, f.median, f.beta,
-                f.degenerate ? " (degenerate: all runs failed, none did, or failures and survivals do not overlap)" : "");
+                f.degenerate ? " (degenerate: all runs failed, none did, or failures and survivals overlap at one level at most)" : "");
     if (s.reference.empty()) continue;
     std::printf("  against %s on the same %d cases (record, level, member): both stand %d, both fail %d, only %s fails %d, only %s fails %d; "
                 "one curve for both: p = %.3g (likelihood ratio %.2f)\n",

@@ -33,7 +33,7 @@ SweepFile read_sweep(const std::filesystem::path& file) {
   std::string scenario;
   sweep.text("scenario", scenario);
   sweep.paths_of_distinct_stems("scenarios", base, s.scenarios);
-  sweep.number("duration_s", s.duration_s);
+  sweep.non_negative("duration_s", s.duration_s);
   sweep.integer_at_least("members", s.members, 1);
   std::vector<double> pga, scale;
   sweep.non_negative_numbers("pga_g", pga);
@@ -63,8 +63,8 @@ SweepFile read_sweep(const std::filesystem::path& file) {
 
   TableReader failure(file, root, "failure");
   failure.boolean("collapse", s.failure.collapse);
-  failure.number("crown_drop_m", s.failure.crown_drop_m);
-  failure.integer("fallen_stones", s.failure.fallen_stones);
+  failure.positive("crown_drop_m", s.failure.crown_drop_m);
+  failure.integer_at_least("fallen_stones", s.failure.fallen_stones, 1);
   failure.finish();
 
   const toml::node* records = root.get("record");
@@ -78,7 +78,7 @@ SweepFile read_sweep(const std::filesystem::path& file) {
     TableReader record(file, table, "record");
     SweepRecord r;
     record.text("name", r.name);
-    record.number("start_s", r.motion.start_s);
+    record.non_negative("start_s", r.motion.start_s);
     read_ground_motion_components(record, file, base, "record", r.motion);
     record.finish();
     const auto line = std::to_string(node.source().begin.line);

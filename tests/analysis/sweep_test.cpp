@@ -13,6 +13,7 @@
 #include <memory>
 #include <set>
 #include <sstream>
+#include <tuple>
 #include <vector>
 
 #include "command_line.h"
@@ -217,6 +218,18 @@ TEST(Sweep, AmbiguousScenariosAreRefused) {
   std::ofstream(file) << text;
   const std::string level = message(file);
   EXPECT_NE(level.find("lists the level 0.5 twice"), std::string::npos) << level;
+  // A negative duration or failure threshold (their unset defaults are -1) is refused, not
+  // read as "the scenario's" or "not a criterion".
+  for (const auto& [from, to, key] : {std::tuple{"crown_drop_m = 1e-5", "crown_drop_m = -0.02", "'crown_drop_m' is -0.02"},
+                                      std::tuple{"crown_drop_m = 1e-5", "fallen_stones = -1", "'fallen_stones' is -1"},
+                                      std::tuple{"scale = [0.5, 1.0]", "scale = [0.5, 1.0]\nduration_s = -1", "'duration_s' is -1"}}) {
+    const auto negative = sweep_file();
+    std::string sweep_text = text_of(negative);
+    sweep_text.replace(sweep_text.find(from), std::string(from).size(), std::string(to));
+    std::ofstream(negative) << sweep_text;
+    const std::string refused = message(negative);
+    EXPECT_NE(refused.find(key), std::string::npos) << refused;
+  }
 }
 
 }  // namespace
