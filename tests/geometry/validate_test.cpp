@@ -101,7 +101,7 @@ TEST(Validate, BlockOnABadBlockIsNotCalledFloating) {
   open.faces.pop_back();
   for (const Polyhedron& bad : {l_shape, open}) {
     const auto r = validate_blocks({ground, bad}, {"ground", "bad"});
-    ASSERT_EQ(r.errors.size(), 1u) << r.errors.back();
+    ASSERT_EQ(r.errors.size(), 1u) << (r.errors.empty() ? std::string("no error") : r.errors.back());
     EXPECT_THAT(r.errors[0], HasSubstr("'bad'"));
   }
   const auto r = validate_blocks({ground, l_shape, make_box(Vec3(0, 0, 9), Vec3(1, 1, 1))}, {"ground", "ell", "stray"});
