@@ -25,11 +25,11 @@ CLI::App* add_demo_command(CLI::App& app, ishibashi::DemoOptions& demo) {
   CLI::App* demo_cmd = app.add_subcommand("demo", "A masonry wall on a shaking or tilting base, written for ParaView");
   demo_cmd->add_option("--scene", demo.scene, "shake or tilt")->check(CLI::IsMember({"shake", "tilt"}));
   demo_cmd->add_option("--out", demo.out, "output folder (blocks.pvd and .vtu files)");
-  demo_cmd->add_option("--duration", demo.duration_s, "simulated time, s")->check(CLI::PositiveNumber);
-  demo_cmd->add_option("--fps", demo.frames_per_s, "output frames per simulated second")->check(CLI::PositiveNumber);
-  demo_cmd->add_option("--dt", demo.dt_s, "time step, s")->check(CLI::PositiveNumber);
-  demo_cmd->add_option("--courses", demo.courses, "courses of stones")->check(CLI::Range(1, 200));
-  demo_cmd->add_option("--stones", demo.stones_per_course, "stones per course")->check(CLI::Range(2, 500));
+  demo_cmd->add_option("--duration", demo.duration_s, "simulated time, s")->check(ishibashi::number_in(0, INFINITY, true));
+  demo_cmd->add_option("--fps", demo.frames_per_s, "output frames per simulated second")->check(ishibashi::number_in(0, INFINITY, true));
+  demo_cmd->add_option("--dt", demo.dt_s, "time step, s")->check(ishibashi::number_in(0, INFINITY, true));
+  demo_cmd->add_option("--courses", demo.courses, "courses of stones")->check(ishibashi::number_in(1, 200));
+  demo_cmd->add_option("--stones", demo.stones_per_course, "stones per course")->check(ishibashi::number_in(2, 500));
   return demo_cmd;
 }
 
@@ -58,33 +58,33 @@ CLI::App* add_run_command(CLI::App& app, ishibashi::RunOptions& run) {
   run_cmd->add_flag("--quiet", run.quiet, "no progress bar");
   const std::vector<CLI::Option*> run_settings = ishibashi::add_run_setting_flags(run_cmd, run.overrides);
   run_cmd->add_option("--dt-factor", run.dt_factor, "multiplies the time step (0.5 halves it: convergence studies)")
-      ->check(CLI::Range(1e-3, 1.0));
+      ->check(ishibashi::number_in(1e-3, 1.0));
   run_cmd->add_flag("--fixed-threads", run.fixed_threads,
                     "every step on all threads (default: the team size that is fastest as the run goes)");
   run_cmd->add_option("--checkpoint-every", run.checkpoint_every_s, "write a checkpoint every this many simulated seconds")
-      ->check(CLI::NonNegativeNumber);
+      ->check(ishibashi::number_in(0));
   run_cmd->add_option("--checkpoint-wall", run.checkpoint_wall_s, "write a checkpoint every this many wall-clock seconds")
-      ->check(CLI::NonNegativeNumber);
+      ->check(ishibashi::number_in(0));
   CLI::Option* members = run_cmd->add_option("--members", run.members,
                                              "run an ensemble of N members (replacing the scenario's [ensemble] members): each "
                                              "free stone's pose drawn within the construction tolerance, outputs in "
                                              "OUT/member_NNN, probabilities in OUT/ensemble.json")
-                             ->check(CLI::Range(1, 100000));
+                             ->check(ishibashi::number_in(1, 100000));
   CLI::Option* probe = run_cmd->add_option("--probe", run.probe_members,
                                            "a chaos probe of N members: the run stops just before the strong motion (or at "
                                            "--branch-at); member 0 goes on from there as it is, the others with every free "
                                            "stone moved by --perturbation; how fast they part in OUT/probe.json and probe.csv")
-                           ->check(CLI::Range(2, 100000));
+                           ->check(ishibashi::number_in(2, 100000));
   run_cmd->add_option("--perturbation", run.perturbation_m, "the chaos probe's move of each free stone, m")
-      ->check(CLI::Range(1e-12, 1e-2))
+      ->check(ishibashi::number_in(1e-12, 1e-2))
       ->capture_default_str();
   run_cmd->add_option("--branch-at", run.branch_at_s,
                       "the chaos probe's branch, seconds of shaking (default: where the record's Arias intensity reaches 5 %)")
-      ->check(CLI::NonNegativeNumber);
+      ->check(ishibashi::number_in(0));
   probe->excludes(members);
   run_cmd->add_option("--seed", run.seed,
                       "the ensemble's seed, replacing the scenario's (member i draws from seed and i); a probe's directions")
-      ->check(CLI::NonNegativeNumber);
+      ->check(ishibashi::number_in(0));
   CLI::Option* member_range = run_cmd->add_option("--member-range", run.member_range,
                       "FROM:TO, run only members FROM to TO - 1 of the ensemble: a machine's share (0:4 here, 4:8 there; "
                       "copy the member_NNN folders into one folder, and a run of the whole ensemble by the same build keeps "
@@ -93,7 +93,7 @@ CLI::App* add_run_command(CLI::App& app, ishibashi::RunOptions& run) {
   run_cmd->add_option("--jobs", run.jobs,
                       "ensemble or probe members run at once (each on cores / jobs threads); under mpirun -np N an "
                       "ensemble's or a probe's members are handed out across the ranks, one per rank at a time")
-      ->check(CLI::Range(1, 256));
+      ->check(ishibashi::number_in(1, 256));
   CLI::Option* resume = run_cmd->add_option(
       "--resume", run.resume, "continue the run in this output folder from its checkpoint (bit-identical to an unbroken run)");
   resume->excludes(members);
@@ -114,16 +114,16 @@ CLI::App* add_run_command(CLI::App& app, ishibashi::RunOptions& run) {
 CLI::App* add_modal_command(CLI::App& app, ishibashi::ModalOptions& modal) {
   CLI::App* modal_cmd = app.add_subcommand("modal", "Natural frequencies and mode shapes (modal analysis, joints held linear)");
   modal_cmd->add_option("file", modal.file, "model or scenario file")->required();
-  modal_cmd->add_option("--modes", modal.modes, "number of modes")->check(CLI::Range(1, 500));
+  modal_cmd->add_option("--modes", modal.modes, "number of modes")->check(ishibashi::number_in(1, 500));
   ishibashi::add_run_setting_flags(modal_cmd, modal.overrides, {"joint_rule", "subdivision", "shear_spring"});
   modal_cmd->add_option("--out", modal.out, "output folder (default: out/<name>_modal)");
   modal_cmd->add_option("--impulse", modal.impulse_s, "also run impulse responses of this many seconds (x, y, z steps)")
-      ->check(CLI::NonNegativeNumber);
+      ->check(ishibashi::number_in(0));
   modal_cmd->add_option("--excite", modal.excite, "one impulse: the ground step's axis")->check(CLI::IsMember({"x", "y", "z"}));
   modal_cmd->add_option("--read", modal.read, "the displacement component read (default: the step's axis)")
       ->check(CLI::IsMember({"x", "y", "z"}));
   modal_cmd->add_option("--block", modal.block, "the monitored block (default: the unit on top of the crown)")
-      ->check(CLI::NonNegativeNumber);
+      ->check(ishibashi::number_in(0));
   return modal_cmd;
 }
 
@@ -135,13 +135,13 @@ CLI::App* add_study_command(CLI::App& app, ishibashi::StudyCommandOptions& study
   study_cmd->add_option("--out", study.out, "output folder (default: out/study, out/study_quick with --quick)");
   study_cmd->add_flag("--quick", study.quick, "the study file's short version ([quick]): what CI runs");
   study_cmd->add_option("--jobs", study.jobs, "analyses run at once (under mpirun -np N: one per rank, across the ranks)")
-      ->check(CLI::Range(1, 256));
+      ->check(ishibashi::number_in(1, 256));
   study_cmd->add_option("--threads-per-job", study.threads_per_job, "threads of each analysis (default: cores / jobs)")
-      ->check(CLI::Range(0, ishibashi::kMaxThreads));
+      ->check(ishibashi::number_in(0, ishibashi::kMaxThreads));
   study_cmd->add_option("--members", study.members,
                          "run each seismic run as an ensemble of N members (replacing the study file's members; "
                          "0 or 1: single runs); the report gives each run's probabilities")
-      ->check(CLI::Range(0, 100000));
+      ->check(ishibashi::number_in(0, 100000));
   // Every run's numerical method and joint model, as `run` takes them (a study of the
   // fast path: --damping implicit --dt 4e-5).
   add_run_setting_flags(study_cmd, study.run_overrides,
@@ -158,9 +158,9 @@ CLI::App* add_sweep_command(CLI::App& app, ishibashi::SweepCommandOptions& sweep
   sweep_cmd->add_option("file", sweep.file, "sweep file (TOML), e.g. scenarios/nishida_a_sweep.toml")->required();
   sweep_cmd->add_option("--out", sweep.out, "output folder (default: out/<sweep file name>)");
   sweep_cmd->add_option("--jobs", sweep.jobs, "runs at once on this machine (under mpirun: one per rank)")
-      ->check(CLI::Range(1, 256));
+      ->check(ishibashi::number_in(1, 256));
   sweep_cmd->add_option("--threads-per-job", sweep.threads_per_job, "threads of each run (default: the node's cores shared)")
-      ->check(CLI::Range(0, ishibashi::kMaxThreads));
+      ->check(ishibashi::number_in(0, ishibashi::kMaxThreads));
   return sweep_cmd;
 }
 
@@ -188,7 +188,7 @@ int main(int argc, char** argv) {
   app.require_subcommand(1);
   int threads = 0;
   app.add_option("--threads", threads, "OpenMP threads (default: OMP_NUM_THREADS, else every core this process may use, CPU quota included)")
-      ->check(CLI::Range(0, ishibashi::kMaxThreads));
+      ->check(ishibashi::number_in(0, ishibashi::kMaxThreads));
 
   ishibashi::DemoOptions demo;
   CLI::App* demo_cmd = add_demo_command(app, demo);

@@ -1,10 +1,25 @@
 #include "apps/run_setting_flags.h"
 
 #include <cstring>
-#include <limits>
+#include <sstream>
 #include <string>
 
 namespace ishibashi {
+
+CLI::Validator number_in(double min, double max, bool open_min) {
+  std::ostringstream range, interval;  // for the message, and for --help: (0, 0.5], [0, inf)
+  range << (open_min ? "> " : ">= ") << min;
+  if (!std::isinf(max)) range << " and <= " << max;
+  interval << (open_min ? "(" : "[") << min << ", " << max << (std::isinf(max) ? ")" : "]");
+  return CLI::Validator(
+      [min, max, open_min, range = range.str()](std::string& text) {
+        double value = 0;
+        if (!CLI::detail::lexical_cast(text, value)) return text + " is not a number";
+        const bool above = open_min ? value > min : value >= min;
+        return above && value <= max ? std::string() : text + " must be " + range;
+      },
+      interval.str());
+}
 
 std::vector<CLI::Option*> add_run_setting_flags(CLI::App* cmd, RunOverrides& overrides,
                                                 std::initializer_list<const char*> keys) {
@@ -25,9 +40,7 @@ std::vector<CLI::Option*> add_run_setting_flags(CLI::App* cmd, RunOverrides& ove
     } else {
       CLI::Option* option = cmd->add_option_function<T>(
           info.flag, [&overrides, member](const T& value) { overrides.set(member, value); }, help);
-      if (info.open_min) option->check(CLI::PositiveNumber);
-      else if (std::isinf(info.max) && info.min == 0) option->check(CLI::NonNegativeNumber);
-      else option->check(CLI::Range(static_cast<T>(info.min), std::isinf(info.max) ? std::numeric_limits<T>::max() : static_cast<T>(info.max)));
+      option->check(number_in(info.min, info.max, info.open_min));  // the range the scenario file has
       added.push_back(option);
     }
   });
