@@ -1,10 +1,12 @@
 // ishibashi: 3-D distinct element analysis of masonry stone arch bridges.
 #include <CLI/CLI.hpp>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <exception>
+#include <filesystem>
 #include <string>
 
 #include "apps/build_command.h"
@@ -38,7 +40,15 @@ CLI::App* add_build_command(CLI::App& app, ishibashi::BuildOptions& build) {
   CLI::App* build_cmd = app.add_subcommand("build", "Generate a bridge from a model file, validate it, write it for ParaView");
   build_cmd->add_option("model_file", build.model_file, "model file (TOML), e.g. models/nishida_b.toml")->required();
   build_cmd->add_option("--out", build.out, "output folder for the .vtu");
-  build_cmd->add_option("--export", build.export_file, "also write the blocks to this .off or .obj file");
+  // Checked before the minutes of validation that come before the export.
+  const CLI::Validator mesh_file(
+      [](std::string& name) {
+        std::string ext = std::filesystem::path(name).extension().string();
+        std::transform(ext.begin(), ext.end(), ext.begin(), ::tolower);
+        return ext == ".off" || ext == ".obj" || ext == ".stl" ? std::string() : name + " must end in .off, .obj or .stl";
+      },
+      "MESH");
+  build_cmd->add_option("--export", build.export_file, "also write the blocks to this .off, .obj or .stl file")->check(mesh_file);
   ishibashi::add_run_setting_flags(build_cmd, build.overrides, {"joint_rule", "subdivision", "shear_spring"});
   return build_cmd;
 }

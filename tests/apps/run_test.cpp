@@ -14,6 +14,7 @@
 #include <sstream>
 
 #include "command_line.h"
+#include "geometry/block_files.h"
 #include "io/vtk_input.h"
 
 namespace ishibashi {
@@ -245,6 +246,23 @@ TEST(Run, NanOrInfinityOnTheCommandLineIsRefused) {
   }
 }
 
+
+// `build --export` writes the blocks as a mesh that reads back block for block (model A:
+// 165 stones and the ground slab), and a name CGAL cannot write is refused before the
+// validation, not after it.
+TEST(Run, BuildExportsTheBlocksAndRefusesAnUnknownMeshFormatAtOnce) {
+  const auto mesh = test::tmp_dir() / "ishibashi_export.obj";
+  std::filesystem::remove(mesh);
+  int status = 0;
+  const std::string model = (kRoot / "models/nishida_a.toml").string(), out = (test::tmp_dir() / "ishibashi_export").string();
+  const std::string built = test::run_command(test::program() + " build " + model + " --export " + mesh.string() + " --out " + out, &status);
+  ASSERT_EQ(status, 0) << built;
+  EXPECT_EQ(read_block_file(mesh).size(), 166u);
+  const std::string refused = test::run_command(test::program() + " build " + model + " --export blocks.xyz", &status);
+  EXPECT_NE(status, 0);
+  EXPECT_NE(refused.find("--export: blocks.xyz must end in .off, .obj or .stl"), std::string::npos) << refused;
+  EXPECT_EQ(refused.find("validation"), std::string::npos) << refused;
+}
 
 // A model whose blocks touch nothing has no contact to set the time step: a run says so
 // and asks for dt_s (it said "dt must be a positive number"), and `build` prints no limit
