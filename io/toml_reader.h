@@ -10,6 +10,7 @@
 #include <set>
 #include <sstream>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "engine/model.h"
@@ -227,6 +228,21 @@ class TableReader {
 };
 
 
+// The kind of input file whose own table `key` is (nullptr: none): a table of another
+// kind's file says the command was given the wrong file (`run models/nishida_a.toml`).
+inline const char* file_kind_of_table(std::string_view key) {
+  static const std::pair<const char*, const char*> kinds[] = {
+      {"ring", "a model file (models/)"},          {"bridge", "a model file (models/)"},
+      {"import", "a model file (models/)"},        {"stone", "a model file (models/)"},
+      {"run", "a scenario file (scenarios/)"},      {"ground_motion", "a scenario file (scenarios/)"},
+      {"sweep", "a sweep file (scenarios/*_sweep.toml)"}, {"record", "a sweep file (scenarios/*_sweep.toml)"},
+      {"failure", "a sweep file (scenarios/*_sweep.toml)"}, {"study", "a study file (scenarios/nishida_study.toml)"},
+      {"frequencies", "a study file (scenarios/nishida_study.toml)"}};
+  for (const auto& [table, kind] : kinds)
+    if (key == table) return kind;
+  return nullptr;
+}
+
 // Parses a TOML file whose top level may only hold the tables in `allowed`; errors name
 // the file and the line.
 inline toml::table parse_toml_file(const std::filesystem::path& file, std::initializer_list<const char*> allowed) {
@@ -250,6 +266,8 @@ inline toml::table parse_toml_file(const std::filesystem::path& file, std::initi
       std::ostringstream s;
       s << file.string() << ":" << node.source().begin.line << ": unknown table or key '" << key.str()
         << "'; allowed: " << list;
+      if (const char* kind = file_kind_of_table(key.str()))
+        s << " ([" << key.str() << "] belongs in " << kind << ": is this the file the command takes?)";
       throw InputError(s.str());
     }
   }

@@ -11,6 +11,7 @@ namespace ishibashi {
 namespace {
 
 using ::testing::HasSubstr;
+using ::testing::Not;
 
 std::string error_of(const std::string& text) {
   const auto file = std::filesystem::temp_directory_path() / "ishibashi_model_test.toml";
@@ -43,6 +44,10 @@ TEST(ModelFile, WrongTypeAndBadChoiceAreErrors) {
   EXPECT_THAT(error_of("[bridge]\nbackfill = \"gravel\"\n"), HasSubstr("allowed: \"stone\", \"soil\""));
   EXPECT_THAT(error_of("[bridge]\nfixed_bottom_course = 1\n"), HasSubstr(":2: 'fixed_bottom_course' must be true or false"));
   EXPECT_THAT(error_of("[brigde]\n"), HasSubstr("unknown table or key 'brigde'"));
+  // A scenario given where a model file goes: its table says which kind of file it is.
+  EXPECT_THAT(error_of("[model]\nfile = \"a.toml\"\n[run]\nduration_s = 1\n"),
+              HasSubstr("[run] belongs in a scenario file (scenarios/): is this the file the command takes?"));
+  EXPECT_THAT(error_of("[brigde]\n"), Not(HasSubstr("belongs in")));
   EXPECT_THAT(error_of("[ring\n"), HasSubstr("ishibashi_model_test.toml:1"));
 }
 
