@@ -212,11 +212,11 @@ int run_scenario(const RunOptions& o) {
   char when[64] = "interrupted while settling";
   if (!r.interrupted || r.shaking_time_s > 0)
     std::snprintf(when, sizeof when, "%s after %.2f s of shaking", r.interrupted ? "interrupted" : "done", r.shaking_time_s);
-  std::printf("%s: %d fallen stones, %d of %d joints cracked (%d open now), largest slip %.4f m, "
-              "largest crown drop %.4f m, first opening %s\n",
-              when, r.fallen_stones, r.joint_counts.cracked, r.joints,
-              r.joint_counts.open, r.joint_counts.largest_slip_m, r.largest_crown_drop_m,
-              r.first_opening_s < 0 ? "none" : (std::to_string(r.first_opening_s) + " s").c_str());
+  char crown[64] = "no crown unit monitored";  // an imported model has none unless [monitor] names one
+  if (run.monitored_block() >= 0) std::snprintf(crown, sizeof crown, "largest crown drop %.4f m", r.largest_crown_drop_m);
+  std::printf("%s: %d fallen stones, %d of %d joints cracked (%d open now), largest slip %.4f m, %s, first opening %s\n",
+              when, r.fallen_stones, r.joint_counts.cracked, r.joints, r.joint_counts.open, r.joint_counts.largest_slip_m,
+              crown, r.first_opening_s < 0 ? "none" : (std::to_string(r.first_opening_s) + " s").c_str());
   std::printf("energy balance error %.3g %% of the energy exchanged\n", 100 * r.balance_error_relative);
   if (std::abs(r.balance_error_relative) > kBalanceWarning)
     std::printf("warning: the energy balance misses by more than %.0f %%: a step too coarse for this run's impacts (try "
