@@ -18,7 +18,7 @@ void require_both_fracture_energies(const std::filesystem::path& file, const std
 }
 
 ModelFile read_model_file(const std::filesystem::path& file) {
-  const toml::table root = parse_toml_file(file, {"model", "ring", "bridge", "stone", "soil", "import"});
+  const toml::table root = parse_toml_file(file, kModelFile);
 
   ModelFile m;
   m.name = file.stem().string();

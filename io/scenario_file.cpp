@@ -36,7 +36,7 @@ bool is_scenario_file(const std::filesystem::path& file) {
 }
 
 Scenario read_scenario(const std::filesystem::path& file) {
-  const toml::table root = parse_toml_file(file, {"model", "run", "ground_motion", "monitor", "ensemble"});
+  const toml::table root = parse_toml_file(file, kScenarioFile);
   Scenario sc;
   sc.file = file;
   const std::filesystem::path base = std::filesystem::absolute(file).parent_path();

@@ -69,7 +69,7 @@ void read_reference(const std::filesystem::path& file, const toml::table& root, 
 }  // namespace
 
 StudyFile read_study(const std::filesystem::path& file, bool quick) {
-  const toml::table root = parse_toml_file(file, {"study", "frequencies", "quick", "reference"});
+  const toml::table root = parse_toml_file(file, kStudyFile);
   StudyFile s;
   s.file = file;
   TableReader study(file, root, "study");

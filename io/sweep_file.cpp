@@ -24,7 +24,7 @@ std::string level_label(double level) {
 }
 
 SweepFile read_sweep(const std::filesystem::path& file) {
-  const toml::table root = parse_toml_file(file, {"sweep", "failure", "record"});
+  const toml::table root = parse_toml_file(file, kSweepFile);
   const std::filesystem::path base = std::filesystem::absolute(file).parent_path();
   SweepFile s;
   s.file = file;

@@ -228,24 +228,33 @@ class TableReader {
 };
 
 
-// The kind of input file whose own table `key` is (nullptr: none): a table of another
-// kind's file says the command was given the wrong file (`run models/nishida_a.toml`).
+// The four kinds of input file and the top-level tables each may hold, in one list, so
+// that a table of another kind's file can say the command was given the wrong file
+// (`run models/nishida_a.toml`: [bridge] belongs in a model file).
+struct InputFileKind {
+  const char* name;  // for messages
+  std::vector<std::string_view> tables;
+};
+inline const InputFileKind kModelFile{"a model file (models/)", {"model", "ring", "bridge", "stone", "soil", "import"}};
+inline const InputFileKind kScenarioFile{"a scenario file (scenarios/)", {"model", "run", "ground_motion", "monitor", "ensemble"}};
+inline const InputFileKind kSweepFile{"a sweep file (scenarios/*_sweep.toml)", {"sweep", "failure", "record"}};
+inline const InputFileKind kStudyFile{"a study file (scenarios/nishida_study.toml)", {"study", "frequencies", "quick", "reference"}};
+
+// The one kind of file whose own table `key` is (nullptr: none, or more than one kind's).
 inline const char* file_kind_of_table(std::string_view key) {
-  static const std::pair<const char*, const char*> kinds[] = {
-      {"ring", "a model file (models/)"},          {"bridge", "a model file (models/)"},
-      {"import", "a model file (models/)"},        {"stone", "a model file (models/)"},
-      {"run", "a scenario file (scenarios/)"},      {"ground_motion", "a scenario file (scenarios/)"},
-      {"sweep", "a sweep file (scenarios/*_sweep.toml)"}, {"record", "a sweep file (scenarios/*_sweep.toml)"},
-      {"failure", "a sweep file (scenarios/*_sweep.toml)"}, {"study", "a study file (scenarios/nishida_study.toml)"},
-      {"frequencies", "a study file (scenarios/nishida_study.toml)"}};
-  for (const auto& [table, kind] : kinds)
-    if (key == table) return kind;
-  return nullptr;
+  const char* found = nullptr;
+  for (const InputFileKind* kind : {&kModelFile, &kScenarioFile, &kSweepFile, &kStudyFile})
+    for (std::string_view table : kind->tables)
+      if (key == table) {
+        if (found) return nullptr;
+        found = kind->name;
+      }
+  return found;
 }
 
-// Parses a TOML file whose top level may only hold the tables in `allowed`; errors name
-// the file and the line.
-inline toml::table parse_toml_file(const std::filesystem::path& file, std::initializer_list<const char*> allowed) {
+// Parses a TOML file of the given kind: its top level may only hold the kind's tables;
+// errors name the file and the line.
+inline toml::table parse_toml_file(const std::filesystem::path& file, const InputFileKind& kind) {
   if (!std::filesystem::exists(file)) throw InputError(file.string() + ": no such file");
   toml::table root;
   try {
@@ -258,16 +267,16 @@ inline toml::table parse_toml_file(const std::filesystem::path& file, std::initi
   for (const auto& [key, node] : root) {
     bool known = false;
     std::string list;
-    for (const char* a : allowed) {
-      known = known || key == a;
-      list += std::string(list.empty() ? "" : ", ") + "[" + a + "]";
+    for (std::string_view table : kind.tables) {
+      known = known || key.str() == table;
+      list += std::string(list.empty() ? "" : ", ") + "[" + std::string(table) + "]";
     }
     if (!known) {
       std::ostringstream s;
       s << file.string() << ":" << node.source().begin.line << ": unknown table or key '" << key.str()
         << "'; allowed: " << list;
-      if (const char* kind = file_kind_of_table(key.str()))
-        s << " ([" << key.str() << "] belongs in " << kind << ": is this the file the command takes?)";
+      if (const char* other = file_kind_of_table(key.str()))
+        s << " ([" << key.str() << "] belongs in " << other << ": is this the file the command takes?)";
       throw InputError(s.str());
     }
   }

@@ -38,11 +38,11 @@ for reader, data, arrays in (("blocks.pvd", "CellData", ("part", "fallen", "disp
     for array in arrays:
         if array not in written:
             failures.append("%s: the state uses %s, which the run did not write" % (reader, array))
-if counts.get("standing stones", 0) + counts.get("fallen stones", 0) == 0:
+shown = counts.get("standing stones", 0) + counts.get("fallen stones", 0)
+if shown == 0:
     failures.append("no stones shown at the last frame")
 blocks = FindSource("blocks.pvd")
 blocks.UpdatePipeline(scene.EndTime)
-shown = counts.get("standing stones", 0) + counts.get("fallen stones", 0)
 # A generated bridge's ground slab (part 0) is hidden; an imported model has no slab (its
 # blocks are all part 6, its fixed ones included) and shows every block.
 has_slab = "part" in blocks.CellData.keys() and blocks.CellData["part"].GetRange()[0] == 0
