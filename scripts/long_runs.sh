@@ -8,7 +8,7 @@
 # results and what they mean: scenarios/results/README.md.
 #
 #   nohup nice -n 19 bash scripts/long_runs.sh e_dry d_dry d_mortar d_dry2 d_mortar2 b_mortar_q b_mortar_q2 > out/long_runs.log 2>&1 &
-#   nohup nice -n 19 bash scripts/long_runs.sh b_mortar_q2 d_mortar d_dry d_mortar2 d_dry2 b_mortar_q > out/long_runs_b.log 2>&1 &
+#   nohup nice -n 19 bash scripts/long_runs.sh b_mortar_q2 b_mortar_q d_mortar2 d_dry2 d_mortar d_dry > out/long_runs_b.log 2>&1 &
 #   bash scripts/long_runs.sh save    # before committing: keeps the finished members
 #   bash scripts/long_runs.sh park    # at a session's end: keeps the members under way
 # The whole script is one brace group ending in `exit`: bash reads a script as it goes, so
@@ -78,8 +78,9 @@ jobs=(
   # Issue 45's question left open (scenarios/results/README.md, "Item 4's decision"): B with
   # mortar's debris on the fast path is about 1.6 times the reference's at 4e-5 and at 2e-5 s
   # alike. Does it turn back toward the reference at 1e-5 s? The same seed's five members,
-  # b38cfde's program as at 2e-5 s (so that only the step differs), about 3 core-hours a
-  # member; after E's ensembles, in two shares (one a lane: list both, in either order).
+  # b38cfde's program as at 2e-5 s (so that only the step differs), about 1.1 core-hours a
+  # member on a quiet core (member 3: 1.14 h); in two shares (one a lane: list both, in
+  # either order).
   "b_mortar_q|b38cfde|out/ensembles/b_mortar_implicit_1e-5|scenarios/nishida_b_kobe_mortar.toml --members 5 --member-range 0:3 --seed 1 --jobs 1 --threads 1 --damping implicit --dt 1e-5"
   "b_mortar_q2|b38cfde|out/ensembles/b_mortar_implicit_1e-5_3_5|scenarios/nishida_b_kobe_mortar.toml --members 5 --member-range 3:5 --seed 1 --jobs 1 --threads 1 --damping implicit --dt 1e-5"
   "e_dry|fd2dc55|out/ensembles/e_dry_explicit|scenarios/nishida_e_kobe_dry.toml --members 5 --seed 1 --jobs 1 --threads 1"
@@ -87,9 +88,9 @@ jobs=(
   # Model D, the study's clearest answer that mortar helps (its single runs: 195 stones fall
   # dry, 3 with mortar), as ensembles: five members each, E's seed and program (D and E have
   # the same stones and step, so about 1.4 core-hours a member on a quiet core). Not asked by
-  # issue 48 (it leaves D a single run); queued from session 58 ahead of the 1e-5 s fast path,
-  # since it bears on the study's verdict and that on a method already left blocked. Two
-  # shares a variant, so that both lanes can work on one ensemble.
+  # issue 48 (it leaves D a single run); queued in session 58, since it bears on the study's
+  # verdict, in one lane while the other finishes the 1e-5 s fast path. Two shares a
+  # variant, so that both lanes can work on one ensemble.
   "d_dry|fd2dc55|out/ensembles/d_dry_explicit|scenarios/nishida_d_kobe_dry.toml --members 5 --member-range 0:3 --seed 1 --jobs 1 --threads 1"
   "d_dry2|fd2dc55|out/ensembles/d_dry_explicit_3_5|scenarios/nishida_d_kobe_dry.toml --members 5 --member-range 3:5 --seed 1 --jobs 1 --threads 1"
   "d_mortar|fd2dc55|out/ensembles/d_mortar_explicit|scenarios/nishida_d_kobe_mortar.toml --members 5 --member-range 0:3 --seed 1 --jobs 1 --threads 1"
