@@ -33,14 +33,23 @@ Record read_at2(const std::filesystem::path& file);
 // a(gal)/b", "Memo." then counts; acceleration = counts * a / b, less its mean.
 Record read_knet(const std::filesystem::path& file);
 // Plain text or CSV: two columns (time s, acceleration) with uniform steps, or one
-// column of accelerations at `dt_s` (> 0). Lines starting with '#' are comments.
-Record read_columns(const std::filesystem::path& file, AccelerationUnit unit, double dt_s = 0.0);
+// column of accelerations at `dt_s` (> 0). Lines starting with '#' are comments, and the
+// first `header_lines` lines are skipped. A file of several components (a row a sample:
+// time, then the components, or the components alone at `dt_s`) is read one component at
+// a time: `column` (1-based) is this one's; every row has as many values as the first.
+// column 0: the layouts above (the last of two, or the only one).
+struct ColumnLayout {
+  double dt_s = 0.0;     // > 0: no time column, samples at this step
+  int column = 0;        // the acceleration's column, from 1; 0: the last of two, or the only one
+  int header_lines = 0;  // lines skipped before the samples (a header: names, units, station)
+};
+Record read_columns(const std::filesystem::path& file, AccelerationUnit unit, const ColumnLayout& layout = {});
 
 struct ComponentSpec {
   std::filesystem::path file;
   std::string format = "at2";            // "at2", "knet" or "columns"
   AccelerationUnit unit = AccelerationUnit::g;  // for "columns"
-  double dt_s = 0.0;                     // for one-column files
+  ColumnLayout layout;                   // for "columns"
   double scale = 1.0;
 };
 

@@ -16,10 +16,15 @@ void read_ground_motion_components(TableReader& table, const std::filesystem::pa
     comp.text("file", path);
     comp.text("format", cs.format, {"at2", "knet", "columns"});
     comp.text("unit", unit, {"g", "gal", "m/s2"});
-    comp.number("dt_s", cs.dt_s);
+    comp.number("dt_s", cs.layout.dt_s);
+    comp.integer_in("column", cs.layout.column, 1, 1000);
+    comp.integer_in("header_lines", cs.layout.header_lines, 0, 1000000);
     comp.number("scale", cs.scale);
     comp.finish();
     if (path.empty()) throw InputError(file.string() + ": [" + name + "] " + axes[c] + " needs file = \"...\"");
+    if (cs.format != "columns" && (cs.layout.column > 0 || cs.layout.header_lines > 0))
+      throw InputError(file.string() + ": [" + name + "] " + axes[c] + ": column and header_lines are for format = \"columns\" (" +
+                       cs.format + " files say where their samples are)");
     cs.file = base / path;
     cs.unit = unit == "gal" ? AccelerationUnit::gal : unit == "m/s2" ? AccelerationUnit::m_s2 : AccelerationUnit::g;
     spec.component[c] = cs;

@@ -59,7 +59,8 @@ std::string case_key(const SweepFile& sweep, const Case& c) {
   for (const auto& component : record.motion.component)
     if (component)
       in << " " << fnv1a(file_bytes(component->file)) << " " << component->format << " " << static_cast<int>(component->unit)
-         << " " << component->dt_s << " " << component->scale;
+         << " " << component->layout.dt_s << " " << component->layout.column << " " << component->layout.header_lines << " "
+         << component->scale;
   return inputs_key(in.str());
 }
 

@@ -61,7 +61,7 @@ void read_input(const std::string& reader, const std::uint8_t* data, std::size_t
   std::ofstream(file, std::ios::binary).write(reinterpret_cast<const char*>(data), static_cast<std::streamsize>(size));
   if (reader == "at2") read_at2(file);
   else if (reader == "knet") read_knet(file);
-  else if (reader == "columns") read_columns(file, AccelerationUnit::g, 0.01);
+  else if (reader == "columns") read_columns(file, AccelerationUnit::g, {0.01});
   else if (reader == "model") read_model_file(file);
   else if (reader == "scenario") read_scenario(file);
   else if (reader == "study") read_study(file, false);

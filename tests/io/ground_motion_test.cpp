@@ -93,8 +93,42 @@ TEST(GroundMotion, KnetAndColumnsReadWithUnits) {
   const Record c = read_columns(write("gm_ok.csv", "# t, a\n0.0, 100\n0.5, -50\n"), AccelerationUnit::gal);
   EXPECT_DOUBLE_EQ(c.dt_s, 0.5);
   EXPECT_DOUBLE_EQ(c.accel_m_s2[1], -0.5);
-  const Record one = read_columns(write("gm_one.txt", "0.1\n0.2\n0.3\n"), AccelerationUnit::g, 0.02);
+  const Record one = read_columns(write("gm_one.txt", "0.1\n0.2\n0.3\n"), AccelerationUnit::g, {0.02});
   EXPECT_NEAR(one.accel_m_s2[2], 0.3 * 9.80665, 1e-12);
+}
+
+// A file of three components, as the JMA and many loggers write them: a header of names,
+// then a row a sample. Each component reads its own column, with or without a time column.
+TEST(GroundMotion, ColumnsOfSeveralComponentsReadOneAtATime) {
+  const auto timed = write("gm_three.csv", "station KOBE, unit gal\ntime,NS,EW,UD\n0.00,100,-20,5\n0.01,-50,40,-7\n0.02,25,0,3\n");
+  const Record ew = read_columns(timed, AccelerationUnit::gal, {.column = 3, .header_lines = 2});
+  EXPECT_DOUBLE_EQ(ew.dt_s, 0.01);
+  ASSERT_EQ(ew.accel_m_s2.size(), 3u);
+  EXPECT_DOUBLE_EQ(ew.accel_m_s2[0], -0.2);  // gal -> m/s^2
+  EXPECT_DOUBLE_EQ(ew.accel_m_s2[1], 0.4);
+  EXPECT_DOUBLE_EQ(read_columns(timed, AccelerationUnit::gal, {.column = 4, .header_lines = 2}).accel_m_s2[1], -0.07);
+  const auto untimed = write("gm_three.txt", "NS EW UD\n1 2 3\n4 5 6\n");
+  const Record ud = read_columns(untimed, AccelerationUnit::m_s2, {.dt_s = 0.005, .column = 3, .header_lines = 1});
+  EXPECT_DOUBLE_EQ(ud.dt_s, 0.005);
+  EXPECT_DOUBLE_EQ(ud.accel_m_s2[1], 6.0);
+  EXPECT_DOUBLE_EQ(read_columns(untimed, AccelerationUnit::m_s2, {.dt_s = 0.005, .column = 1, .header_lines = 1}).accel_m_s2[0], 1.0);
+
+  // What is wrong, where, and what would be right.
+  EXPECT_THAT(error_of([&] { read_columns(timed, AccelerationUnit::gal, {.column = 3}); }),
+              HasSubstr("gm_three.csv:1: 'station' is not a number (a header? header_lines = 1 skips"));
+  EXPECT_THAT(error_of([&] { read_columns(timed, AccelerationUnit::gal, {.column = 5, .header_lines = 2}); }),
+              HasSubstr("gm_three.csv:3: 4 values, so no column 5"));
+  EXPECT_THAT(error_of([&] { read_columns(timed, AccelerationUnit::gal, {.column = 1, .header_lines = 2}); }),
+              HasSubstr("column 1 holds the time"));
+  EXPECT_THAT(error_of([&] { read_columns(timed, AccelerationUnit::gal, {.header_lines = 2}); }),
+              HasSubstr("gm_three.csv:3: expected two columns: time (s) and acceleration; of a file of several columns, column = N"));
+  const auto ragged = write("gm_ragged.csv", "0.00,1,2,3\n0.01,1,2\n");
+  EXPECT_THAT(error_of([&] { read_columns(ragged, AccelerationUnit::gal, {.column = 2}); }),
+              HasSubstr("gm_ragged.csv:2: 3 values where the first row has 4"));
+  const auto bad_later = write("gm_bad.csv", "0.00,1\n0.01,x\n");  // no header hint past the first sample
+  const std::string later = error_of([&] { read_columns(bad_later, AccelerationUnit::gal); });
+  EXPECT_THAT(later, HasSubstr("gm_bad.csv:2: 'x' is not a number"));
+  EXPECT_THAT(later, ::testing::Not(HasSubstr("header")));
 }
 
 // x: a 2 Hz sine of 1 m/s^2 plus `offset_m_s2`, 2 s (four periods) sampled at 0.01 s.
@@ -106,7 +140,7 @@ GroundMotionSpec sine_spec(double offset_m_s2, bool baseline_correction) {
   cs.file = write("gm_sine.txt", text);
   cs.format = "columns";
   cs.unit = AccelerationUnit::m_s2;
-  cs.dt_s = 0.01;
+  cs.layout.dt_s = 0.01;
   spec.component[0] = cs;
   spec.baseline_correction = baseline_correction;
   return spec;

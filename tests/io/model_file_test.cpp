@@ -98,6 +98,34 @@ TEST(ScenarioFile, DampingIsStudyCappedOrImplicitAndABadChoiceNamesItsLine) {
   }
 }
 
+// A component's column and header of a file of several components, read from the scenario;
+// refused for the formats that say where their samples are, and a column from 1.
+TEST(ScenarioFile, ColumnAndHeaderLinesAreForColumnFiles) {
+  const auto file = std::filesystem::temp_directory_path() / "ishibashi_scenario_columns.toml";
+  const auto root = std::filesystem::path(ISHIBASHI_SOURCE_DIR);
+  auto write = [&](const std::string& component) {
+    std::ofstream(file) << "[model]\nfile = \"" << (root / "models/nishida_a.toml").string()
+                        << "\"\n[run]\nduration_s = 1\n[ground_motion]\nz = " << component << "\n";
+  };
+  write("{ file = \"three.csv\", format = \"columns\", unit = \"gal\", column = 4, header_lines = 2 }");
+  const ComponentSpec z = *read_scenario(file).ground_motion.component[2];
+  EXPECT_EQ(z.layout.column, 4);
+  EXPECT_EQ(z.layout.header_lines, 2);
+  EXPECT_EQ(z.layout.dt_s, 0.0);
+  for (const auto& [component, message] :
+       {std::pair<std::string, std::string>{"{ file = \"a.AT2\", column = 2 }", "column and header_lines are for format = \"columns\""},
+        {"{ file = \"a.csv\", format = \"columns\", column = 0 }", "'column' is 0; it must be at least 1"},
+        {"{ file = \"a.csv\", format = \"columns\", header_lines = -1 }", "'header_lines' is -1"}}) {
+    write(component);
+    try {
+      read_scenario(file);
+      ADD_FAILURE() << component << ": accepted";
+    } catch (const InputError& e) {
+      EXPECT_THAT(e.what(), HasSubstr(message)) << component;
+    }
+  }
+}
+
 // A scenario's own numbers are finite: its mortar_pa = nan once meant "as the model file
 // says" (a dry bridge run without a word), and nan in [run] or [ground_motion] is refused
 // at its line as well.
