@@ -35,16 +35,35 @@ bool parse_finite(const std::string& text, double& value) {
   return !text.empty() && end == text.c_str() + text.size() && std::isfinite(value);
 }
 
-// Parses every whitespace-separated number of a line; a word that is not a number is an
-// error naming the line.
-void numbers_of(const std::filesystem::path& file, int line_no, const std::string& line, std::vector<double>& out) {
+// Appends every whitespace-separated number of a line to `out`; false at the first word
+// that is not a number (then in `bad`).
+bool row_of_numbers(const std::string& line, std::vector<double>& out, std::string& bad) {
   std::istringstream s(line);
-  std::string word;
   double v = 0;
-  while (s >> word) {
-    if (!parse_finite(word, v)) fail(file, line_no, "'" + word + "' is not a number");
+  while (s >> bad) {
+    if (!parse_finite(bad, v)) return false;
     out.push_back(v);
   }
+  return true;
+}
+
+// The same, a word that is not a number an error naming the line.
+void numbers_of(const std::filesystem::path& file, int line_no, const std::string& line, std::vector<double>& out) {
+  std::string bad;
+  if (!row_of_numbers(line, out, bad)) fail(file, line_no, "'" + bad + "' is not a number");
+}
+
+// The number of the first line after `line_no` that is a row of numbers (commas as
+// spaces), read on from `in`; 0 if none within 1,000 lines. Where a header ends.
+int first_row_of_numbers(std::istream& in, int line_no) {
+  std::string line, bad;
+  std::vector<double> row;
+  for (int n = line_no + 1; n <= line_no + 1000 && std::getline(in, line); ++n) {
+    std::replace(line.begin(), line.end(), ',', ' ');
+    row.clear();
+    if (row_of_numbers(line, row, bad) && !row.empty()) return n;
+  }
+  return 0;
 }
 
 // A header number: an error naming the line and what it should hold (std::stod would
@@ -219,12 +238,14 @@ Record read_columns(const std::filesystem::path& file, AccelerationUnit unit, co
     const auto first = line.find_first_not_of(" \t\r");
     if (first == std::string::npos || line[first] == '#') continue;
     v.clear();
-    try {
-      numbers_of(file, line_no, line, v);
-    } catch (const InputError& e) {
-      if (!r.accel_m_s2.empty()) throw;
-      throw InputError(std::string(e.what()) + " (a header? header_lines = " + std::to_string(line_no) +
-                       " skips the file's first " + std::to_string(line_no) + " lines)");
+    std::string bad;
+    if (!row_of_numbers(line, v, bad)) {
+      std::string what = "'" + bad + "' is not a number";
+      if (r.accel_m_s2.empty())  // before the first sample: a header, which the setting named skips
+        if (const int samples = first_row_of_numbers(in, line_no))
+          what += " (a header? header_lines = " + std::to_string(samples - 1) + " skips it: the samples start on line " +
+                  std::to_string(samples) + ")";
+      fail(file, line_no, what);
     }
     if (width == 0) {  // the first row of a chosen column
       if (timed && layout.column == 1)

@@ -115,7 +115,7 @@ TEST(GroundMotion, ColumnsOfSeveralComponentsReadOneAtATime) {
 
   // What is wrong, where, and what would be right.
   EXPECT_THAT(error_of([&] { read_columns(timed, AccelerationUnit::gal, {.column = 3}); }),
-              HasSubstr("gm_three.csv:1: 'station' is not a number (a header? header_lines = 1 skips"));
+              HasSubstr("gm_three.csv:1: 'station' is not a number (a header? header_lines = 2 skips it: the samples start on line 3)"));
   EXPECT_THAT(error_of([&] { read_columns(timed, AccelerationUnit::gal, {.column = 5, .header_lines = 2}); }),
               HasSubstr("gm_three.csv:3: 4 values, so no column 5"));
   EXPECT_THAT(error_of([&] { read_columns(timed, AccelerationUnit::gal, {.column = 1, .header_lines = 2}); }),
