@@ -61,7 +61,17 @@ void read_input(const std::string& reader, const std::uint8_t* data, std::size_t
   std::ofstream(file, std::ios::binary).write(reinterpret_cast<const char*>(data), static_cast<std::streamsize>(size));
   if (reader == "at2") read_at2(file);
   else if (reader == "knet") read_knet(file);
-  else if (reader == "columns") read_columns(file, AccelerationUnit::g, {0.01});
+  else if (reader == "columns") {
+    // Each layout in turn: one column at dt, time and acceleration, a column of several
+    // below a header, with and without a time column.
+    for (const ColumnLayout& layout : {ColumnLayout{.dt_s = 0.01}, ColumnLayout{}, ColumnLayout{.column = 3, .header_lines = 1},
+                                       ColumnLayout{.dt_s = 0.01, .column = 2}}) {
+      try {
+        read_columns(file, AccelerationUnit::g, layout);
+      } catch (const InputError&) {
+      }
+    }
+  }
   else if (reader == "model") read_model_file(file);
   else if (reader == "scenario") read_scenario(file);
   else if (reader == "study") read_study(file, false);
