@@ -112,9 +112,9 @@ finished() {
   [[ -f $1/summary.json ]] && grep -q '"finished": true' "$1/summary.json"
 }
 
-# How far a job under way has shaken: each run's (each member's) seconds of shaking and wall
-# seconds so far, from its summary.json (a finished one's fallen stones); a run still
-# settling (no summary yet) by the last row of its history.csv.
+# How far a job under way has shaken: each run's (each member's) seconds of shaking, wall
+# hours so far and the hours left at that pace, from its summary.json (a finished one's
+# fallen stones); a run still settling (no summary yet) by the last row of its history.csv.
 progress() {
   python3 - "$1" << 'PY'
 import json, pathlib, sys
@@ -132,11 +132,15 @@ for run in runs:
         s = json.loads((run / "summary.json").read_text())
     except ValueError:
         continue
+    wall = s.get("wall_s", 0)
     if s.get("finished"):
-        state = f"done ({s.get('fallen_stones')} fallen)"
+        state = f"done ({s.get('fallen_stones')} fallen), {wall / 3600:.1f} h"
     else:
-        state = f"{s.get('shaking_time_s', 0):.2f} s shaken"
-    parts.append(f"{run.name}: {state}, {s.get('wall_s', 0) / 3600:.1f} h")
+        shaken, duration = s.get("shaking_time_s", 0), s.get("settings", {}).get("duration_s", 0)
+        state = f"{shaken:.2f} s shaken, {wall / 3600:.1f} h"
+        if shaken > 0 and duration > shaken:  # at its pace so far, settling included
+            state += f", about {wall / shaken * (duration - shaken) / 3600:.1f} h to go"
+    parts.append(f"{run.name}: {state}")
 print(": " + "; ".join(parts) if parts else "")
 PY
 }
