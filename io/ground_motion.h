@@ -36,8 +36,7 @@ Record read_knet(const std::filesystem::path& file);
 // column of accelerations at `dt_s` (> 0). Lines starting with '#' are comments, and the
 // first `header_lines` lines are skipped. A file of several components (a row a sample:
 // time, then the components, or the components alone at `dt_s`) is read one component at
-// a time: `column` (1-based) is this one's; every row has as many values as the first.
-// column 0: the layouts above (the last of two, or the only one).
+// a time (ColumnLayout::column); every row has as many values as the first.
 struct ColumnLayout {
   double dt_s = 0.0;     // > 0: no time column, samples at this step
   int column = 0;        // the acceleration's column, from 1; 0: the last of two, or the only one
