@@ -270,6 +270,10 @@ Model ModelBuilder::build(const ModelOptions& options) const {
   double size_sum = 0.0;
   for (double size : m.size_m) size_sum += size;
   m.margin_m = contact_.margin_ratio * size_sum / m.block_count;
+  double largest_free_radius = 0.0;
+  for (int b = 0; b < m.block_count; ++b)
+    if (m.motion[b] == Motion::free) largest_free_radius = std::max(largest_free_radius, m.radius_m[b]);
+  m.apart_lever_bound_m = 6.0 * largest_free_radius + 4.0 * m.margin_m;
   m.gravity_m_s2 = gravity_;
   if (gravity_.norm() > 0) {
     const Vec3 down = gravity_.normalized();

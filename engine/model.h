@@ -235,6 +235,12 @@ struct Model {
   ContactSettings contact;
   ModelOptions options;
   double margin_m = 0.0;  // broadphase margin, from contact.margin_ratio * mean block size
+  // Apart pairs are left unvisited while a clock of every block's step motions stays below
+  // their slack (separating_axis.cpp); a block's turn counts there at this lever (m), so a
+  // pair whose own lever (its centres' distance plus its limit, plus b's diameter) is longer
+  // is visited every step: 6 free radii and 4 margins, more than any two free blocks within
+  // the broadphase's reach have.
+  double apart_lever_bound_m = 0.0;
 
   // Gap below which a sub-contact between blocks a and b exists, m.
   double contact_tolerance_m(int a, int b) const {

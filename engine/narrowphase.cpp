@@ -12,6 +12,7 @@
 // of its step on one thread.)
 #include <algorithm>
 #include <array>
+#include <cassert>
 #include <cstdint>
 
 #include "engine/narrowphase.h"
@@ -49,6 +50,13 @@ Layout build_manifolds(const Model& m, State& s, bool first_detection, double dt
     thread_local PairWorld world;
     for (std::ptrdiff_t pi = begin; pi < end; ++pi) {
       Pair& pair = s.pairs[pi];
+      // An apart pair within its slack on the clock: its motion test would say no (its stones
+      // could not have closed the gap). It has no sub-contacts, and its rebuilt_count is -1
+      // since its last visit.
+      if (pair.axis_kind == -1 && s.apart_clock_valid && s.apart_clock_m < pair.apart_until_clock_m) {
+        assert(pair.sub_count == 0 && pair.rebuilt_count == -1 && apart_pair_unmoved(m, s, pair));
+        continue;
+      }
       pair.rebuilt_count = -1;
       if (!pair_manifold(m, s, pair, world, manifold)) {
         if (pair.sub_count > 0) update_in_place(s, pair);

@@ -89,6 +89,9 @@ struct Manifold {
 // moved since its last axis search and has a face manifold, whose sub-contacts are then
 // updated in place (update_in_place), or an empty one whose stone is still clear of the face.
 bool pair_manifold(const Model& m, const State& s, Pair& pair, PairWorld& w, Manifold& out);
+// Whether the exact motion test would let an apart pair be (its stones cannot have closed
+// the gap): what a skipped apart pair must satisfy, asserted on each skip in debug builds.
+bool apart_pair_unmoved(const Model& m, const State& s, const Pair& pair);
 
 // ---- empty_face_pairs.cpp ----
 // A face pair whose clip came out empty (w set to the pair): how far it may move before it

@@ -35,6 +35,36 @@ void pose_block(const Model& m, State& s, std::ptrdiff_t b, bool add) {
   }
 }
 
+// The spread of the blocks' step shifts along each axis and their largest step turn: a
+// chunk's, then all of them.
+struct StepMotionSpread {
+  Vec3 lo = Vec3::Constant(std::numeric_limits<double>::infinity());
+  Vec3 hi = Vec3::Constant(-std::numeric_limits<double>::infinity());
+  double turn = 0.0;
+  void add(const Vec3& shift, double block_turn) {
+    lo = lo.cwiseMin(shift);
+    hi = hi.cwiseMax(shift);
+    turn = std::max(turn, block_turn);
+  }
+  void add(const StepMotionSpread& o) {
+    lo = lo.cwiseMin(o.lo);
+    hi = hi.cwiseMax(o.hi);
+    turn = std::max(turn, o.turn);
+  }
+};
+
+// The apart pairs' clock moves on by a bound on any pair's step motion: b's shift relative
+// to a's, |shift_b - shift_a|_1, is at most the spread's sum over the axes, and the turns
+// move b's points relative to a by at most turn (lever + 2 r_b) (separating_axis.cpp,
+// moved_at_least), within Model::apart_lever_bound_m. Padded as each pair's own bound is.
+void advance_apart_clock(const Model& m, State& s, const StepMotionSpread& spread) {
+  const double step = (spread.hi - spread.lo).sum() + spread.turn * m.apart_lever_bound_m;
+  s.apart_clock_valid = std::isfinite(step);
+  if (!s.apart_clock_valid) return;  // a turn not known (the first pose, a restore): none skipped
+  s.apart_clock_step_m = step * (1.0 + 1e-12) + 1e-13;
+  s.apart_clock_m += s.apart_clock_step_m;
+}
+
 }  // namespace
 
 bool update_pose(const Model& m, State& s) {
@@ -45,18 +75,26 @@ bool update_pose(const Model& m, State& s) {
   s.step_motion_read = false;
   if (!s.pairs_valid) {  // no list to check against: it is built next
     parallel_for(m.block_count, [&](std::ptrdiff_t b) { pose_block(m, s, b, add); });
+    s.apart_clock_valid = false;
     return true;
   }
   std::array<std::uint8_t, kStageChunks> moved{};
+  std::array<StepMotionSpread, kStageChunks> spreads;
   const int chunks = stage_chunks(m.block_count);
   parallel_chunks(m.block_count, chunks, [&](std::ptrdiff_t begin, std::ptrdiff_t end, int k) {
     bool any = false;  // written once: the chunks' flags share cache lines
+    StepMotionSpread spread;
     for (std::ptrdiff_t b = begin; b < end; ++b) {
       pose_block(m, s, b, add);
       any = any || moved_half_margin(m, s, static_cast<int>(b));
+      spread.add(s.step_shift[b], s.step_turn[b]);
     }
     moved[k] = any;
+    spreads[k] = spread;
   });
+  StepMotionSpread all;
+  for (int k = 0; k < chunks; ++k) all.add(spreads[k]);
+  advance_apart_clock(m, s, all);
   for (int k = 0; k < chunks; ++k)
     if (moved[k]) return true;
   return false;

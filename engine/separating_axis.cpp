@@ -150,7 +150,28 @@ bool moved_at_least(const Model& m, const State& s, Pair& pair, double limit_m, 
   return moved_exactly(m, s, pair, limit_m, offset, relative);
 }
 
+// An apart pair that the motion test just let be (`pair.moved_bound_m` below its limit):
+// left unvisited while the apart clock (pose.cpp) moves on by less than its slack, the room
+// its bound has left below the limit. Every step it is skipped would add at most the clock's
+// step to its bound, so the test would answer no in each. Only where the slack outlasts a
+// few of the clock's steps: a pair near its limit is cheaper kept on its own bound.
+void schedule_apart(const Model& m, const State& s, Pair& pair, double limit_m) {
+  if (!s.apart_clock_valid) return;
+  const double rb = m.radius_m[pair.b];
+  const double lever = pair.centre_distance_at_search_m + limit_m;
+  if (lever + 2.0 * rb > m.apart_lever_bound_m) return;
+  const double slack = limit_m - 1e-6 * (limit_m + rb + lever) - pair.moved_bound_m;
+  if (slack > 8.0 * s.apart_clock_step_m) pair.apart_until_clock_m = s.apart_clock_m + slack;
+}
+
 }  // namespace
+
+bool apart_pair_unmoved(const Model& m, const State& s, const Pair& pair) {
+  Pair exact = pair;
+  Vec3 offset;
+  Quat relative;
+  return !moved_exactly(m, s, exact, pair.separation_m - m.contact_tolerance_m(pair.a, pair.b), offset, relative);
+}
 
 bool pair_manifold(const Model& m, const State& s, Pair& pair, PairWorld& w, Manifold& out) {
   out.clear();
@@ -162,11 +183,17 @@ bool pair_manifold(const Model& m, const State& s, Pair& pair, PairWorld& w, Man
   // Still apart: b cannot have closed the gap (separation beyond the tolerance).
   // Barely moved: within a twentieth of the tolerance the clipped features cannot change.
   const double limit = pair.axis_kind == -1 ? pair.separation_m - tol : face_axis ? 0.05 * tol : 0.0;
+  if (pair.apart_until_clock_m > -std::numeric_limits<double>::infinity()) {
+    // Back from a skip: the steps skipped are in the clock, not in its bound. Unknown: the
+    // exact test runs (once a skip, not each step).
+    pair.apart_until_clock_m = -std::numeric_limits<double>::infinity();
+    pair.moved_bound_m = std::numeric_limits<double>::infinity();
+  }
   double step_m;  // how far b's points moved relative to a in this step, at most
   const bool moved = moved_at_least(m, s, pair, limit, offset, relative, step_m);
   // Damping::capped sets its caps from every sub-contact's springs, open ones too.
   const bool skips_clear = m.options.damping != Damping::capped;
-  if (pair.axis_kind == -1 && !moved) return false;
+  if (pair.axis_kind == -1 && !moved) return schedule_apart(m, s, pair, limit), false;
   if (face_axis && !moved) {
     // The last face axis still holds (a resting joint is decided once).
     if (pair.sub_count > 0) return false;

@@ -110,6 +110,11 @@ struct Pair {
   // kind 0 = face of a, 1 = face of b, 2 = edge-edge, -1 = none yet.
   int axis_kind = -1;
   int axis_feature = -1;
+  // An apart pair is not visited while State::apart_clock_m stays below this (m): the
+  // clock's value at its last visit plus its slack, how far its stones may still move
+  // toward each other unseen. -inf: visited each step (separating_axis.cpp, schedule_apart).
+  // Beside axis_kind: a skipped pair is read in one cache line.
+  double apart_until_clock_m = -std::numeric_limits<double>::infinity();
   // Separation found by the last full axis search (m) and the relative pose then: b's
   // centroid in a's principal frame (m) and the rotation from b's frame to a's. While b
   // cannot have closed the distance relative to a, or has barely moved relative to a,
@@ -228,6 +233,13 @@ struct State {
   std::vector<Quat> orientation_at_pose; // (nb)
   bool step_motion_read = false;         // a narrowphase has read step_shift and step_turn: the
                                          // next pose starts them anew (else adds to them)
+  // A bound on how far any point of any block moved relative to any other within the lever
+  // Model::apart_lever_bound_m, summed over the poses (pose.cpp): the spread of the blocks'
+  // step shifts plus the largest step turn times the lever, m. Apart pairs are scheduled
+  // against it. Not valid (and no pair skipped) at a pose whose step turns are not known.
+  double apart_clock_m = 0.0;
+  double apart_clock_step_m = 0.0;       // the last pose's addition
+  bool apart_clock_valid = false;
   std::vector<Vec3> face_normal_world;   // (nf)
   std::vector<double> face_offset_world; // (nf)
 

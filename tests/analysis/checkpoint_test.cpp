@@ -183,7 +183,7 @@ TEST(Checkpoint, CheckpointOfAnotherBuildOrOfChangedInputsIsRefused) {
   const std::string good = text_of(out / "checkpoint.bin");
 
   std::string other_build = good;
-  const std::string magic = "ishibashi checkpoint 20\n";
+  const std::string magic = "ishibashi checkpoint 21\n";
   other_build[magic.size() + 8] ^= 1;  // the program's fingerprint
   std::ofstream(out / "checkpoint.bin", std::ios::binary) << other_build;
   std::string message = run_command(kRun + "--resume " + out.string(), &status);
