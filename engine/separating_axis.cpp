@@ -164,6 +164,14 @@ void schedule_apart(const Model& m, const State& s, Pair& pair, double limit_m) 
   if (slack > 8.0 * s.apart_clock_step_m) pair.apart_until_clock_m = s.apart_clock_m + slack;
 }
 
+// Back from a skip: the steps skipped are in the clock, not in the pair's bound. Unknown:
+// the exact test runs (once a skip, not each step).
+void end_apart_skip(Pair& pair) {
+  if (pair.apart_until_clock_m == -std::numeric_limits<double>::infinity()) return;
+  pair.apart_until_clock_m = -std::numeric_limits<double>::infinity();
+  pair.moved_bound_m = std::numeric_limits<double>::infinity();
+}
+
 }  // namespace
 
 bool apart_pair_unmoved(const Model& m, const State& s, const Pair& pair) {
@@ -183,12 +191,7 @@ bool pair_manifold(const Model& m, const State& s, Pair& pair, PairWorld& w, Man
   // Still apart: b cannot have closed the gap (separation beyond the tolerance).
   // Barely moved: within a twentieth of the tolerance the clipped features cannot change.
   const double limit = pair.axis_kind == -1 ? pair.separation_m - tol : face_axis ? 0.05 * tol : 0.0;
-  if (pair.apart_until_clock_m > -std::numeric_limits<double>::infinity()) {
-    // Back from a skip: the steps skipped are in the clock, not in its bound. Unknown: the
-    // exact test runs (once a skip, not each step).
-    pair.apart_until_clock_m = -std::numeric_limits<double>::infinity();
-    pair.moved_bound_m = std::numeric_limits<double>::infinity();
-  }
+  end_apart_skip(pair);
   double step_m;  // how far b's points moved relative to a in this step, at most
   const bool moved = moved_at_least(m, s, pair, limit, offset, relative, step_m);
   // Damping::capped sets its caps from every sub-contact's springs, open ones too.
