@@ -18,6 +18,7 @@
 #include <stdexcept>
 
 #include "io/atomic_file.h"
+#include "io/vtk_input.h"
 
 namespace ishibashi {
 namespace {
@@ -238,6 +239,20 @@ void write_contacts_vtu(const Model& m, const State& s, const std::filesystem::p
   if (joints)
     for (vtkDataArray* a : std::initializer_list<vtkDataArray*>{joint_opening, joint_slip, joint_cracked})
       grid->GetPointData()->AddArray(a);
+  write_grid(grid, file);
+}
+
+void write_blocks_with_value(const std::filesystem::path& blocks_frame, const std::filesystem::path& file,
+                             const std::string& name, const std::function<double(int block)>& value) {
+  vtkSmartPointer<vtkUnstructuredGrid> grid;
+  grid.TakeReference(read_vtu(blocks_frame));
+  vtkDataArray* block_id = grid->GetCellData()->GetArray("block_id");
+  if (!block_id) throw std::runtime_error(blocks_frame.string() + ": no block_id cell array (not a blocks frame)");
+  vtkNew<vtkDoubleArray> values;
+  values->SetName(name.c_str());
+  for (vtkIdType c = 0; c < grid->GetNumberOfCells(); ++c)
+    values->InsertNextValue(value(static_cast<int>(block_id->GetTuple1(c))));
+  grid->GetCellData()->AddArray(values);
   write_grid(grid, file);
 }
 

@@ -2,6 +2,7 @@
 // polyhedron cell per block) and a .pvd collection that lists them with their times.
 #pragma once
 #include <filesystem>
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -37,6 +38,13 @@ void write_contacts_vtu(const Model& model, const State& state, const std::files
 // cell data: the blocks' labels (block_id, material, part, course, fixed), as blocks_*.vtu.
 void write_modes_vtu(const Model& model, const State& state, const Eigen::MatrixXd& shapes,
                      const std::vector<int>& free_blocks, const std::filesystem::path& file);
+
+// The blocks of `blocks_frame` (a frame that write_blocks_vtu wrote, e.g. a run's first)
+// with one more cell array, `name`: value(block_id) for each cell. For what many runs say
+// of each block, such as the share of an ensemble's members in which it fell. Written
+// atomically.
+void write_blocks_with_value(const std::filesystem::path& blocks_frame, const std::filesystem::path& file,
+                             const std::string& name, const std::function<double(int block)>& value);
 
 // A time series <name>.pvd + <name>_NNNNNN.vtu in one folder. The .pvd is rewritten
 // atomically after each frame, so a run stopped at any moment leaves a valid series.

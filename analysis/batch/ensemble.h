@@ -11,7 +11,9 @@
 //   ensemble.json          the probabilities of collapse, of any stone falling and of a
 //                          ring stone falling, each with its 95 % Wilson interval, and the
 //                          median, least and largest fallen stones, first opening, first
-//                          fall and crown drop
+//                          fall and crown drop, and in how many members each stone fell
+//   fallen_share.vtu       the model's blocks, cell array fallen_share: the share of the
+//                          members in which each fell (ParaView)
 #pragma once
 #include <array>
 #include <filesystem>

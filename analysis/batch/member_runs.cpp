@@ -12,6 +12,7 @@
 #include "analysis/batch/study_progress.h"
 #include "engine/cores.h"
 #include "io/atomic_file.h"
+#include "io/vtk_output.h"
 
 namespace ishibashi {
 namespace fs = std::filesystem;
@@ -84,6 +85,40 @@ std::function<void(const State&, double)> with_progress_lines(std::function<void
     event(name + share + ", about " + duration_text(elapsed * (1 - done) / (done - pace.done_at_start)) + " to go");
   };
 }
+
+// In how many members each stone fell (summary.json's fallen_blocks; a member written
+// before that list was, is left out and not counted).
+struct FallMap {
+  int members = 0;
+  std::vector<int> falls;  // by block id
+  fs::path first_frame;    // a member's first blocks frame: the model's blocks, to colour
+
+  void add(const nlohmann::json& summary, const fs::path& folder) {
+    if (!summary.contains("fallen_blocks")) return;
+    ++members;
+    for (int b : summary["fallen_blocks"]) {
+      if (b >= static_cast<int>(falls.size())) falls.resize(b + 1, 0);
+      ++falls[b];
+    }
+    if (first_frame.empty() && fs::exists(folder / "blocks_000000.vtu")) first_frame = folder / "blocks_000000.vtu";
+  }
+  // {"members": N, "falls": [[block, members in which it fell], ...]} for blocks that fell in any.
+  nlohmann::ordered_json json() const {
+    nlohmann::ordered_json j;
+    j["members"] = members;
+    j["falls"] = nlohmann::ordered_json::array();
+    for (std::size_t b = 0; b < falls.size(); ++b)
+      if (falls[b] > 0) j["falls"].push_back({b, falls[b]});
+    return j;
+  }
+  // The model's blocks with cell array fallen_share (0 to 1), when a member left its frames.
+  void write_vtu(const fs::path& file) const {
+    if (members == 0 || first_frame.empty()) return;
+    write_blocks_with_value(first_frame, file, "fallen_share", [&](int b) {
+      return b < static_cast<int>(falls.size()) ? double(falls[b]) / members : 0.0;
+    });
+  }
+};
 
 }  // namespace
 
@@ -182,8 +217,10 @@ OutcomeCounts write_outcomes(const OutcomeTable& table, const fs::path& csv_file
   std::vector<double> fallen, first_opening, first_fall, crown_drop;
   std::vector<int> members;
   std::vector<bool> collapsed;
+  FallMap fall_map;
   for (const OutcomeTable::Row& row : table.rows) {
     const nlohmann::json s = nlohmann::json::parse(std::ifstream(row.folder / "summary.json"));
+    fall_map.add(s, row.folder);
     const double fall = first_fall_s(row.folder / "history.csv", s["settle_time_s"].get<double>());
     csv << row.member;
     for (const std::string& draw : row.draws) csv << ',' << draw;
@@ -225,6 +262,8 @@ OutcomeCounts write_outcomes(const OutcomeTable& table, const fs::path& csv_file
   j["largest_crown_drop_m"] = value_spread(crown_drop);
   j["most_common_outcome_member"] = n.typical;  // of the majority's verdict, the median fallen stones
   j["worst_outcome_member"] = n.worst;          // the most fallen stones, then the largest crown drop
+  j["fallen_blocks"] = fall_map.json();
+  fall_map.write_vtu(csv_file.parent_path() / "fallen_share.vtu");
   return n;
 }
 

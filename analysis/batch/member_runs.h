@@ -62,7 +62,9 @@ std::string summary_csv_values(const nlohmann::json& summary);
 // Writes `csv` (a row per member: member, its draws, summary.json's result columns and
 // first_fall_s) and puts into `json` the probabilities of collapse, of any stone falling
 // and of a ring stone falling, each with its Wilson interval, and the median, least and
-// largest fallen stones, first opening, first fall and crown drop.
+// largest fallen stones, first opening, first fall and crown drop, and in how many members
+// each stone fell ("fallen_blocks"); beside `csv`, fallen_share.vtu: the model's blocks
+// (a member's first frame) with that share of the members as cell array fallen_share.
 OutcomeCounts write_outcomes(const OutcomeTable& table, const std::filesystem::path& csv, nlohmann::ordered_json& json);
 
 }  // namespace ishibashi

@@ -176,6 +176,11 @@ void RunRecorder::write_summary(const RunDescription& run, const SeismicRunResul
   j["output_wall_s"] = r.output_wall_s;  // of wall_s, recording frames (--output-interval sets how many)
   const int slip_joint = r.joint_counts.largest_slip_joint;
   j["largest_slip_blocks"] = slip_joint < 0 ? Json() : Json::array({joints.block_a[slip_joint], joints.block_b[slip_joint]});
+  // The stones fallen_stones counts, by block id (an ensemble maps how often each falls).
+  Json fallen = Json::array();
+  for (int b = 0; b < model_.block_count; ++b)
+    if (is_fallen(model_, s, b)) fallen.push_back(b);
+  j["fallen_blocks"] = fallen;
   j["monitored_block"] = run.monitored_block;
   j["dt_s"] = run.dt_s;  // the step used (settings.dt_s: the one asked for, 0 a share of the limit)
   j["mortar_pa"] = run.mortar_pa;

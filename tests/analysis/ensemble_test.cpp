@@ -3,9 +3,14 @@
 // the tolerance; a member's run the same whatever the thread count; a perturbed bridge
 // settles without overlaps, as the preset does; `run --members` runs, resumes and keeps
 // finished members, runs a share (--member-range) whose folders merge with the others',
+// counts in how many members each stone fell (ensemble.json, fallen_share.vtu),
 // and under mpirun across ranks; and its row of the study's ensemble table is written.
 #include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
 #include <omp.h>
+#include <vtkCellData.h>
+#include <vtkDataArray.h>
+#include <vtkUnstructuredGrid.h>
 
 #include <cmath>
 #include <filesystem>
@@ -20,6 +25,7 @@
 #include "geometry/bridge.h"
 #include "geometry/validate.h"
 #include "io/model_file.h"
+#include "io/vtk_input.h"
 
 namespace ishibashi {
 namespace {
@@ -241,6 +247,32 @@ TEST(Ensemble, RunMembersWritesProbabilitiesAndKeepsFinishedMembers) {
   const std::string second = run_command(command + " --members 4", &status);
   ASSERT_EQ(status, 0) << second;
   EXPECT_NE(second.find("1 ran, 3 were current"), std::string::npos) << second;
+
+  // Each member lists its fallen stones (as many as it counts), and the ensemble counts in
+  // how many members each fell. Given other lists (these short runs drop none), the tables
+  // written again count them, and fallen_share.vtu colours each block by its share.
+  const std::vector<std::vector<int>> fell = {{5, 7}, {7}, {}, {7, 9}};
+  for (int i = 0; i < 4; ++i) {
+    const auto summary_file = out / ("member_00" + std::to_string(i)) / "summary.json";
+    nlohmann::json summary = nlohmann::json::parse(text_of(summary_file));
+    EXPECT_EQ(summary["fallen_blocks"].size(), summary["fallen_stones"].get<std::size_t>());
+    summary["fallen_blocks"] = fell[i];
+    std::ofstream(summary_file) << summary.dump(2);
+  }
+  ASSERT_EQ((run_command(command + " --members 4", &status), status), 0);
+  const nlohmann::json falls = nlohmann::json::parse(text_of(out / "ensemble.json"))["fallen_blocks"];
+  EXPECT_EQ(falls["members"], 4);
+  EXPECT_EQ(falls["falls"], nlohmann::json::parse("[[5, 1], [7, 3], [9, 1]]")) << falls;
+  vtkUnstructuredGrid* map = read_vtu(out / "fallen_share.vtu");
+  vtkDataArray* block_id = map->GetCellData()->GetArray("block_id");
+  vtkDataArray* fallen_share = map->GetCellData()->GetArray("fallen_share");
+  ASSERT_NE(fallen_share, nullptr);
+  ASSERT_EQ(map->GetNumberOfCells(), model_a().model().block_count);
+  for (vtkIdType c = 0; c < map->GetNumberOfCells(); ++c) {
+    const int b = static_cast<int>(block_id->GetTuple1(c));
+    EXPECT_EQ(fallen_share->GetTuple1(c), b == 7 ? 0.75 : b == 5 || b == 9 ? 0.25 : 0.0) << "block " << b;
+  }
+  map->Delete();
 
   // Its row of the study's ensemble table (scripts/study_ensemble_row.py), written twice:
   // the second replaces the first.
