@@ -170,6 +170,8 @@ save_members() {  # out folder, program
     rm -rf "${parked:?}/$name/$(basename "$member")"
     echo "kept $dest"
   done
+  # A parked folder whose members are all kept goes too: only its program's hash was left.
+  compgen -G "$parked/$name/member_*" > /dev/null || rm -rf "${parked:?}/$name"
   [[ -d $kept/$name ]] && sha256sum < "$2" | cut -d' ' -f1 > "$kept/$name/program.sha256"
   return 0
 }
