@@ -16,7 +16,7 @@ void read_ground_motion_components(TableReader& table, const std::filesystem::pa
     comp.text("file", path);
     comp.text("format", cs.format, {"at2", "knet", "columns"});
     comp.text("unit", unit, {"g", "gal", "m/s2"});
-    comp.number("dt_s", cs.layout.dt_s);
+    comp.non_negative("dt_s", cs.layout.dt_s);  // 0: the file's first column is time
     comp.integer_in("column", cs.layout.column, 1, 1000);
     comp.integer_in("header_lines", cs.layout.header_lines, 0, 1000000);
     comp.number("scale", cs.scale);
@@ -49,10 +49,11 @@ Scenario read_scenario(const std::filesystem::path& file) {
   TableReader model(file, root, "model");
   std::string model_file;
   model.text("file", model_file);
-  double mortar_pa = -1, tension_fracture = -1, shear_fracture = -1;  // < 0: as the model file says
-  model.number("mortar_pa", mortar_pa);
-  model.number("mortar_tension_fracture_j_m2", tension_fracture);
-  model.number("mortar_shear_fracture_j_m2", shear_fracture);
+  // -1 where absent: as the model file says; a negative value given is an error, not "absent".
+  double mortar_pa = -1, tension_fracture = -1, shear_fracture = -1;
+  model.non_negative("mortar_pa", mortar_pa);
+  model.non_negative("mortar_tension_fracture_j_m2", tension_fracture);
+  model.non_negative("mortar_shear_fracture_j_m2", shear_fracture);
   read_run_settings(model, "model", sc.settings);
   model.finish();
   if (model_file.empty()) throw InputError(file.string() + ": [model] file = \"...\" is required (a model file, e.g. models/nishida_a.toml)");

@@ -14,7 +14,7 @@ void read_common(TableReader& t, const std::filesystem::path& file, StudyFile& s
   if (!models.empty()) s.models = models;
   if (!scenarios.empty()) s.scenarios = scenarios;
   t.non_negative_numbers("snapshot_times_s", s.snapshot_times_s);
-  t.number("duration_s", s.duration_s);
+  t.positive("duration_s", s.duration_s);  // absent: each scenario's (-1); given, it must be > 0
   t.integer_at_least("members", s.members, 0);
 }
 
@@ -77,8 +77,8 @@ StudyFile read_study(const std::filesystem::path& file, bool quick) {
   read_common(study, file, s);
   study.finish();
   TableReader frequencies(file, root, "frequencies");
-  frequencies.integer("modes", s.modes);
-  frequencies.number("impulse_s", s.impulse_s);
+  frequencies.integer_in("modes", s.modes, 1, 500);  // as modal --modes
+  frequencies.non_negative("impulse_s", s.impulse_s);  // 0: no impulse responses
   frequencies.texts("joint_rules", s.joint_rules, {"corners", "moments"});
   frequencies.finish();
 
@@ -87,16 +87,14 @@ StudyFile read_study(const std::filesystem::path& file, bool quick) {
   TableReader short_version(file, root, "quick");
   StudyFile q = s;
   read_common(short_version, file, q);
-  short_version.integer("modes", q.modes);
-  short_version.number("impulse_s", q.impulse_s);
+  short_version.integer_in("modes", q.modes, 1, 500);
+  short_version.non_negative("impulse_s", q.impulse_s);
   short_version.finish();
   if (quick) s = q;
 
   if (s.name.empty()) s.name = file.stem().string();
   if (s.models.empty() && s.scenarios.empty())
     throw InputError(file.string() + ": [study] lists no models and no scenarios (models = [\"...\"], scenarios = [\"...\"])");
-  if (s.modes < 1 || s.modes > 500) throw InputError(file.string() + ": modes must be 1 to 500, not " + std::to_string(s.modes));
-  if (s.impulse_s < 0) throw InputError(file.string() + ": impulse_s must be >= 0 (0: no impulse responses)");
   for (const auto& p : s.models)
     if (!std::filesystem::exists(p)) throw InputError(file.string() + ": model file " + p.string() + " does not exist");
   for (const auto& p : s.scenarios)

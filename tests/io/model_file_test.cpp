@@ -115,7 +115,8 @@ TEST(ScenarioFile, ColumnAndHeaderLinesAreForColumnFiles) {
   for (const auto& [component, message] :
        {std::pair<std::string, std::string>{"{ file = \"a.AT2\", column = 2 }", "column and header_lines are for format = \"columns\""},
         {"{ file = \"a.csv\", format = \"columns\", column = 0 }", "'column' is 0; it must be at least 1"},
-        {"{ file = \"a.csv\", format = \"columns\", header_lines = -1 }", "'header_lines' is -1"}}) {
+        {"{ file = \"a.csv\", format = \"columns\", header_lines = -1 }", "'header_lines' is -1"},
+        {"{ file = \"a.csv\", format = \"columns\", dt_s = -0.01 }", "'dt_s' is -0.01; it must be >= 0"}}) {
     write(component);
     try {
       read_scenario(file);
@@ -155,6 +156,33 @@ TEST(ScenarioFile, NanOrInfinityIsRefusedAtItsLine) {
       ADD_FAILURE() << line << " was accepted";
     } catch (const InputError& e) {
       EXPECT_THAT(e.what(), HasSubstr(message + "; it must be a finite number"));
+    }
+  }
+}
+
+// [model]'s mortar overrides: absent keeps the model file's value, a value given replaces it,
+// and a negative one is refused at its line (it once read as "absent": a user's typo of -5
+// ran the model file's mortar without a word).
+TEST(ScenarioFile, MortarOverridesReplaceTheModelsAndANegativeOneIsRefused) {
+  const auto file = std::filesystem::temp_directory_path() / "ishibashi_scenario_mortar.toml";
+  const auto root = std::filesystem::path(ISHIBASHI_SOURCE_DIR);
+  const std::string record = (root / "data/ground_motions/kobe_1995_jma/RSN1106_KOBE_KJM090.AT2").string();
+  auto write = [&](const std::string& model_line) {
+    std::ofstream(file) << "[model]\nfile = \"" << (root / "models/nishida_a.toml").string() << "\"\n"
+                        << model_line << "\n[run]\nduration_s = 1\n[ground_motion]\nx = { file = \"" << record << "\" }\n";
+  };
+  const double model_value = read_model_file(root / "models/nishida_a.toml").bridge.mortar_pa;
+  write("");
+  EXPECT_EQ(read_scenario(file).model.bridge.mortar_pa, model_value);
+  write("mortar_pa = 250000.0");
+  EXPECT_EQ(read_scenario(file).model.bridge.mortar_pa, 250000.0);
+  for (const std::string key : {"mortar_pa", "mortar_tension_fracture_j_m2", "mortar_shear_fracture_j_m2"}) {
+    write(key + " = -5.0");
+    try {
+      read_scenario(file);
+      ADD_FAILURE() << key << " = -5 was accepted";
+    } catch (const InputError& e) {
+      EXPECT_THAT(e.what(), HasSubstr("ishibashi_scenario_mortar.toml:3: '" + key + "' is -5; it must be >= 0"));
     }
   }
 }
