@@ -3,6 +3,7 @@
 #include <cstdio>
 #include <set>
 
+#include "io/ground_motion.h"
 #include "io/scenario_file.h"
 #include "io/toml_reader.h"
 
@@ -66,6 +67,9 @@ SweepFile read_sweep(const std::filesystem::path& file) {
   failure.positive("crown_drop_m", s.failure.crown_drop_m);
   failure.integer_at_least("fallen_stones", s.failure.fallen_stones, 1);
   failure.finish();
+  if (!s.failure.collapse && s.failure.crown_drop_m < 0 && s.failure.fallen_stones < 0)
+    throw InputError(file.string() + ": [failure] names no failure, so every run would count as a survival: keep collapse = "
+                     "true or set crown_drop_m = ... or fallen_stones = ...");
 
   const toml::node* records = root.get("record");
   const toml::array* list = records ? records->as_array() : nullptr;
@@ -87,6 +91,13 @@ SweepFile read_sweep(const std::filesystem::path& file) {
     if (!names.insert(r.name).second) throw InputError(file.string() + ":" + line + ": record name '" + r.name + "' is used twice");
     if (!r.motion.component[0] && !r.motion.component[1] && !r.motion.component[2])
       throw InputError(file.string() + ":" + line + ": record '" + r.name + "' has no component (x, y or z)");
+    // Its files are read now, so that one that cannot be read, or a start past the record's
+    // end, is refused at its [[record]] before any run, not by every run of the sweep.
+    try {
+      horizontal_pga_m_s2(r.motion);
+    } catch (const InputError& e) {
+      throw InputError(file.string() + ":" + line + ": record '" + r.name + "': " + e.what());
+    }
     s.records.push_back(std::move(r));
   }
   return s;

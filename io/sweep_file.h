@@ -11,7 +11,7 @@
 //   duration_s = 10            # seconds of shaking (default: the scenario's)
 //   pga_g = [0.2, 0.4, 0.6]    # scale each record to these PGAs (larger horizontal), or
 //   # scale = [0.5, 1.0]       # multiply each record by these factors
-//   [failure]                  # any of these is failure
+//   [failure]                  # any of these is failure (at least one must be set)
 //   collapse = true            # a ring stone fell, or more than 5 % of the blocks
 //   crown_drop_m = 0.05        # the crown unit dropped by more than this
 //   fallen_stones = 10         # at least this many stones fell

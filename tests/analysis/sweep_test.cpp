@@ -189,7 +189,7 @@ TEST(Sweep, MembersAreMoreSamplesPerLevel) {
 
 // A sweep file with both `scenario` and `scenarios`, two variants of one name, a name with
 // a comma or two levels of one label (names are run folders and fields of the rows) is
-// refused with what is wrong.
+// refused with what is wrong, and so are the inputs that would make a whole sweep run for nothing.
 TEST(Sweep, AmbiguousScenariosAreRefused) {
   const auto dry = scenario_file("ishibashi_sweep_dry", 0);
   auto message = [](const std::filesystem::path& file) {
@@ -228,6 +228,18 @@ TEST(Sweep, AmbiguousScenariosAreRefused) {
     sweep_text.replace(sweep_text.find(from), std::string(from).size(), std::string(to));
     std::ofstream(negative) << sweep_text;
     const std::string refused = message(negative);
+    EXPECT_NE(refused.find(key), std::string::npos) << refused;
+  }
+  // A [failure] that names no failure, and a record whose start lies past its end, are
+  // refused before any run (each would otherwise run the whole sweep for nothing).
+  for (const auto& [from, to, key] :
+       {std::tuple{"collapse = true\ncrown_drop_m = 1e-5", "collapse = false", "[failure] names no failure"},
+        std::tuple{"start_s = 7.6", "start_s = 600", ":7: record 'kobe_ew_ns': ground motion: start_s must lie in [0, "}}) {
+    const auto bad = sweep_file();
+    std::string sweep_text = text_of(bad);
+    sweep_text.replace(sweep_text.find(from), std::string(from).size(), std::string(to));
+    std::ofstream(bad) << sweep_text;
+    const std::string refused = message(bad);
     EXPECT_NE(refused.find(key), std::string::npos) << refused;
   }
 }
