@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <sstream>
 
 namespace ishibashi {
 
@@ -25,8 +26,12 @@ GroundMotionStream::GroundMotionStream(const GroundMotionSpec& spec, double dt_s
     any = true;
   }
   if (!any) throw InputError("ground motion: no component given (x, y or z)");
-  if (spec.start_s < 0 || spec.start_s >= end)
-    throw InputError("ground motion: start_s must lie in [0, " + std::to_string(end) + ") s");
+  if (spec.start_s < 0 || spec.start_s >= end) {
+    std::ostringstream message;
+    message << "ground motion: start_s = " << spec.start_s << " s lies outside the record; it must lie in [0, " << end
+            << ") s (the shortest component's length)";
+    throw InputError(message.str());
+  }
   const double duration = spec.duration_s > 0 ? std::min(spec.duration_s, end - spec.start_s) : end - spec.start_s;
   steps_ = static_cast<long>(std::floor(duration / dt_s));
 

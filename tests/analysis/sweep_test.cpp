@@ -234,7 +234,7 @@ TEST(Sweep, AmbiguousScenariosAreRefused) {
   // refused before any run (each would otherwise run the whole sweep for nothing).
   for (const auto& [from, to, key] :
        {std::tuple{"collapse = true\ncrown_drop_m = 1e-5", "collapse = false", "[failure] names no failure"},
-        std::tuple{"start_s = 7.6", "start_s = 600", ":7: record 'kobe_ew_ns': ground motion: start_s must lie in [0, "}}) {
+        std::tuple{"start_s = 7.6", "start_s = 600", ":7: record 'kobe_ew_ns': ground motion: start_s = 600 s lies outside the record; it must lie in [0, 149.98) s"}}) {
     const auto bad = sweep_file();
     std::string sweep_text = text_of(bad);
     sweep_text.replace(sweep_text.find(from), std::string(from).size(), std::string(to));
