@@ -14,6 +14,7 @@ World::World(Model model, double dt_s)
     : model_(std::move(model)), state_(make_initial_state(model_)), dt_s_(dt_s), tuner_(thread_count()) {
   if (!(dt_s > 0) || !std::isfinite(dt_s)) throw ModelError("the time step dt must be a positive number of seconds");
   update_pose(model_, state_);
+  refuse_crowded_spheres(model_, state_);
   update_pairs(model_, state_);
   update_contacts(model_, state_, /*first_detection=*/true, dt_s);
 

@@ -82,5 +82,35 @@ TEST(Broadphase, LargeImmobileBlocksStayOutOfTheGrid) {
   EXPECT_EQ(as_pairs(s.pairs), as_pairs(oracle));
 }
 
+// Slabs 0.5 x 0.5 m side by side: 0.2 mm thick (a ring cut by stone_m in millimetres) each
+// sphere holds every other slab's centre, two million pairs, and the model is refused,
+// naming a slab, before the pair list is made; 5 cm thick, about 28 a slab, it passes.
+TEST(Broadphase, CrowdedSpheresAreRefusedBeforeThePairList) {
+  auto slabs = [](double thickness) {
+    ModelBuilder b;
+    const int mat = b.add_material(test::stone());
+    for (int i = 0; i < 2000; ++i) {
+      const Polyhedron p = make_box(Vec3(0, i * thickness, 0.25), Vec3(0.5, thickness, 0.5));
+      b.add_block(p.vertices, p.faces, mat, Motion::free);
+    }
+    return b.build();
+  };
+  const Model thin = slabs(2e-4);
+  State s = make_initial_state(thin);
+  try {
+    refuse_crowded_spheres(thin, s);
+    ADD_FAILURE() << "2,000 slabs 0.2 mm thick were accepted";
+  } catch (const ModelError& e) {
+    EXPECT_NE(std::string(e.what()).find("bounding spheres overlap in more than 1000000 pairs"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("block "), std::string::npos) << e.what();
+  }
+  EXPECT_TRUE(s.pairs.empty());
+  const Model thick = slabs(0.05);
+  State t = make_initial_state(thick);
+  EXPECT_NO_THROW(refuse_crowded_spheres(thick, t));
+  ASSERT_TRUE(update_pairs(thick, t));
+  EXPECT_LT(t.pairs.size(), 100u * 2000u);
+}
+
 }  // namespace
 }  // namespace ishibashi
