@@ -37,6 +37,16 @@ RingGeometry ring_geometry(const ArchRingSpec& s) {
   require(s.voussoirs == 0 || s.voussoirs >= 3, "voussoirs must be 0 (from stone_m) or at least 3");
   g.along = s.voussoirs > 0 ? s.voussoirs : std::max(3, static_cast<int>(std::lround(2.0 * g.half_angle * mid / s.stone_m)));
   g.across = std::max(1, static_cast<int>(std::lround(s.width_m / s.stone_m)));
+  // Voussoirs far thinner than the stones across the width are slivers: they set a tiny
+  // stable step, and 100,000 of them made a validation that ran out of memory.
+  const double voussoir_m = 2.0 * g.half_angle * g.radius / g.along;
+  if (voussoir_m < 0.1 * s.stone_m) {
+    std::ostringstream msg;
+    msg.precision(3);
+    msg << "voussoirs = " << g.along << " makes each " << voussoir_m << " m along the intrados, less than a tenth of stone_m ("
+        << s.stone_m << " m); at most " << static_cast<int>(2.0 * g.half_angle * g.radius / (0.1 * s.stone_m)) << " voussoirs";
+    require(false, msg.str());
+  }
   g.springer_half_width = g.outer_radius * std::sin(g.half_angle);
   return g;
 }

@@ -14,6 +14,7 @@
 #include <CGAL/Convex_hull_3/dual/halfspace_intersection_interior_point_3.h>
 #include <CGAL/convex_hull_3.h>
 
+#include <algorithm>
 #include <cmath>
 #include <sstream>
 
@@ -181,10 +182,28 @@ ValidationReport validate_blocks(const std::vector<Polyhedron>& blocks, const st
     double l[3] = {lo.x() - pad, lo.y() - pad, lo.z() - pad}, h[3] = {hi.x() + pad, hi.y() + pad, hi.z() + pad};
     boxes.emplace_back(l, h, b);
   }
+  // Thin tilted blocks side by side (a ring of 100,000 voussoirs) have boxes that overlap
+  // thousands of others: the list would exhaust the memory, so it stops at a bound far
+  // above masonry's (about 10 a block) and the assembly is refused.
+  struct TooManyCandidates {};
+  const std::size_t limit = std::max<std::size_t>(100 * blocks.size(), 1'000'000);
   std::vector<std::pair<std::size_t, std::size_t>> candidates;
-  CGAL::box_self_intersection_d(boxes.begin(), boxes.end(), [&](const Box& x, const Box& y) {
-    candidates.emplace_back(std::min(x.info(), y.info()), std::max(x.info(), y.info()));
-  });
+  try {
+    CGAL::box_self_intersection_d(boxes.begin(), boxes.end(), [&](const Box& x, const Box& y) {
+      if (candidates.size() == limit) throw TooManyCandidates{};
+      candidates.emplace_back(std::min(x.info(), y.info()), std::max(x.info(), y.info()));
+    });
+  } catch (const TooManyCandidates&) {
+    std::vector<int> partners(blocks.size(), 0);
+    for (const auto& [a, b] : candidates) ++partners[a], ++partners[b];
+    const std::size_t busiest = std::max_element(partners.begin(), partners.end()) - partners.begin();
+    r.errors.push_back("the blocks' bounding boxes overlap in more than " + std::to_string(limit) +
+                       " pairs (100 a block; a masonry assembly has about 10): that of " + label(busiest) +
+                       " overlaps those of " + std::to_string(partners[busiest]) +
+                       " others at least. Blocks far thinner than they are long, side by side, would exhaust the memory: "
+                       "make them closer to cubes");
+    return r;
+  }
   std::sort(candidates.begin(), candidates.end());
 
   // Round-off allowance for touching faces: a micrometre per metre of the assembly.

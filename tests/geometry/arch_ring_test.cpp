@@ -63,6 +63,11 @@ TEST(ArchRing, ImpossibleParametersAreClearErrors) {
   s = ArchRingSpec{};
   s.stone_m = 4.0;
   EXPECT_THAT(error(s), HasSubstr("stone_m"));
+  s = ArchRingSpec{};
+  s.voussoirs = 100000;  // slivers 0.16 mm along the intrados
+  EXPECT_THAT(error(s), HasSubstr("voussoirs = 100000 makes each 0.000161 m along the intrados, less than a tenth of stone_m"));
+  s.voussoirs = 33;  // the study's model A
+  EXPECT_EQ(error(s), "no error");
 }
 
 TEST(ArchRing, DryModelAStandsUnderGravity) {
