@@ -6,6 +6,7 @@
 #include <cstdio>
 #include <cstdlib>
 #include <exception>
+#include <new>
 #include <filesystem>
 #include <string>
 
@@ -232,6 +233,11 @@ int main(int argc, char** argv) {
   } catch (const ishibashi::ModelError& e) {
     std::fprintf(stderr, "ishibashi: model error: %s\n", e.what());
     return 2;
+  } catch (const std::bad_alloc&) {
+    std::fprintf(stderr,
+                 "ishibashi: out of memory: the model needs more than this machine has (fewer or larger blocks, or a "
+                 "machine with more memory); the outputs written so far are complete files\n");
+    return 1;
   } catch (const std::exception& e) {
     std::fprintf(stderr, "ishibashi: error: %s\n", e.what());
     return 1;
