@@ -14,7 +14,7 @@ void read_common(TableReader& t, const std::filesystem::path& file, StudyFile& s
   if (!models.empty()) s.models = models;
   if (!scenarios.empty()) s.scenarios = scenarios;
   t.non_negative_numbers("snapshot_times_s", s.snapshot_times_s);
-  t.positive("duration_s", s.duration_s);  // absent: each scenario's (-1); given, it must be > 0
+  t.number("duration_s", s.duration_s);  // < 0 (the default): each scenario's own, as study files say
   t.integer_at_least("members", s.members, 0);
 }
 
