@@ -115,7 +115,7 @@ class CellGrid {
 };
 
 void refuse_crowded_spheres(const Model& m, State& s) {
-  const long long limit = std::max<long long>(kMaxPairsPerBlock * static_cast<long long>(m.block_count), 1'000'000);
+  const long long limit = max_candidate_pairs(m.block_count);
   const CellGrid grid(m, s);
   std::vector<int> cand, partners(m.block_count, 0);
   long long pairs = 0;

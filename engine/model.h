@@ -20,6 +20,13 @@ struct ModelError : std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
+// The most candidate pairs (bounding boxes or spheres that overlap) an assembly of `blocks`
+// may have: 100 a block, at least a million. Masonry has about 10 a block; blocks far
+// thinner than they are long, side by side, have thousands, and their pair lists would
+// exhaust the memory. Validation (its boxes) and the broadphase (its spheres) refuse more.
+constexpr int kMaxPairsPerBlock = 100;
+inline long long max_candidate_pairs(long long blocks) { return std::max(kMaxPairsPerBlock * blocks, 1'000'000LL); }
+
 // What a block is in the structure it belongs to; carried to the output, never used by
 // the mechanics. Part numbers are the generator's (geometry/bridge.h names them).
 struct BlockTag {

@@ -26,11 +26,8 @@ inline bool moved_half_margin(const Model& model, const State& state, int b) {
   return (state.position[b] - state.position_at_rebuild[b]).squaredNorm() > 0.25 * model.margin_m * model.margin_m;
 }
 // Throws ModelError, naming the most crowded block, when the broadphase's pairs at the current
-// poses exceed kMaxPairsPerBlock a block (at least a million): blocks far thinner than they
-// are long, side by side (a ring cut into 1-mm slices), hold thousands of others' centres in
-// their bounding spheres, and the pair list would exhaust the memory before any message.
-// Counts without storing the pairs, and stops once past the limit.
-constexpr int kMaxPairsPerBlock = 100;
+// poses exceed max_candidate_pairs (model.h): a ring cut into 1-mm slices would exhaust the
+// memory before any message. Counts without storing the pairs, and stops past the limit.
 void refuse_crowded_spheres(const Model& model, State& state);
 // The margin-inflated bounding spheres of blocks a and b overlap (the broadphase's test).
 bool spheres_overlap(const Model& model, const State& state, int a, int b);

@@ -18,6 +18,8 @@
 #include <cmath>
 #include <sstream>
 
+#include "engine/model.h"
+
 namespace ishibashi {
 namespace {
 
@@ -183,10 +185,9 @@ ValidationReport validate_blocks(const std::vector<Polyhedron>& blocks, const st
     boxes.emplace_back(l, h, b);
   }
   // Thin tilted blocks side by side (a ring of 100,000 voussoirs) have boxes that overlap
-  // thousands of others: the list would exhaust the memory, so it stops at a bound far
-  // above masonry's (about 10 a block) and the assembly is refused.
+  // thousands of others: the list stops at max_candidate_pairs and the assembly is refused.
   struct TooManyCandidates {};
-  const std::size_t limit = std::max<std::size_t>(100 * blocks.size(), 1'000'000);
+  const auto limit = static_cast<std::size_t>(max_candidate_pairs(static_cast<long long>(blocks.size())));
   std::vector<std::pair<std::size_t, std::size_t>> candidates;
   try {
     CGAL::box_self_intersection_d(boxes.begin(), boxes.end(), [&](const Box& x, const Box& y) {
@@ -198,7 +199,7 @@ ValidationReport validate_blocks(const std::vector<Polyhedron>& blocks, const st
     for (const auto& [a, b] : candidates) ++partners[a], ++partners[b];
     const std::size_t busiest = std::max_element(partners.begin(), partners.end()) - partners.begin();
     r.errors.push_back("the blocks' bounding boxes overlap in more than " + std::to_string(limit) +
-                       " pairs (100 a block; a masonry assembly has about 10): that of " + label(busiest) +
+                       " pairs (" + std::to_string(kMaxPairsPerBlock) + " a block; a masonry assembly has about 10): that of " + label(busiest) +
                        " overlaps those of " + std::to_string(partners[busiest]) +
                        " others at least. Blocks far thinner than they are long, side by side, would exhaust the memory: "
                        "make them closer to cubes");

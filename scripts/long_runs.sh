@@ -7,8 +7,8 @@
 # (scripts/frozen_binary.sh), so that a later build never changes a comparison half way. The
 # results and what they mean: scenarios/results/README.md.
 #
-#   nohup nice -n 19 bash scripts/long_runs.sh d_dry2 d_mortar d_mortar3 c_mortar c_mortar2 c_dry c_dry2 > out/long_runs.log 2>&1 &
-#   nohup nice -n 19 bash scripts/long_runs.sh d_mortar2 d_mortar3 d_mortar c_mortar2 c_mortar c_dry2 c_dry > out/long_runs_b.log 2>&1 &
+#   nohup nice -n 19 bash scripts/long_runs.sh d_mortar d_mortar3 c_mortar c_mortar2 c_dry c_dry2 > out/long_runs.log 2>&1 &
+#   nohup nice -n 19 bash scripts/long_runs.sh d_mortar3 d_mortar c_mortar2 c_mortar c_dry2 c_dry > out/long_runs_b.log 2>&1 &
 #   bash scripts/long_runs.sh save    # before committing: keeps the finished members
 #   bash scripts/long_runs.sh park    # at a session's end: keeps the members under way
 # The whole script is one brace group ending in `exit`: bash reads a script as it goes, so
