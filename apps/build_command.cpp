@@ -4,6 +4,7 @@
 #include <cmath>
 #include <cstdio>
 #include <map>
+#include <stdexcept>
 
 #include "analysis/model/compile_model.h"
 #include "engine/mass_properties.h"
@@ -11,6 +12,7 @@
 #include "geometry/block_files.h"
 #include "geometry/bridge.h"
 #include "geometry/validate.h"
+#include "io/atomic_file.h"
 #include "io/model_file.h"
 #include "io/vtk_output.h"
 
@@ -79,7 +81,13 @@ int run_build(const BuildOptions& o) {
   if (!o.export_file.empty()) {
     std::vector<Polyhedron> shapes_out;
     for (const BridgeBlock& b : compiled.blocks) shapes_out.push_back(b.shape);
-    write_block_file(o.export_file, shapes_out);
+    write_atomically(o.export_file, [&](const std::filesystem::path& tmp) {
+      try {
+        write_block_file(tmp, shapes_out);
+      } catch (const std::runtime_error&) {  // it names the temporary file
+        throw std::runtime_error("cannot write " + o.export_file.string() + " (a full disk or no permission?)");
+      }
+    });
     std::printf("exported %zu blocks to %s\n", shapes_out.size(), o.export_file.c_str());
   }
   std::filesystem::create_directories(o.out);

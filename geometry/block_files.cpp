@@ -144,7 +144,7 @@ void write_block_file(const std::filesystem::path& file, const std::vector<Polyh
     }
   }
   if (!CGAL::IO::write_polygon_soup(file.string(), points, polygons, CGAL::parameters::stream_precision(17)))
-    throw std::runtime_error(file.string() + ": cannot write (unknown extension, or no permission)");
+    throw std::runtime_error(file.string() + ": cannot write (a full disk, no permission, or not .off, .obj or .stl)");
 }
 
 Polyhedron merged_faces(const Polyhedron& convex_block) { return convex_hull(convex_block.vertices); }

@@ -7,12 +7,13 @@
 
 namespace ishibashi {
 
-// Calls write(temporary_path) and renames the result to `target`. Throws
-// std::runtime_error naming the file when the write or the rename fails.
+// Calls write(temporary_path) and renames the result to `target`. When write throws (a
+// full disk) the temporary file is removed and the exception passed on; a failed rename
+// throws std::runtime_error naming the file.
 void write_atomically(const std::filesystem::path& target,
                       const std::function<void(const std::filesystem::path&)>& write);
 
-// Atomic write of a whole text file.
+// Atomic write of a whole text (or binary) file; the error says why (errno's text).
 void write_text_atomically(const std::filesystem::path& target, const std::string& text);
 
 }  // namespace ishibashi

@@ -32,20 +32,23 @@ vtkNew<vtkDoubleArray> vector_array(const char* name, vtkIdType n) {
 }
 
 void write_grid(vtkUnstructuredGrid* grid, const std::filesystem::path& file) {
-  write_atomically(file, [&](const std::filesystem::path& tmp) {
-    vtkNew<vtkXMLUnstructuredGridWriter> writer;
-    writer->SetFileName(tmp.c_str());
-    writer->SetInputData(grid);
-    // Inline binary (base64 inside each DataArray): Debian 12's ParaView 5.11 with the
-    // patched libexpat (2.5.0-1+deb12u2) fails on VTK's appended mode, raw or base64
-    // ("not well-formed (invalid token)") and renders nothing. Inline files are plain XML.
-    writer->SetDataModeToBinary();
-    writer->SetCompressorTypeToZLib();
-    // zlib's fastest level: a frame of model F in 0.13 s instead of 0.18 (its default 5),
-    // 3 % larger; LZ4 took 0.08 s but 55 % more disk, which an ensemble's frames feel.
-    writer->SetCompressionLevel(1);
-    if (writer->Write() != 1) throw std::runtime_error("cannot write " + file.string() + " (VTK writer failed)");
-  });
+  vtkNew<vtkXMLUnstructuredGridWriter> writer;
+  // Into memory, then to disk by write_text_atomically: VTK 9.1's writer, meeting a full
+  // disk, returns success and leaves the file cut short, or frees an array twice and
+  // crashes the run (seen with `ulimit -f`); the text writer reports why and leaves no file.
+  writer->WriteToOutputStringOn();
+  writer->SetInputData(grid);
+  // Inline binary (base64 inside each DataArray): Debian 12's ParaView 5.11 with the
+  // patched libexpat (2.5.0-1+deb12u2) fails on VTK's appended mode, raw or base64
+  // ("not well-formed (invalid token)") and renders nothing. Inline files are plain XML.
+  writer->SetDataModeToBinary();
+  writer->SetCompressorTypeToZLib();
+  // zlib's fastest level: a frame of model F in 0.13 s instead of 0.18 (its default 5),
+  // 3 % larger; LZ4 took 0.08 s but 55 % more disk, which an ensemble's frames feel.
+  writer->SetCompressionLevel(1);
+  const std::string xml = writer->Write() == 1 ? writer->GetOutputString() : std::string();
+  if (xml.empty()) throw std::runtime_error("cannot write " + file.string() + " (VTK's writer made nothing)");
+  write_text_atomically(file, xml);
 }
 
 // One polyhedron cell for block b; the points hold every block's vertices by global index.

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <atomic>
+#include <cerrno>
 #include <cmath>
 #include <cstring>
 #include <fstream>
@@ -39,20 +40,6 @@ std::string probe_key(const Scenario& sc, double branch_s, const ChaosProbeOptio
   in << " branch at " << branch_s;
   if (member >= 0) in << " member " << member << " perturbation " << o.perturbation_m << " seed " << o.seed;
   return inputs_key(in.str());
-}
-
-// Appends the blocks' centroids now to `file` (the header first when it is new).
-void append_positions(const fs::path& file, const State& s) {
-  std::ofstream out(file, std::ios::binary | std::ios::app);
-  if (out.tellp() == 0) {
-    const std::uint64_t blocks = s.position.size();
-    out.write(kPositionsMagic, sizeof kPositionsMagic);
-    out.write(reinterpret_cast<const char*>(&blocks), sizeof blocks);
-  }
-  std::vector<double> row{s.time_s};
-  for (const Vec3& x : s.position) row.insert(row.end(), {x.x(), x.y(), x.z()});
-  out.write(reinterpret_cast<const char*>(row.data()), static_cast<std::streamsize>(row.size() * sizeof(double)));
-  if (!out.flush()) throw std::runtime_error("cannot write " + file.string());
 }
 
 // Moves every free stone still in the model by `distance` in a direction drawn uniformly
@@ -240,6 +227,25 @@ MemberStatus run_member(const ProbeRuns& p, int i, int threads) {
 }
 
 }  // namespace
+
+void append_positions(const fs::path& file, const State& s) {
+  const std::uint64_t blocks = s.position.size();
+  const std::uintmax_t header_bytes = sizeof kPositionsMagic + sizeof blocks, row_bytes = (1 + 3 * blocks) * sizeof(double);
+  std::error_code ec;
+  const std::uintmax_t size = fs::exists(file) ? fs::file_size(file) : 0;
+  const std::uintmax_t whole = size < header_bytes ? 0 : size - (size - header_bytes) % row_bytes;
+  if (whole != size) fs::resize_file(file, whole, ec);
+  if (ec) throw std::runtime_error("cannot cut " + file.string() + " back to its whole rows: " + ec.message());
+  std::ofstream out(file, std::ios::binary | std::ios::app);
+  if (whole == 0) {
+    out.write(kPositionsMagic, sizeof kPositionsMagic);
+    out.write(reinterpret_cast<const char*>(&blocks), sizeof blocks);
+  }
+  std::vector<double> row{s.time_s};
+  for (const Vec3& x : s.position) row.insert(row.end(), {x.x(), x.y(), x.z()});
+  out.write(reinterpret_cast<const char*>(row.data()), static_cast<std::streamsize>(row.size() * sizeof(double)));
+  if (!out.flush()) throw std::runtime_error("cannot write " + file.string() + ": " + std::strerror(errno));
+}
 
 PositionSeries read_positions(const fs::path& file) {
   std::ifstream in(file, std::ios::binary);

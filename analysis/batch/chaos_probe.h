@@ -25,6 +25,7 @@
 #include <vector>
 
 #include "analysis/batch/mpi_ranks.h"
+#include "engine/state.h"
 #include "io/scenario_file.h"
 
 namespace ishibashi {
@@ -65,5 +66,8 @@ struct PositionSeries {
   std::vector<std::vector<double>> centroid;  // (rows) (3 blocks) x, y, z of each block, m
 };
 PositionSeries read_positions(const std::filesystem::path& file);
+// Appends the blocks' centroids now (the header first when the file is new). A header or
+// row cut short (a full disk, a kill) is cut off first: it would shift every row after it.
+void append_positions(const std::filesystem::path& file, const State& s);
 
 }  // namespace ishibashi

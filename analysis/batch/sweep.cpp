@@ -103,9 +103,10 @@ std::string run_case(const SweepFile& sweep, const Case& c, int threads, const f
 
 // The cases not yet in sweep.csv with current outputs (a sweep resumes where it stopped;
 // a case whose program or inputs changed runs again); rewrites the table without the rows
-// of other cases and a row a crash cut short. A table of other columns (another version's)
-// is refused rather than mixed with this one's rows.
-std::vector<int> cases_to_run(const SweepFile& sweep, const fs::path& out, const std::vector<Case>& cases) {
+// of other cases and a row a crash cut short, and leaves its text in *table_text. A table of
+// other columns (another version's) is refused rather than mixed with this one's rows.
+std::vector<int> cases_to_run(const SweepFile& sweep, const fs::path& out, const std::vector<Case>& cases,
+                              std::string* table_text) {
   const fs::path table = out / "sweep.csv";
   std::string header;
   std::getline(std::ifstream(table), header);
@@ -125,6 +126,7 @@ std::vector<int> cases_to_run(const SweepFile& sweep, const fs::path& out, const
     kept += row;
   }
   write_text_atomically(table, kept);
+  *table_text = kept;
   std::vector<int> pending;
   for (int i = 0; i < static_cast<int>(cases.size()); ++i)
     if (!done.count(i)) pending.push_back(i);
@@ -173,7 +175,8 @@ SweepOutcome run_sweep(const SweepFile& sweep, const SweepOptions& o, const MpiS
   // ---- rank 0 (or the only process): the queue, sweep.csv and the curves ----
   fs::create_directories(o.out);
   const fs::path table = o.out / "sweep.csv";
-  const std::vector<int> pending = cases_to_run(sweep, o.out, cases);
+  std::string table_text;  // sweep.csv as it is on disk
+  const std::vector<int> pending = cases_to_run(sweep, o.out, cases, &table_text);
   outcome.kept = static_cast<int>(cases.size() - pending.size());
   event("sweep: " + std::to_string(cases.size()) + " runs (" + std::to_string(sweep.scenarios.size()) + " scenarios x " +
         std::to_string(sweep.records.size()) + " records x " +
@@ -184,7 +187,6 @@ SweepOutcome run_sweep(const SweepFile& sweep, const SweepOptions& o, const MpiS
         std::to_string(threads) + " threads each");
 
   std::mutex lock;  // sweep.csv and the counts; outside any time step
-  std::ofstream append(table, std::ios::app);
   auto finish = [&](const std::string& message, int rank) {
     const std::lock_guard<std::mutex> guard(lock);
     if (message[0] == '!') {
@@ -192,12 +194,21 @@ SweepOutcome run_sweep(const SweepFile& sweep, const SweepOptions& o, const MpiS
       event("FAILED " + message.substr(1) + " (rank " + std::to_string(rank) + ")");
       return;
     }
-    append << message << std::flush;  // one complete row at a time
-    ++outcome.ran;
     std::size_t key_end = 0;  // the row's first four fields: its case
     for (int field = 0; field < 4 && key_end != std::string::npos; ++field) key_end = message.find(',', key_end + (field > 0));
-    event(message.substr(0, key_end) + ": done (rank " +
-          std::to_string(rank) + ")");
+    const std::string key = message.substr(0, key_end), on_rank = " (rank " + std::to_string(rank) + ")";
+    // The whole table rewritten, not a row appended: a full disk then loses this row (the
+    // case runs again next time), never cuts one short for the next row to run into.
+    try {
+      write_text_atomically(table, table_text + message);
+    } catch (const std::exception& e) {
+      ++outcome.failed;
+      event("FAILED " + key + ": " + e.what() + on_rank);
+      return;
+    }
+    table_text += message;
+    ++outcome.ran;
+    event(key + ": done" + on_rank);
   };
   run_jobs(
       pending, runs_here, &mpi,
@@ -208,7 +219,6 @@ SweepOutcome run_sweep(const SweepFile& sweep, const SweepOptions& o, const MpiS
         return row;
       },
       finish, [&](int next, int rank) { event(cases[next].key + ": started on rank " + std::to_string(rank)); });
-  append.close();
 
   outcome.fragility = write_sweep_curves(sweep, o.out, finished_sweep_rows(table));
   if (!stop_requested()) outcome.plots_written = run_report_script("sweep_plots.py", o.out);

@@ -1,11 +1,14 @@
 #include "analysis/run/checkpoint.h"
 
 #include <algorithm>
+#include <cerrno>
+#include <cstring>
 #include <fstream>
 #include <iterator>
 
 #include "analysis/model/fingerprint.h"
 #include "geometry/input_error.h"
+#include "io/atomic_file.h"
 
 namespace ishibashi {
 
@@ -77,13 +80,16 @@ void visit_header(Archive& a, H& h) {
 }  // namespace
 
 void write_checkpoint_file(const std::filesystem::path& file, const CheckpointHeader& header, const std::string& body) {
-  std::ofstream out(file, std::ios::binary);
-  CheckpointWriter w(out);
-  w.text(kCheckpointMagic);
-  visit_header(w, header);
-  w.value<std::uint64_t>(fnv1a(body));
-  out.write(body.data(), static_cast<std::streamsize>(body.size()));
-  if (!out.flush()) throw std::runtime_error("cannot write " + file.string());
+  write_atomically(file, [&](const std::filesystem::path& tmp) {
+    std::ofstream out(tmp, std::ios::binary);
+    CheckpointWriter w(out);
+    w.text(kCheckpointMagic);
+    visit_header(w, header);
+    w.value<std::uint64_t>(fnv1a(body));
+    out.write(body.data(), static_cast<std::streamsize>(body.size()));
+    out.close();
+    if (!out) throw std::runtime_error("cannot write " + file.string() + ": " + std::strerror(errno));
+  });
 }
 
 CheckpointHeader read_checkpoint_file(const std::filesystem::path& file, std::string* body) {

@@ -143,7 +143,7 @@ struct CheckpointHeader {
 
 // checkpoint.bin: a magic line, the header, the body's FNV-1a checksum (a resume must not
 // go on from a damaged state), then the body (the run's progress and its State, written by
-// the caller). Writes to `file` as it is (the caller writes it atomically).
+// the caller). Written atomically: a full disk leaves the last checkpoint as it was.
 void write_checkpoint_file(const std::filesystem::path& file, const CheckpointHeader& header, const std::string& body);
 // Reads one back into *body; throws InputError naming `file` when it is another program's,
 // or damaged (cut short, or its body no longer matches the checksum written with it).

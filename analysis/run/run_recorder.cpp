@@ -143,10 +143,12 @@ RunCounts RunRecorder::record(const char* phase, const State& s, const Vec3& ga,
     }
   HistoryFrame frame{s.time_s, phase, ga, gd, s.energy, c, {}};
   for (int b : monitors_) frame.monitored_m.push_back(s.position[b] - m.initial_position[b] - gd);
-  history_ += history_row(frame);
-  write_text_atomically(out_ / "history.csv", history_);
+  // The frames before the history's row: a write that fails (a full disk) stops the run
+  // with no row in history.csv for a frame that is not on disk.
   blocks_.write(m, s, gd);
   contacts_.write(m, s, gd, &joints);
+  history_ += history_row(frame);
+  write_text_atomically(out_ / "history.csv", history_);
   // One colour scale for the whole run: the largest displacement of a stone still standing
   // (fallen ones are drawn apart, and would squash the scale).
   for (int b = 0; b < m.block_count; ++b)

@@ -15,7 +15,6 @@
 #include "analysis/run/run_recorder.h"
 #include "engine/cores.h"
 #include "geometry/bridge.h"
-#include "io/atomic_file.h"
 
 namespace ishibashi {
 namespace {
@@ -190,8 +189,7 @@ void SeismicRun::write_checkpoint(Progress& p) {
   CheckpointWriter w(body);
   p.visit(w);
   write_state(w, s);
-  write_atomically(options_.out / "checkpoint.bin",
-                   [&](const std::filesystem::path& tmp) { write_checkpoint_file(tmp, h, body.str()); });
+  write_checkpoint_file(options_.out / "checkpoint.bin", h, body.str());
   p.checkpoint_time_s = s.time_s;
   p.checkpoint_wall = Clock::now();
 }

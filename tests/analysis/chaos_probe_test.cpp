@@ -181,5 +181,28 @@ TEST(ChaosProbe, PositionRowsWrittenAgainAfterAResumeCountOnce) {
   EXPECT_THROW(read_positions(f), InputError);
 }
 
+// A member resumed after a stop (or a full disk) cut its last row short appends after the
+// whole rows, not after the cut one, which would shift every later row by its bytes.
+TEST(ChaosProbe, RowAppendedAfterARowCutShortStartsOnARowBoundary) {
+  const fs::path f = tmp_dir() / "probe_positions_cut.bin";
+  fs::remove(f);
+  State s;
+  s.position = {Vec3(1, 2, 3), Vec3(4, 5, 6)};
+  for (double t : {0.0, 1.0}) {
+    s.time_s = t;
+    append_positions(f, s);
+  }
+  fs::resize_file(f, fs::file_size(f) - 20);  // the row at 1 s cut short
+  s.time_s = 2.0;
+  s.position[1] = Vec3(7, 8, 9);
+  append_positions(f, s);
+  const PositionSeries series = read_positions(f);
+  ASSERT_EQ(series.time_s, (std::vector<double>{0, 2}));
+  EXPECT_EQ(series.centroid[1], (std::vector<double>{1, 2, 3, 7, 8, 9}));
+  fs::resize_file(f, 10);  // even the header cut short: the file starts again
+  append_positions(f, s);
+  EXPECT_EQ(read_positions(f).time_s, std::vector<double>{2});
+}
+
 }  // namespace
 }  // namespace ishibashi

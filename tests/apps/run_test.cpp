@@ -175,6 +175,25 @@ TEST(Run, InterruptedRunLeavesValidFiles) {
 
 // run --profile prints each stage's split of the team's time; --trace writes the steps
 // asked for as a Chrome trace; a step range that is not FROM:TO is refused before the run.
+// A disk that fills mid-run (here a file-size limit of 100 KiB, which the ring's third
+// frame passes, as a full disk does: the write fails): the run stops at that frame saying
+// which file and why, and what it leaves is whole. VTK's own file writer returned success
+// on a file cut short, or crashed freeing an array twice.
+TEST(Run, FullDiskStopsTheRunAndLeavesWholeFiles) {
+  const auto out = std::filesystem::temp_directory_path() / "ishibashi_run_full_disk";
+  std::filesystem::remove_all(out);
+  int status = 0;
+  const std::string output = test::run_command("bash -c \"trap '' XFSZ; ulimit -f 100; " + test::program() +
+                                                   " run --quiet " + short_scenario(0.05, 0.05).string() + " --out " +
+                                                   out.string() + "\"",
+                                               &status);
+  EXPECT_NE(status, 0) << output;
+  EXPECT_NE(output.find("cannot write " + (out / "blocks_000002.vtu").string() + ": File too large"), std::string::npos)
+      << output;
+  EXPECT_FALSE(std::filesystem::exists(out / "blocks_000002.vtu"));
+  expect_valid_outputs(out);  // the two frames before it, each whole, and no temporary file
+}
+
 TEST(Run, ProfileTableAndTraceOfAShortRun) {
   const auto out = std::filesystem::temp_directory_path() / "ishibashi_run_trace";
   std::filesystem::remove_all(out);
