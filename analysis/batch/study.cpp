@@ -3,6 +3,7 @@
 #include <chrono>
 #include <cstdio>
 #include <mutex>
+#include <optional>
 #include <sstream>
 #include <vector>
 
@@ -14,6 +15,7 @@
 #include "analysis/run/seismic_run.h"
 #include "engine/cores.h"
 #include "io/atomic_file.h"
+#include "io/folder_lock.h"
 
 namespace ishibashi {
 namespace {
@@ -197,6 +199,11 @@ StudyOutcome run_study(const StudyFile& study_file, const StudyOptions& o) {
     const std::lock_guard<std::mutex> lock(report_lock);
     if (o.on_event) o.on_event(text);
   };
+  std::optional<FolderLock> claim;  // rank 0's: the jobs' folders are claimed by their runs
+  if (root) {
+    fs::create_directories(o.out);
+    claim.emplace(o.out);
+  }
   if (root)
     event("study '" + study.name + "': " + std::to_string(jobs.size()) + " jobs, " +
           (ranks ? std::to_string(workers) + " MPI ranks" : std::to_string(workers) + " at a time") + ", " +

@@ -18,6 +18,7 @@
 #include "analysis/run/seismic_run.h"
 #include "engine/cores.h"
 #include "io/atomic_file.h"
+#include "io/folder_lock.h"
 #include "geometry/input_error.h"
 #include "io/scenario_file.h"
 
@@ -174,6 +175,7 @@ SweepOutcome run_sweep(const SweepFile& sweep, const SweepOptions& o, const MpiS
 
   // ---- rank 0 (or the only process): the queue, sweep.csv and the curves ----
   fs::create_directories(o.out);
+  const FolderLock claim(o.out);  // its case folders are claimed by their runs
   const fs::path table = o.out / "sweep.csv";
   std::string table_text;  // sweep.csv as it is on disk
   const std::vector<int> pending = cases_to_run(sweep, o.out, cases, &table_text);

@@ -10,6 +10,7 @@
 #include "engine/world.h"
 #include "geometry/bridge.h"
 #include "io/atomic_file.h"
+#include "io/folder_lock.h"
 #include "io/model_file.h"
 #include "io/vtk_output.h"
 
@@ -34,6 +35,7 @@ FrequencyAnalysis analyse_frequencies(const LoadedModel& loaded, const Frequency
   a.sub_contacts = sub_contact_count(world.state());
   const ModalResult& r = a.modal;
   std::filesystem::create_directories(out);
+  const FolderLock claim(out);
   std::ostringstream csv;
   csv << "mode,frequency_hz,effective_mass_x,effective_mass_y,effective_mass_z,dominant\n";
   for (std::size_t k = 0; k < r.frequency_hz.size(); ++k) {

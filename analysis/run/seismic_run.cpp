@@ -15,6 +15,7 @@
 #include "analysis/run/run_recorder.h"
 #include "engine/cores.h"
 #include "geometry/bridge.h"
+#include "io/folder_lock.h"
 
 namespace ishibashi {
 namespace {
@@ -317,6 +318,7 @@ void SeismicRun::maybe_checkpoint(Progress& p) {
 SeismicRunResult SeismicRun::run() {
   const std::filesystem::path& out = options_.out;
   std::filesystem::create_directories(out);
+  const FolderLock claim(out);
   if (!scenario_.file.empty() && std::filesystem::exists(scenario_.file))
     std::filesystem::copy_file(scenario_.file, out / "scenario.toml", std::filesystem::copy_options::overwrite_existing);
   Progress p(options_, world_->model(), monitors_, world_->state());

@@ -194,6 +194,26 @@ TEST(Run, FullDiskStopsTheRunAndLeavesWholeFiles) {
   expect_valid_outputs(out);  // the two frames before it, each whole, and no temporary file
 }
 
+// Two runs given one --out would each write frames, history and summary over the other's
+// (seen: a 0.3 s run's series beside a 0.1 s run's summary). The second is refused while
+// the first runs; killed with SIGKILL, the first leaves no claim behind.
+TEST(Run, SecondRunIntoAFolderInUseIsRefused) {
+  const auto out = std::filesystem::temp_directory_path() / "ishibashi_run_busy_folder";
+  std::filesystem::remove_all(out);
+  const std::string run = test::program() + " run --quiet --out " + out.string() + " ";
+  int status = 0;
+  const std::string output = test::run_command(
+      "bash -c '" + run + short_scenario(20.0).string() + " > /dev/null 2>&1 & first=$!; while [ ! -f " +
+          (out / "blocks.pvd").string() + " ] && kill -0 $first 2> /dev/null; do sleep 0.05; done; " + run +
+          short_scenario(0.05, 0.05).string() + "; echo second $?; kill -KILL $first; wait $first; " + run +
+          short_scenario(0.05, 0.05).string() + " > /dev/null; echo third $?'",
+      &status);
+  EXPECT_NE(output.find(out.string() + ": another run is writing into this folder now"), std::string::npos) << output;
+  EXPECT_NE(output.find("second 2"), std::string::npos) << output;
+  EXPECT_NE(output.find("third 0"), std::string::npos) << output;
+  expect_valid_outputs(out);
+}
+
 TEST(Run, ProfileTableAndTraceOfAShortRun) {
   const auto out = std::filesystem::temp_directory_path() / "ishibashi_run_trace";
   std::filesystem::remove_all(out);
