@@ -1,8 +1,14 @@
 #include "analysis/batch/job_queue.h"
 
+#include <spawn.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <cerrno>
 #include <cstdio>
 #include <cstdlib>
 #include <numeric>
+#include <vector>
 
 #include "analysis/model/fingerprint.h"
 #include "analysis/run/seismic_run.h"
@@ -51,15 +57,20 @@ void stamp_outputs(const std::filesystem::path& folder, const std::string& key) 
 }
 
 bool run_report_script(const char* script, const std::filesystem::path& out, const std::string& title) {
+  // Started with its arguments as they are, no shell between: a folder or title with
+  // spaces, quotes or $ reaches the script unchanged.
   const std::string python = std::filesystem::exists("/usr/bin/python3") ? "/usr/bin/python3" : "python3";
-  std::string command = python + " " + ISHIBASHI_SOURCE_DIR "/analysis/report/" + script + " \"" + out.string() + "\"";
-  if (!title.empty()) {
-    std::string quoted;  // inside double quotes, for the shell: without what it would expand
-    for (char c : title)
-      if (c != '"' && c != '\\' && c != '$' && c != '`') quoted += c;
-    command += " \"" + quoted + "\"";
-  }
-  return std::system(command.c_str()) == 0;
+  const std::string path = ISHIBASHI_SOURCE_DIR "/analysis/report/" + std::string(script), folder = out.string();
+  std::vector<char*> argv{const_cast<char*>(python.c_str()), const_cast<char*>(path.c_str()),
+                          const_cast<char*>(folder.c_str())};
+  if (!title.empty()) argv.push_back(const_cast<char*>(title.c_str()));
+  argv.push_back(nullptr);
+  pid_t child = 0;
+  if (posix_spawnp(&child, python.c_str(), nullptr, nullptr, argv.data(), environ) != 0) return false;
+  int status = 0;
+  while (waitpid(child, &status, 0) < 0)
+    if (errno != EINTR) return false;
+  return WIFEXITED(status) && WEXITSTATUS(status) == 0;
 }
 
 }  // namespace ishibashi

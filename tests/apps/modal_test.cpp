@@ -16,12 +16,14 @@
 namespace ishibashi {
 namespace {
 
+// The folder's name has what a shell would split or expand: the picture's script gets it as
+// it is (it was once handed over through the shell, inside double quotes).
 TEST(Modal, WritesModesWithBlockLabelsAndThePictureOfEachFirstMode) {
-  const auto out = std::filesystem::temp_directory_path() / "ishibashi_modal";
+  const auto out = std::filesystem::temp_directory_path() / "ishibashi modal $HOME \"q\"";
   std::filesystem::remove_all(out);
-  const auto log = out.string() + ".log";
-  const std::string cmd = test::program() + " modal " + ISHIBASHI_SOURCE_DIR + "/models/nishida_a.toml --modes 4 --out " +
-                          out.string() + " > " + log + " 2>&1";
+  const auto log = std::filesystem::temp_directory_path() / "ishibashi_modal.log";
+  const std::string cmd = test::program() + " modal " + ISHIBASHI_SOURCE_DIR + "/models/nishida_a.toml --modes 4 --out '" +
+                          out.string() + "' > " + log.string() + " 2>&1";
   ASSERT_EQ(std::system(cmd.c_str()), 0) << cmd;
   std::stringstream printed;
   printed << std::ifstream(log).rdbuf();
