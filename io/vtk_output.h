@@ -57,6 +57,7 @@ class VtkSeriesWriter {
   std::filesystem::path pvd_path() const { return directory_ / (name_ + ".pvd"); }
   int frame_count() const { return static_cast<int>(times_.size()); }
   const std::vector<double>& frame_times() const { return times_; }
+  std::filesystem::path last_frame() const { return directory_ / files_.back(); }  // after a write
   // A resumed run's series: its first frames (and their files) are those of `times`;
   // the next write is frame times.size().
   void resume(const std::vector<double>& times);

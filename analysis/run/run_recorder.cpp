@@ -126,6 +126,10 @@ RunRecorder::RunRecorder(std::filesystem::path out, const Model& model, std::vec
   if (view_.lower_m.x() > view_.upper_m.x()) view_.lower_m = view_.upper_m = Vec3::Zero();
 }
 
+std::uintmax_t RunRecorder::last_frame_bytes() const {
+  return std::filesystem::file_size(blocks_.last_frame()) + std::filesystem::file_size(contacts_.last_frame());
+}
+
 RunCounts RunRecorder::record(const char* phase, const State& s, const Vec3& ga, const Vec3& gd, Joints& joints,
                               double bond_utilisation_since_frame) {
   const Model& m = model_;

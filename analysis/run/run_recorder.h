@@ -74,6 +74,8 @@ class RunRecorder {
     if constexpr (Archive::reading) contacts_.resume(times);
   }
   std::size_t block_count() const { return reported_left_.size(); }
+  // Bytes on disk of the last frame's two .vtu files.
+  std::uintmax_t last_frame_bytes() const;
 
  private:
   std::filesystem::path out_;

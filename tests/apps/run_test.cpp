@@ -214,6 +214,25 @@ TEST(Run, SecondRunIntoAFolderInUseIsRefused) {
   expect_valid_outputs(out);
 }
 
+// Frames at every step of the whole Kobe record (146 s of it, 34 million steps of model F:
+// at least 28,000 GB) are refused at the first frame, in seconds, not when the disk fills.
+TEST(Run, FramesTheDiskCannotHoldAreRefusedAtTheFirstFrame) {
+  const auto out = std::filesystem::temp_directory_path() / "ishibashi_run_frames_too_many";
+  std::filesystem::remove_all(out);
+  std::filesystem::create_directories(out);
+  if (std::filesystem::space(out).available > 1e14) GTEST_SKIP() << "a disk with more than 100 TB free";
+  int status = 0;
+  const std::string output = test::run_command(test::program() + " run --quiet " +
+                                                   (kRoot / "scenarios/nishida_f_kobe_dry.toml").string() +
+                                                   " --duration 0 --output-interval 1e-9 --threads 1 --out " + out.string(),
+                                               &status);
+  EXPECT_EQ(WEXITSTATUS(status), 2) << output;
+  EXPECT_NE(output.find(": the shaking's 34223173 frames (a frame every 4.27e-06 s) need at least"), std::string::npos)
+      << output;
+  EXPECT_NE(output.find("raise output_interval_s (--output-interval)"), std::string::npos) << output;
+  EXPECT_EQ(read_pvd(out / "blocks.pvd").size(), 1u);  // the first frame, nothing after it
+}
+
 TEST(Run, ProfileTableAndTraceOfAShortRun) {
   const auto out = std::filesystem::temp_directory_path() / "ishibashi_run_trace";
   std::filesystem::remove_all(out);
