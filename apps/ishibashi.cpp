@@ -194,6 +194,9 @@ void refuse_non_finite_numbers(CLI::App& app) {
 }  // namespace
 
 int main(int argc, char** argv) {
+  // Line by line into a log file too, so that what goes to stdout and to stderr (progress,
+  // warnings, errors) stays in the order it was said.
+  std::setvbuf(stdout, nullptr, _IOLBF, 0);
   CLI::App app{"ishibashi: 3-D distinct element analysis of masonry stone arch bridges"};
   app.set_version_flag("--version", std::string("ishibashi ") + ISHIBASHI_VERSION);
   app.require_subcommand(1);

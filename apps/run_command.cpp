@@ -10,8 +10,11 @@
 #include <tuple>
 #include <utility>
 
+#include <unistd.h>
+
 #include "analysis/batch/chaos_probe.h"
 #include "analysis/batch/ensemble.h"
+#include "analysis/batch/study_progress.h"
 #include "analysis/run/seismic_run.h"
 #include "engine/cores.h"
 #include "io/chrome_trace.h"
@@ -172,12 +175,17 @@ int run_scenario(const RunOptions& o) {
   if (!o.trace.empty()) std::tie(options.trace_first_step, options.trace_last_step) = parse_range("--trace-steps", o.trace_steps, "step", "1000:1100");
   options.on_warning = [](const std::string& text) { std::fprintf(stderr, "\n  warning: %s\n", text.c_str()); };
   const auto shake0 = std::chrono::steady_clock::now();
-  if (!o.quiet)
+  // A bar on a terminal; into a log file (nohup, a cluster's job) a line every tenth of the
+  // shaking, where the bar's redraws made one line of hundreds.
+  const bool bar = !o.quiet && isatty(STDERR_FILENO);
+  if (bar)
     options.on_frame = [&](const State&, double done) {
       const double elapsed = std::chrono::duration<double>(std::chrono::steady_clock::now() - shake0).count();
-      std::fprintf(stderr, "\r  shaking [%-30s] %5.1f%%  ETA %4.0f s ", std::string(static_cast<int>(30 * done), '#').c_str(),
-                   100 * done, elapsed * (1 - done) / done);
+      std::fprintf(stderr, "\r  shaking [%-30s] %5.1f%%  about %s to go   ", std::string(static_cast<int>(30 * done), '#').c_str(),
+                   100 * done, duration_text(elapsed * (1 - done) / done).c_str());
     };
+  else if (!o.quiet)
+    options.on_frame = with_progress_lines(nullptr, "  run", [](const std::string& line) { std::fprintf(stderr, "%s\n", line.c_str()); });
   std::unique_ptr<SeismicRun> resumed;
   if (!o.resume.empty()) {
     resumed = SeismicRun::resume(options, o.overrides);  // threads: the only setting a resume may change
@@ -207,7 +215,7 @@ int run_scenario(const RunOptions& o) {
   }
   stop_runs_on_interrupt();
   const SeismicRunResult r = run.run();
-  if (!o.quiet) std::fprintf(stderr, "\n");
+  if (bar) std::fprintf(stderr, "\n");
 
   char when[64] = "interrupted while settling";
   if (!r.interrupted || r.shaking_time_s > 0)

@@ -58,34 +58,6 @@ double first_fall_s(const fs::path& history, double settle_time_s) {
   return -1;
 }
 
-// Wraps `frame` (a run's on_frame) with a line at every tenth of the shaking: how far the
-// member is and, at its pace since it (re)started, how long it has to go. A member of a
-// long ensemble runs for hours; without these the user sees only its start and end.
-std::function<void(const State&, double)> with_progress_lines(std::function<void(const State&, double)> frame,
-                                                               const std::string& name,
-                                                               const std::function<void(const std::string&)>& event) {
-  struct Pace {  // from the first frame this process saw (settling, or a resume, before it)
-    std::chrono::steady_clock::time_point start;
-    double done_at_start = -1;
-    int next_tenth = 0;
-  };
-  return [frame = std::move(frame), name, event, pace = Pace{}](const State& s, double done) mutable {
-    if (frame) frame(s, done);
-    if (pace.done_at_start < 0) {
-      pace.start = std::chrono::steady_clock::now();
-      pace.done_at_start = done;
-      pace.next_tenth = static_cast<int>(std::floor(10 * done + 1e-9)) + 1;
-      return;
-    }
-    if (10 * done + 1e-9 < pace.next_tenth || done >= 1) return;
-    pace.next_tenth = static_cast<int>(std::floor(10 * done + 1e-9)) + 1;
-    const double elapsed = std::chrono::duration<double>(std::chrono::steady_clock::now() - pace.start).count();
-    char share[40];
-    std::snprintf(share, sizeof share, ": %.0f %% of the shaking done", 100 * done);
-    event(name + share + ", about " + duration_text(elapsed * (1 - done) / (done - pace.done_at_start)) + " to go");
-  };
-}
-
 // In how many members each stone fell (summary.json's fallen_blocks; a member written
 // before that list was, is left out and not counted).
 struct FallMap {

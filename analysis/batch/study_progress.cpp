@@ -57,6 +57,31 @@ std::string duration_text(double seconds) {
   return text;
 }
 
+std::function<void(const State&, double)> with_progress_lines(std::function<void(const State&, double)> frame,
+                                                               const std::string& name,
+                                                               const std::function<void(const std::string&)>& event) {
+  struct Pace {  // from the first frame this process saw (settling, or a resume, before it)
+    std::chrono::steady_clock::time_point start;
+    double done_at_start = -1;
+    int next_tenth = 0;
+  };
+  return [frame = std::move(frame), name, event, pace = Pace{}](const State& s, double done) mutable {
+    if (frame) frame(s, done);
+    if (pace.done_at_start < 0) {
+      pace.start = std::chrono::steady_clock::now();
+      pace.done_at_start = done;
+      pace.next_tenth = static_cast<int>(std::floor(10 * done + 1e-9)) + 1;
+      return;
+    }
+    if (10 * done + 1e-9 < pace.next_tenth || done >= 1) return;
+    pace.next_tenth = static_cast<int>(std::floor(10 * done + 1e-9)) + 1;
+    const double elapsed = std::chrono::duration<double>(std::chrono::steady_clock::now() - pace.start).count();
+    char share[40];
+    std::snprintf(share, sizeof share, ": %.0f %% of the shaking done", 100 * done);
+    event(name + share + ", about " + duration_text(elapsed * (1 - done) / (done - pace.done_at_start)) + " to go");
+  };
+}
+
 StudyProgress::StudyProgress(std::vector<JobProgress> jobs, int workers, double every_s,
                              std::function<void(const std::string&)> print)
     : jobs_(std::move(jobs)),

@@ -40,6 +40,15 @@ TimeLeft estimate_time_left(const std::vector<JobProgress>& jobs, int workers);
 // "1 h 05 min", "12 min", "40 s".
 std::string duration_text(double seconds);
 
+struct State;
+// Wraps `frame` (a run's on_frame, or none) with a line to `event` at every tenth of the
+// shaking: `name`, how far it is and, at its pace since this process saw its first frame
+// (settling, or a resume, before it), how long it has to go. For what runs for hours with
+// no terminal to draw a bar on (an ensemble's members, a run into a log file).
+std::function<void(const State&, double)> with_progress_lines(std::function<void(const State&, double)> frame,
+                                                               const std::string& name,
+                                                               const std::function<void(const std::string&)>& event);
+
 // Thread-safe: each worker reports its own job; a line goes to `print` when a job starts
 // or ends and at most every `every_s` seconds while runs advance.
 class StudyProgress {

@@ -233,6 +233,21 @@ TEST(Run, FramesTheDiskCannotHoldAreRefusedAtTheFirstFrame) {
   EXPECT_EQ(read_pvd(out / "blocks.pvd").size(), 1u);  // the first frame, nothing after it
 }
 
+// Into a log file (no terminal): a line every tenth of the shaking, after the run's own
+// header, where a progress bar's redraws made one line of hundreds.
+TEST(Run, ProgressIntoALogFileComesAsLines) {
+  const auto out = std::filesystem::temp_directory_path() / "ishibashi_run_progress_lines";
+  int status = 0;
+  const std::string output =
+      test::run_command(test::program() + " run " + short_scenario(0.5, 0.05).string() + " --out " + out.string(), &status);
+  ASSERT_EQ(status, 0) << output;
+  EXPECT_EQ(output.find('\r'), std::string::npos) << output;
+  const std::size_t header = output.find("Nishida A: 166 blocks"), half = output.find("  run: 50 % of the shaking done, about ");
+  ASSERT_NE(half, std::string::npos) << output;
+  EXPECT_LT(header, half) << output;
+  EXPECT_NE(output.find("  run: 90 % of the shaking done"), std::string::npos) << output;
+}
+
 TEST(Run, ProfileTableAndTraceOfAShortRun) {
   const auto out = std::filesystem::temp_directory_path() / "ishibashi_run_trace";
   std::filesystem::remove_all(out);
