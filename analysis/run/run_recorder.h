@@ -74,8 +74,9 @@ class RunRecorder {
     if constexpr (Archive::reading) contacts_.resume(times);
   }
   std::size_t block_count() const { return reported_left_.size(); }
-  // Bytes on disk of the last frame's two .vtu files.
-  std::uintmax_t last_frame_bytes() const;
+  // After the first frame: throws InputError when `frames` more of its size (the smallest a
+  // run writes) would not fit on the output's disk.
+  void refuse_frames_the_disk_cannot_hold(long frames, double interval_s) const;
 
  private:
   std::filesystem::path out_;

@@ -215,27 +215,6 @@ void SeismicRun::restore_checkpoint(Progress& p) {
   p.checkpoint_time_s = s.time_s;
 }
 
-// A run whose frames cannot fit on its disk (an output interval of a step, a small disk) is
-// stopped at its first frame, not hours later when the disk fills. The first frame is the
-// smallest a run writes (nothing has moved yet, so it compresses best: model A's 65 KB
-// against about 230 KB once shaking) and the shaking's frames are certain (settling may end
-// early), so the refusal is never a false alarm.
-void SeismicRun::refuse_frames_the_disk_cannot_hold(const Progress& p) const {
-  const long frames = ground_.steps() / steps_per_frame_ + 1;
-  const double need = static_cast<double>(frames) * static_cast<double>(p.recorder.last_frame_bytes());
-  std::error_code ec;
-  const std::filesystem::space_info disk = std::filesystem::space(options_.out, ec);
-  if (ec || need <= static_cast<double>(disk.available)) return;
-  char text[400];
-  std::snprintf(text, sizeof text,
-                ": the shaking's %ld frames (a frame every %.3g s) need at least %.1f GB (%.3g MB a frame: the first, "
-                "which compresses best), and this disk has %.1f GB free; raise output_interval_s (--output-interval) "
-                "or give the run another --out",
-                frames, static_cast<double>(steps_per_frame_) * dt_, need / 1e9,
-                static_cast<double>(p.recorder.last_frame_bytes()) / 1e6, static_cast<double>(disk.available) / 1e9);
-  throw InputError(options_.out.string() + text);
-}
-
 // Under gravity until the kinetic energy is negligible; then mortar sets (when it sets in
 // the settled pose), the joints' reference is the settled pose, and the ground starts to move.
 void SeismicRun::settle(Progress& p) {
@@ -245,7 +224,7 @@ void SeismicRun::settle(Progress& p) {
   const double settle_max_s = scenario_.settings.settle_max_s;
   if (s.step == 0) {
     p.record("settle", m, s);
-    refuse_frames_the_disk_cannot_hold(p);
+    p.recorder.refuse_frames_the_disk_cannot_hold(ground_.steps() / steps_per_frame_ + 1, steps_per_frame_ * dt_);
   }
   // Rest is judged every kSettleCheckS whatever the output interval, so that finer frames
   // do not end the settling elsewhere; a frame is written at the end of it too.

@@ -103,7 +103,6 @@ class SeismicRun {
   struct Progress;  // what run() carries from step to step beside the World (seismic_run.cpp)
   void settle(Progress& p);
   void shake(Progress& p);
-  void refuse_frames_the_disk_cannot_hold(const Progress& p) const;
   void maybe_checkpoint(Progress& p);  // when the options' interval has passed
   void write_checkpoint(Progress& p);
   void restore_checkpoint(Progress& p);
