@@ -245,6 +245,7 @@ void SeismicRun::settle(Progress& p) {
     }
     if (frame) {
       p.record("settle", m, s);
+      if (options_.on_settle_frame) options_.on_settle_frame(s, settle_max_s);
       maybe_checkpoint(p);
     }
   }

@@ -233,18 +233,26 @@ TEST(Run, FramesTheDiskCannotHoldAreRefusedAtTheFirstFrame) {
   EXPECT_EQ(read_pvd(out / "blocks.pvd").size(), 1u);  // the first frame, nothing after it
 }
 
-// Into a log file (no terminal): a line every tenth of the shaking, after the run's own
-// header, where a progress bar's redraws made one line of hundreds.
+// Into a log file (no terminal): a line every 0.25 s of settling (at its first frame past
+// each; frames here 0.03 s apart) and every tenth of the shaking, after the run's own
+// header, where a progress bar's redraws made one line of hundreds (and settling, minutes
+// of a large bridge, said nothing).
 TEST(Run, ProgressIntoALogFileComesAsLines) {
   const auto out = std::filesystem::temp_directory_path() / "ishibashi_run_progress_lines";
   int status = 0;
-  const std::string output =
-      test::run_command(test::program() + " run " + short_scenario(0.5, 0.05).string() + " --out " + out.string(), &status);
+  const std::string output = test::run_command(test::program() + " run " + short_scenario(0.3, 0.3, 0.03).string() +
+                                                   " --settle-kinetic 1e-12 --out " + out.string(),
+                                               &status);
   ASSERT_EQ(status, 0) << output;
   EXPECT_EQ(output.find('\r'), std::string::npos) << output;
-  const std::size_t header = output.find("Nishida A: 166 blocks"), half = output.find("  run: 50 % of the shaking done, about ");
+  const std::size_t header = output.find("Nishida A: 166 blocks"),
+                    settling = output.find("  settling: 0.27 s of at most 0.30 s, kinetic energy "),
+                    half = output.find("  run: 50 % of the shaking done, about ");
+  ASSERT_NE(settling, std::string::npos) << output;
   ASSERT_NE(half, std::string::npos) << output;
-  EXPECT_LT(header, half) << output;
+  EXPECT_LT(header, settling) << output;
+  EXPECT_LT(settling, half) << output;
+  EXPECT_NE(output.find("(settled below 1e-12 J)\n"), std::string::npos) << output;
   EXPECT_NE(output.find("  run: 90 % of the shaking done"), std::string::npos) << output;
 }
 
