@@ -32,6 +32,9 @@ bool stop_requested() { return stop_flag != 0; }
 void stop_runs_on_interrupt() {
   std::signal(SIGINT, on_interrupt);
   std::signal(SIGTERM, on_interrupt);
+  // A closed terminal (a dropped ssh session) stops the run as Ctrl-C does, with its
+  // summary and checkpoint, where it killed it between frames; under nohup it stays ignored.
+  if (std::signal(SIGHUP, on_interrupt) == SIG_IGN) std::signal(SIGHUP, SIG_IGN);
 }
 
 double relative_balance_error(const Energy& e) {

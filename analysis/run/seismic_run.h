@@ -67,7 +67,7 @@ struct SeismicRunOptions {
 // Stops every run in this process at its next step (from a signal handler too).
 void request_stop();
 bool stop_requested();
-// SIGINT and SIGTERM call request_stop.
+// SIGINT, SIGTERM and SIGHUP (unless ignored, as nohup does) call request_stop.
 void stop_runs_on_interrupt();
 
 class SeismicRun {

@@ -256,6 +256,26 @@ TEST(Run, ProgressIntoALogFileComesAsLines) {
   EXPECT_NE(output.find("  run: 90 % of the shaking done"), std::string::npos) << output;
 }
 
+// A closed terminal (SIGHUP) stops a run as Ctrl-C does, its files whole and its summary
+// saying so; under nohup the same signal leaves it running to its end.
+TEST(Run, HangupStopsARunUnlessUnderNohup) {
+  for (const bool nohup : {false, true}) {
+    const auto out = std::filesystem::temp_directory_path() / (nohup ? "ishibashi_run_nohup" : "ishibashi_run_hangup");
+    std::filesystem::remove_all(out);
+    const std::string cmd = "bash -c '" + std::string(nohup ? "nohup " : "") + test::program() + " run --quiet " +
+                            short_scenario(nohup ? 0.3 : 20.0).string() + " --out " + out.string() +
+                            " > /dev/null 2>&1 & run=$!; while [ ! -f " + (out / "blocks.pvd").string() +
+                            " ] && kill -0 $run 2> /dev/null; do sleep 0.05; done; sleep 0.5; kill -HUP $run && echo sent; "
+                            "wait $run'";
+    int status = 0;
+    EXPECT_EQ(test::run_command(cmd, &status), "sent\n");  // while it ran (0.3 s of shaking: seconds)
+    expect_valid_outputs(out);
+    const std::string summary = test::text_of(out / "summary.json");
+    EXPECT_NE(summary.find(nohup ? "\"finished\": true" : "\"interrupted\": true"), std::string::npos) << nohup << summary;
+    EXPECT_EQ(status == 0, nohup) << status;
+  }
+}
+
 TEST(Run, ProfileTableAndTraceOfAShortRun) {
   const auto out = std::filesystem::temp_directory_path() / "ishibashi_run_trace";
   std::filesystem::remove_all(out);
