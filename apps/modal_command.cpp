@@ -73,8 +73,9 @@ int run_modal(const ModalOptions& o) {
   std::printf("wrote %s/modes.csv, modes_energy.csv and modes.vtu (point arrays mode_1 ...: warp by vector in ParaView)%s\n", out.c_str(),
               a.impulses.empty() ? "" : ", spectrum_*.csv and peaks.csv");
   std::fflush(stdout);  // before the script's own lines
-  if (!run_report_script("mode_shapes.py", out, loaded.name + ", " + joint_rule_name(loaded.options().joint_rule) + " rule"))
-    std::printf("warning: mode_shapes.png not drawn (needs python3 with matplotlib and vtk: bash scripts/setup.sh)\n");
+  const std::string not_drawn =
+      run_report_script("mode_shapes.py", out, loaded.name + ", " + joint_rule_name(loaded.options().joint_rule) + " rule");
+  if (!not_drawn.empty()) std::printf("warning: mode_shapes.png not drawn: %s\n", not_drawn.c_str());
   return 0;
 }
 

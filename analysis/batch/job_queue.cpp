@@ -7,6 +7,7 @@
 #include <cerrno>
 #include <cstdio>
 #include <cstdlib>
+#include <cstring>
 #include <numeric>
 #include <vector>
 
@@ -56,21 +57,27 @@ void stamp_outputs(const std::filesystem::path& folder, const std::string& key) 
   write_text_atomically(folder / "inputs.key", key + "\n");
 }
 
-bool run_report_script(const char* script, const std::filesystem::path& out, const std::string& title) {
-  // Started with its arguments as they are, no shell between: a folder or title with
-  // spaces, quotes or $ reaches the script unchanged.
+std::string run_report_script(const char* script, const std::filesystem::path& out, const std::string& title) {
   const std::string python = std::filesystem::exists("/usr/bin/python3") ? "/usr/bin/python3" : "python3";
   const std::string path = ISHIBASHI_SOURCE_DIR "/analysis/report/" + std::string(script), folder = out.string();
+  if (!std::filesystem::exists(path))  // a program copied away from its checkout
+    return path + " is missing: the program runs the report scripts of the source tree it was built from";
+  // Started with its arguments as they are, no shell between: a folder or title with
+  // spaces, quotes or $ reaches the script unchanged.
   std::vector<char*> argv{const_cast<char*>(python.c_str()), const_cast<char*>(path.c_str()),
                           const_cast<char*>(folder.c_str())};
   if (!title.empty()) argv.push_back(const_cast<char*>(title.c_str()));
   argv.push_back(nullptr);
   pid_t child = 0;
-  if (posix_spawnp(&child, python.c_str(), nullptr, nullptr, argv.data(), environ) != 0) return false;
+  if (const int error = posix_spawnp(&child, python.c_str(), nullptr, nullptr, argv.data(), environ); error != 0)
+    return "cannot start " + python + ": " + std::strerror(error) + " (bash scripts/setup.sh installs it)";
   int status = 0;
   while (waitpid(child, &status, 0) < 0)
-    if (errno != EINTR) return false;
-  return WIFEXITED(status) && WEXITSTATUS(status) == 0;
+    if (errno != EINTR) return std::string("lost ") + script + ": " + std::strerror(errno);
+  if (WIFEXITED(status) && WEXITSTATUS(status) == 0) return "";
+  return python + " " + script + (WIFEXITED(status) ? " ended with status " + std::to_string(WEXITSTATUS(status))
+                                                    : " was stopped by signal " + std::to_string(WTERMSIG(status))) +
+         " (its own message is above; it needs matplotlib and vtk: bash scripts/setup.sh)";
 }
 
 }  // namespace ishibashi

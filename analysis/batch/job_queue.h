@@ -42,8 +42,9 @@ std::string inputs_key(const std::string& inputs);  // 16 hex digits of the prog
 bool outputs_current(const std::filesystem::path& folder, const std::string& key);
 void stamp_outputs(const std::filesystem::path& folder, const std::string& key);
 
-// Runs analysis/report/<script> with Debian's python3 on `out` (and `title`, when given);
-// true when it succeeded.
-bool run_report_script(const char* script, const std::filesystem::path& out, const std::string& title = "");
+// Runs analysis/report/<script> of the source tree this program was built from, with
+// Debian's python3, on `out` (and `title`, when given). Returns "" when it succeeded, else
+// why not (the script missing, python3 missing, or the status it ended with).
+std::string run_report_script(const char* script, const std::filesystem::path& out, const std::string& title = "");
 
 }  // namespace ishibashi

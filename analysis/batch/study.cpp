@@ -247,8 +247,9 @@ StudyOutcome run_study(const StudyFile& study_file, const StudyOptions& o) {
 
   if (o.report && !stop_requested()) {
     event("report: analysis/report/report.py " + o.out.string());
-    outcome.report_written = run_report_script("report.py", o.out);
-    if (!outcome.report_written) event("report: FAILED (needs python3 with matplotlib and vtk: bash scripts/setup.sh)");
+    const std::string failed = run_report_script("report.py", o.out);
+    outcome.report_written = failed.empty();
+    if (!failed.empty()) event("report: FAILED: " + failed);
   }
   return outcome;
 }

@@ -223,7 +223,11 @@ SweepOutcome run_sweep(const SweepFile& sweep, const SweepOptions& o, const MpiS
       finish, [&](int next, int rank) { event(cases[next].key + ": started on rank " + std::to_string(rank)); });
 
   outcome.fragility = write_sweep_curves(sweep, o.out, finished_sweep_rows(table));
-  if (!stop_requested()) outcome.plots_written = run_report_script("sweep_plots.py", o.out);
+  if (!stop_requested()) {
+    const std::string failed = run_report_script("sweep_plots.py", o.out);
+    outcome.plots_written = failed.empty();
+    if (!failed.empty()) event("plots: FAILED: " + failed);
+  }
   return outcome;
 }
 

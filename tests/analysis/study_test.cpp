@@ -9,12 +9,26 @@
 #include <memory>
 #include <sstream>
 
+#include "analysis/batch/job_queue.h"
 #include "command_line.h"
 
 namespace ishibashi {
 namespace {
 
 using namespace test;  // run_command, text_of, count_of, kRoot, tmp_dir
+
+// A report that cannot be drawn says why: its script missing (a program copied away from
+// its checkout once read as "needs python3 with matplotlib"), or the status it ended with.
+TEST(ReportScript, SaysWhyItDrewNothing) {
+  const auto empty = tmp_dir() / "ishibashi_report_nothing";
+  std::filesystem::create_directories(empty);
+  const std::string missing = run_report_script("no_such_script.py", empty);
+  EXPECT_NE(missing.find("analysis/report/no_such_script.py is missing: the program runs the report scripts of the source tree"),
+            std::string::npos) << missing;
+  const std::string failed = run_report_script("mode_shapes.py", empty);  // no modes.csv to draw
+  EXPECT_NE(failed.find("mode_shapes.py ended with status "), std::string::npos) << failed;
+  EXPECT_EQ(failed.find("status 0"), std::string::npos) << failed;
+}
 
 TEST(Study, QuickStudyWritesTablesAndAReportWithEveryFigureThenKeepsCurrentOutputs) {
   const auto out = std::filesystem::temp_directory_path() / "ishibashi_study_quick";
