@@ -1,6 +1,9 @@
 #include "io/vtk_output.h"
 
+#include <vtkCallbackCommand.h>
 #include <vtkCellData.h>
+#include <vtkCommand.h>
+#include <vtkExecutive.h>
 #include <vtkDoubleArray.h>
 #include <vtkIdList.h>
 #include <vtkIntArray.h>
@@ -12,6 +15,7 @@
 #include <vtkUnstructuredGrid.h>
 #include <vtkXMLUnstructuredGridWriter.h>
 
+#include <cctype>
 #include <cstdio>
 #include <limits>
 #include <sstream>
@@ -46,8 +50,26 @@ void write_grid(vtkUnstructuredGrid* grid, const std::filesystem::path& file) {
   // zlib's fastest level: a frame of model F in 0.13 s instead of 0.18 (its default 5),
   // 3 % larger; LZ4 took 0.08 s but 55 % more disk, which an ensemble's frames feel.
   writer->SetCompressionLevel(1);
-  const std::string xml = writer->Write() == 1 ? writer->GetOutputString() : std::string();
-  if (xml.empty()) throw std::runtime_error("cannot write " + file.string() + " (VTK's writer made nothing)");
+  // VTK reports a failure (say an allocation) by an error event, printed to the terminal
+  // unless observed, and may still hand back part of a file: heard here, and refused.
+  std::string errors;
+  vtkNew<vtkCallbackCommand> on_error;
+  on_error->SetClientData(&errors);
+  on_error->SetCallback([](vtkObject*, unsigned long, void* heard, void* text) {
+    std::string& all = *static_cast<std::string*>(heard);
+    for (const char* c = text ? static_cast<const char*>(text) : "an error"; *c; ++c) {  // on one line
+      if (!std::isspace(static_cast<unsigned char>(*c))) all += *c;
+      else if (!all.empty() && all.back() != ' ') all += ' ';
+    }
+    all += "; ";
+  });
+  writer->AddObserver(vtkCommand::ErrorEvent, on_error);
+  writer->GetExecutive()->AddObserver(vtkCommand::ErrorEvent, on_error);
+  const std::string xml = writer->Write() == 1 && errors.empty() ? writer->GetOutputString() : std::string();
+  if (xml.empty())
+    throw std::runtime_error("cannot write " + file.string() + ": VTK's writer failed (" +
+                             (errors.empty() ? std::string("no output") : errors.substr(0, errors.size() - 2)) +
+                             "; out of memory?)");
   write_text_atomically(file, xml);
 }
 
