@@ -7,7 +7,9 @@
 #include <omp.h>
 
 #include <algorithm>
+#include <atomic>
 #include <cstddef>
+#include <exception>
 
 #include "engine/team.h"
 
@@ -58,14 +60,32 @@ inline int stage_chunks(std::ptrdiff_t blocks) {
 constexpr std::ptrdiff_t kMinParallelItems = 128;
 
 // Runs chunk(k), k < chunk_count, on the caller's team, or on the calling thread alone
-// when the loop covers fewer than kMinParallelItems items.
+// when the loop covers fewer than kMinParallelItems items. An exception in a chunk (an
+// allocation failing as a cracked bridge's buffers grow) is caught where it was thrown,
+// the loop's other chunks run on (they may use this frame), and the caller rethrows it
+// once the loop is done: the program's own handler then says what happened, where
+// std::terminate would have ended it with the runtime's line. The first thread to catch
+// one keeps it; its flag costs a relaxed load a loop.
 template <class Chunk>
 void run_on_team(std::ptrdiff_t items, int chunk_count, const Chunk& chunk) {
+  struct Loop {
+    const Chunk& chunk;
+    std::atomic<bool> failed{false};
+    std::exception_ptr error;  // written by the thread that set `failed`
+  } loop{chunk};
   const int threads = items >= kMinParallelItems ? thread_count() : 1;
-  // noexcept: an exception in a chunk ends the program, as one escaping an OpenMP loop
-  // does (the other threads may still be running chunks that use this frame).
   Team::of_this_thread().run(
-      threads, chunk_count, [](const void* c, int k) noexcept { (*static_cast<const Chunk*>(c))(k); }, &chunk);
+      threads, chunk_count,
+      [](const void* context, int k) noexcept {
+        auto& l = *static_cast<Loop*>(const_cast<void*>(context));
+        try {
+          l.chunk(k);
+        } catch (...) {
+          if (!l.failed.exchange(true)) l.error = std::current_exception();
+        }
+      },
+      &loop);
+  if (loop.failed.load(std::memory_order_relaxed)) std::rethrow_exception(loop.error);
 }
 
 // Calls fn(begin, end, chunk) for `chunk_count` contiguous chunks covering [0, n), chunk k

@@ -9,6 +9,7 @@
 
 #include <atomic>
 #include <chrono>
+#include <new>
 #include <thread>
 #include <vector>
 
@@ -44,6 +45,26 @@ std::vector<pthread_t> threads_of_a_sleepy_loop(int threads) {
     std::this_thread::sleep_for(std::chrono::milliseconds(1));
   });
   return who;
+}
+
+// An allocation failing in a chunk (a cracked bridge's buffers growing) reaches the
+// caller as the exception it was, after the loop's other chunks ran, on any team, and the
+// team runs the next loop as usual. It used to end the program (std::terminate).
+TEST(Team, AnExceptionInAChunkReachesTheCallerAfterTheLoop) {
+  for (int threads : {1, 2, 4}) {
+    const ScopedTeamSize team(threads);
+    std::vector<std::atomic<int>> runs(64);
+    EXPECT_THROW(parallel_chunks(6400, 64,
+                                 [&](std::ptrdiff_t, std::ptrdiff_t, int k) {
+                                   runs[k].fetch_add(1);
+                                   if (k == 13 || k == 50) throw std::bad_alloc();
+                                 }),
+                 std::bad_alloc);
+    for (int k = 0; k < 64; ++k) EXPECT_EQ(runs[k].load(), 1) << threads << " threads, chunk " << k;
+    std::atomic<int> next{0};
+    parallel_chunks(6400, 64, [&](std::ptrdiff_t, std::ptrdiff_t, int) { next.fetch_add(1); });
+    EXPECT_EQ(next.load(), 64) << threads;
+  }
 }
 
 TEST(Team, WorkersTakePart) {
