@@ -15,6 +15,7 @@
 #include "analysis/batch/chaos_probe.h"
 #include "analysis/batch/ensemble.h"
 #include "analysis/batch/study_progress.h"
+#include "analysis/run/run_recorder.h"
 #include "analysis/run/seismic_run.h"
 #include "engine/cores.h"
 #include "io/chrome_trace.h"
@@ -159,6 +160,12 @@ int run_scenario(const RunOptions& o) {
     if (!o.member_range.empty())
       throw InputError("--member-range " + o.member_range + ": a share of an ensemble, but " + o.scenario.string() +
                        " has no [ensemble] table and no --members was given");
+  }
+  if (const double shaken_s = o.resume.empty() ? -1 : finished_shaking_s(o.resume); shaken_s >= 0) {
+    // Its last checkpoint lies before the end: going on from it would only write the end again.
+    std::printf("%s: the run there finished (%.2f s of shaking, summary.json): nothing to resume; to run it again, run "
+                "its scenario with --out %s\n", o.resume.c_str(), shaken_s, o.resume.c_str());
+    return 0;
   }
   if (o.probe_members > 0) return run_probe_of(o, scenario);
   if (const MpiSession mpi; mpi.size() > 1)  // every rank would write the same folder

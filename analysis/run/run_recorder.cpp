@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cstdio>
 #include <cstring>
+#include <fstream>
 #include <sstream>
 
 #include <nlohmann/json.hpp>
@@ -236,6 +237,14 @@ void RunRecorder::write_summary(const RunDescription& run, const SeismicRunResul
   Json& settings = j["settings"];
   for_each_run_setting([&](const SettingInfo& info, auto member) { settings[info.key] = setting_value(run.settings.*member); });
   write_text_atomically(out_ / "summary.json", j.dump(2) + "\n");
+}
+
+double finished_shaking_s(const std::filesystem::path& out) {
+  std::ifstream in(out / "summary.json");
+  if (!in) return -1;
+  const nlohmann::json j = nlohmann::json::parse(in, nullptr, /*allow_exceptions=*/false);
+  if (!j.is_object() || !j.value("finished", false)) return -1;
+  return j.value("shaking_time_s", 0.0);
 }
 
 }  // namespace ishibashi

@@ -45,6 +45,10 @@ struct RunDescription {
   } member;
 };
 
+// The shaking (s) that the summary.json in `out` reports of a run that finished; -1 where
+// the folder holds no summary, or one of a run stopped, killed or under way.
+double finished_shaking_s(const std::filesystem::path& out);
+
 class RunRecorder {
  public:
   RunRecorder(std::filesystem::path out, const Model& model, std::vector<int> monitors,

@@ -168,6 +168,23 @@ TEST(Checkpoint, RunStoppedWhileSettlingSaysSoAndKeepsACheckpoint) {
   EXPECT_TRUE(std::filesystem::exists(out / "checkpoint.bin"));
 }
 
+// A finished run's last checkpoint lies before its end: a resume says the run finished and
+// leaves its outputs as they are, where it went on from that checkpoint and wrote the end again.
+TEST(Checkpoint, ResumeOfAFinishedRunSaysSoAndWritesNothing) {
+  const auto file = scenario("ishibashi_checkpoint_finished.toml", 0.1, 0.1);
+  const auto out = tmp_dir() / "ishibashi_cp_finished";
+  std::filesystem::remove_all(out);
+  int status = 0;
+  ASSERT_EQ((run_command(kRun + file.string() + " --checkpoint-every 0.05 --out " + out.string(), &status), status), 0);
+  ASSERT_TRUE(std::filesystem::exists(out / "checkpoint.bin"));
+  const auto written = std::filesystem::last_write_time(out / "history.csv");
+  const std::string message = run_command(kRun + "--resume " + out.string(), &status);
+  EXPECT_EQ(status, 0) << message;
+  EXPECT_NE(message.find("the run there finished (0.10 s of shaking, summary.json): nothing to resume"), std::string::npos)
+      << message;
+  EXPECT_EQ(std::filesystem::last_write_time(out / "history.csv"), written);
+}
+
 TEST(Checkpoint, CheckpointOfAnotherBuildOrOfChangedInputsIsRefused) {
   const auto file = scenario("ishibashi_checkpoint_refused.toml", 0.1, 20.0);
   const auto out = tmp_dir() / "ishibashi_cp_refused";
