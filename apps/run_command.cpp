@@ -186,26 +186,24 @@ int run_scenario(const RunOptions& o) {
   // shaking, where the bar's redraws made one line of hundreds.
   const bool bar = !o.quiet && isatty(STDERR_FILENO);
   std::unique_ptr<SeismicRun> resumed;  // the run (a new one, or one resumed)
-  int settle_lines = 0;  // into a log: a line every 0.25 s of settling
-  bool settle_shown = false;
-  if (!o.quiet)
-    options.on_settle_frame = [&](const State& s, double settle_max_s) {
-      if (!bar && s.time_s < 0.25 * (settle_lines + 1) - 1e-9) return;
-      settle_lines = static_cast<int>(s.time_s / 0.25 + 1e-9);
+  bool settle_shown = false;  // on a terminal: the settling's line, ended by the shaking's bar
+  const auto print_line = [](const std::string& line) { std::fprintf(stderr, "%s\n", line.c_str()); };
+  if (bar) {
+    options.on_settle_frame = [&](const State& s, double settle_max_s, double settled_below_j) {
       settle_shown = true;
-      std::fprintf(stderr, "%s  settling: %.2f s of at most %.2f s, kinetic energy %.3g J (settled below %.3g J)%s", bar ? "\r" : "",
-                   s.time_s, settle_max_s, s.energy.kinetic_j, resumed->scenario().settings.settle_kinetic_j,
-                   bar ? "   " : "\n");
+      std::fprintf(stderr, "\r  settling: %.2f s of at most %.2f s, kinetic energy %.3g J (settled below %.3g J)   ", s.time_s,
+                   settle_max_s, s.energy.kinetic_j, settled_below_j);
     };
-  if (bar)
     options.on_frame = [&](const State&, double done) {
       if (settle_shown) std::fprintf(stderr, "\n"), settle_shown = false;
       const double elapsed = std::chrono::duration<double>(std::chrono::steady_clock::now() - shake0).count();
       std::fprintf(stderr, "\r  shaking [%-30s] %5.1f%%  about %s to go   ", std::string(static_cast<int>(30 * done), '#').c_str(),
                    100 * done, duration_text(elapsed * (1 - done) / done).c_str());
     };
-  else if (!o.quiet)
-    options.on_frame = with_progress_lines(nullptr, "  run", [](const std::string& line) { std::fprintf(stderr, "%s\n", line.c_str()); });
+  } else if (!o.quiet) {
+    options.on_settle_frame = settling_lines("  run", print_line);
+    options.on_frame = with_progress_lines(nullptr, "  run", print_line);
+  }
   if (!o.resume.empty()) {
     resumed = SeismicRun::resume(options, o.overrides);  // threads: the only setting a resume may change
   } else {

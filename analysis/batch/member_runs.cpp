@@ -147,6 +147,7 @@ MemberStatus run_in_folder(const fs::path& folder, const std::string& key, const
     use_threads(threads);
     options.out = folder;
     options.on_frame = with_progress_lines(std::move(options.on_frame), name, event);
+    if (!options.on_settle_frame) options.on_settle_frame = settling_lines(name, event);
     RunOverrides overrides;
     overrides.set(&RunSettings::threads, threads);
     std::unique_ptr<SeismicRun> run;

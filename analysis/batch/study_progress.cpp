@@ -4,6 +4,8 @@
 #include <cmath>
 #include <cstdio>
 
+#include "engine/state.h"
+
 namespace ishibashi {
 
 TimeLeft estimate_time_left(const std::vector<JobProgress>& jobs, int workers) {
@@ -79,6 +81,18 @@ std::function<void(const State&, double)> with_progress_lines(std::function<void
     char share[40];
     std::snprintf(share, sizeof share, ": %.0f %% of the shaking done", 100 * done);
     event(name + share + ", about " + duration_text(elapsed * (1 - done) / (done - pace.done_at_start)) + " to go");
+  };
+}
+
+std::function<void(const State&, double, double)> settling_lines(const std::string& name,
+                                                                 const std::function<void(const std::string&)>& event) {
+  return [name, event, lines = 0](const State& s, double settle_max_s, double settled_below_j) mutable {
+    if (s.time_s < 0.25 * (lines + 1) - 1e-9) return;
+    lines = static_cast<int>(s.time_s / 0.25 + 1e-9);
+    char text[160];
+    std::snprintf(text, sizeof text, ": settling, %.2f s of at most %.2f s, kinetic energy %.3g J (settled below %.3g J)",
+                  s.time_s, settle_max_s, s.energy.kinetic_j, settled_below_j);
+    event(name + text);
   };
 }
 

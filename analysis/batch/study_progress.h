@@ -49,6 +49,13 @@ std::function<void(const State&, double)> with_progress_lines(std::function<void
                                                                const std::string& name,
                                                                const std::function<void(const std::string&)>& event);
 
+// A line to `event` every 0.25 s of the settling (a large bridge settles for minutes in
+// which a run otherwise says nothing): `name`, the time settled of at most settle_max_s and
+// the kinetic energy against the threshold below which the settling ends. A run's
+// on_settle_frame.
+std::function<void(const State&, double, double)> settling_lines(const std::string& name,
+                                                                 const std::function<void(const std::string&)>& event);
+
 // Thread-safe: each worker reports its own job; a line goes to `print` when a job starts
 // or ends and at most every `every_s` seconds while runs advance.
 class StudyProgress {

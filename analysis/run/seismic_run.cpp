@@ -248,7 +248,7 @@ void SeismicRun::settle(Progress& p) {
     }
     if (frame) {
       p.record("settle", m, s);
-      if (options_.on_settle_frame) options_.on_settle_frame(s, settle_max_s);
+      if (options_.on_settle_frame) options_.on_settle_frame(s, settle_max_s, scenario_.settings.settle_kinetic_j);
       maybe_checkpoint(p);
     }
   }

@@ -58,8 +58,9 @@ struct SeismicRunOptions {
   // Called after every output frame of the shaking with the state and the fraction done (0..1).
   std::function<void(const State&, double fraction_done)> on_frame;
   // Called after every output frame of the settling (minutes of a large bridge before the
-  // shaking's first frame) with the state; the time is s.time_s of at most settle_max_s.
-  std::function<void(const State&, double settle_max_s)> on_settle_frame;
+  // shaking's first frame) with the state; the time is s.time_s of at most settle_max_s,
+  // and the settling ends when the kinetic energy falls below settled_below_j.
+  std::function<void(const State&, double settle_max_s, double settled_below_j)> on_settle_frame;
   // Warnings worth a user's attention (a block that left the model).
   std::function<void(const std::string&)> on_warning;
 };

@@ -210,6 +210,22 @@ std::filesystem::path short_scenario(const std::string& name, const std::string&
   return f;
 }
 
+// A member's settling (minutes of a large bridge) comes into the ensemble's log as lines,
+// every 0.25 s of it, where a member said nothing until its shaking's first tenth.
+TEST(Ensemble, MembersSettlingComesAsLines) {
+  const auto file = short_scenario("ensemble_settling.toml", "[ensemble]\nmembers = 1\n");
+  const auto out = tmp_dir() / "ensemble_settling";
+  std::filesystem::remove_all(out);
+  int status = 0;
+  const std::string log = run_command(test::program() + " run " + file.string() +
+                                          " --settle-max 0.3 --settle-kinetic 1e-12 --duration 0.01 --out " + out.string(),
+                                      &status);
+  ASSERT_EQ(status, 0) << log;
+  EXPECT_NE(log.find("member 0: settling, 0.2"), std::string::npos) << log;  // the first frame past 0.25 s
+  EXPECT_NE(log.find(" s of at most 0.30 s, kinetic energy "), std::string::npos) << log;
+  EXPECT_NE(log.find("(settled below 1e-12 J)"), std::string::npos) << log;
+}
+
 TEST(Ensemble, RunMembersWritesProbabilitiesAndKeepsFinishedMembers) {
   const auto file = short_scenario("ensemble_a.toml", "[ensemble]\nmembers = 3\nseed = 5\namplitude = [0.9, 1.1]\n");
   const auto out = tmp_dir() / "ensemble_a";

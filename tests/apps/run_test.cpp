@@ -246,7 +246,7 @@ TEST(Run, ProgressIntoALogFileComesAsLines) {
   ASSERT_EQ(status, 0) << output;
   EXPECT_EQ(output.find('\r'), std::string::npos) << output;
   const std::size_t header = output.find("Nishida A: 166 blocks"),
-                    settling = output.find("  settling: 0.27 s of at most 0.30 s, kinetic energy "),
+                    settling = output.find("  run: settling, 0.27 s of at most 0.30 s, kinetic energy "),
                     half = output.find("  run: 50 % of the shaking done, about ");
   ASSERT_NE(settling, std::string::npos) << output;
   ASSERT_NE(half, std::string::npos) << output;
