@@ -4,6 +4,7 @@
 #include <toml++/toml.h>
 
 #include <array>
+#include <cctype>
 #include <climits>
 #include <cmath>
 #include <filesystem>
@@ -256,6 +257,14 @@ inline const char* file_kind_of_table(std::string_view key) {
 // errors name the file and the line.
 inline toml::table parse_toml_file(const std::filesystem::path& file, const InputFileKind& kind) {
   if (!std::filesystem::exists(file)) throw InputError(file.string() + ": no such file");
+  // A mesh where a TOML file goes (`[model] file = "stones.off"`, `build stones.stl`) read as
+  // TOML said "expected '='" at its first line.
+  std::string extension = file.extension().string();
+  for (char& c : extension) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  if (extension == ".off" || extension == ".obj" || extension == ".stl")
+    throw InputError(file.string() + ": a mesh given where " + kind.name + " goes, a TOML file; a model file imports " +
+                     "meshes as blocks with [import] files = [\"" + file.filename().string() +
+                     "\"] (as models/examples/stack_of_three.toml does)");
   toml::table root;
   try {
     root = toml::parse_file(file.string());

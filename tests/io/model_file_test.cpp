@@ -51,6 +51,20 @@ TEST(ModelFile, WrongTypeAndBadChoiceAreErrors) {
   EXPECT_THAT(error_of("[ring\n"), HasSubstr("ishibashi_model_test.toml:1"));
 }
 
+// A mesh given where a model or scenario file goes says how meshes come in, where TOML's
+// parser said "expected '='" at its first line.
+TEST(ModelFile, AMeshWhereATomlFileGoesSaysHowToImportIt) {
+  const auto mesh = std::filesystem::temp_directory_path() / "ishibashi_stones.OFF";
+  std::ofstream(mesh) << "OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n";
+  try {
+    read_model_file(mesh);
+    ADD_FAILURE() << "no error";
+  } catch (const InputError& e) {
+    EXPECT_THAT(e.what(), HasSubstr("ishibashi_stones.OFF: a mesh given where a model file (models/) goes, a TOML file"));
+    EXPECT_THAT(e.what(), HasSubstr("[import] files = [\"ishibashi_stones.OFF\"]"));
+  }
+}
+
 TEST(ModelFile, NumbersOutOfRangeNameTheirLine) {
   EXPECT_THAT(error_of("[ring]\nrise_m = 3.0\nspan_m = -3.0\n"), HasSubstr(":3: 'span_m' is -3; it must be > 0"));
   EXPECT_THAT(error_of("[ring]\nvoussoirs = 0\n"), HasSubstr(":2: 'voussoirs' is 0; it must be at least 1"));
