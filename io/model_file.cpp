@@ -68,6 +68,7 @@ ModelFile read_model_file(const std::filesystem::path& file) {
   const std::filesystem::path base = std::filesystem::absolute(file).parent_path();
   import.paths("files", base, m.import_files);
   import.paths("fixed_files", base, m.fixed_files);
+  import.positive("scale", m.import_scale);
   import.finish();
   if (import.present() && (ring.present() || bridge.present()))
     throw InputError(file.string() + ": [import] and [ring]/[bridge] exclude each other: a model is either imported or generated");

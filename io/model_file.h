@@ -19,6 +19,7 @@ struct ModelFile {
   // [import]: blocks from mesh files instead (paths resolved against the model file).
   std::vector<std::filesystem::path> import_files;  // free blocks
   std::vector<std::filesystem::path> fixed_files;   // fixed blocks (ground, abutments)
+  double import_scale = 1;  // metres per unit of the mesh files (0.001: drawn in millimetres)
   bool imported() const { return !import_files.empty() || !fixed_files.empty(); }
 };
 

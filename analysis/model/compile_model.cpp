@@ -1,19 +1,47 @@
 #include "analysis/model/compile_model.h"
 
+#include <algorithm>
 #include <cstdio>
+#include <mutex>
 
 #include "geometry/block_files.h"
 
 namespace ishibashi {
 namespace {
 
+// Free stones outside these sizes (m, a block's largest extent) are warned of: a masonry
+// stone is centimetres to a few metres across.
+constexpr double kSmallestPlausibleStone_m = 0.005, kLargestPlausibleStone_m = 20;
+
+// A mesh drawn in millimetres (as CAD programs draw) and read as metres makes stones of
+// hundreds of metres that stand and shake as plausibly as real ones: said once a process.
+void warn_of_implausible_sizes(const std::vector<BridgeBlock>& blocks, const std::filesystem::path& path) {
+  double largest = 0;
+  for (const BridgeBlock& b : blocks) {
+    if (b.fixed || b.shape.vertices.empty()) continue;  // a ground slab may be as large as it likes
+    Vec3 lo = b.shape.vertices.front(), hi = lo;
+    for (const Vec3& v : b.shape.vertices) lo = lo.cwiseMin(v), hi = hi.cwiseMax(v);
+    largest = std::max(largest, (hi - lo).maxCoeff());
+  }
+  if (largest == 0 || (largest >= kSmallestPlausibleStone_m && largest <= kLargestPlausibleStone_m)) return;
+  static std::once_flag warned;
+  std::call_once(warned, [&] {
+    std::fprintf(stderr, "warning: %s: its largest free block is %.3g m across; mesh coordinates are read as metres times "
+                 "[import] scale: a mesh drawn in millimetres needs scale = 0.001, in centimetres 0.01\n",
+                 path.c_str(), largest);
+  });
+}
+
 std::vector<BridgeBlock> model_blocks(const ModelFile& file, const std::filesystem::path& path) {
   std::vector<BridgeBlock> blocks;
   if (file.imported()) {
     for (const auto* list : {&file.import_files, &file.fixed_files})
       for (const auto& p : *list)
-        for (const Polyhedron& shape : read_block_file(p))
-          blocks.push_back(BridgeBlock{shape, Part::imported, 0, list == &file.fixed_files});
+        for (Polyhedron& shape : read_block_file(p)) {
+          for (Vec3& v : shape.vertices) v *= file.import_scale;
+          blocks.push_back(BridgeBlock{std::move(shape), Part::imported, 0, list == &file.fixed_files});
+        }
+    warn_of_implausible_sizes(blocks, path);
     return blocks;
   }
   try {
