@@ -150,6 +150,25 @@ int run_probe_of(const RunOptions& o, const Scenario& sc) {
   return r.interrupted > 0 ? 130 : r.failed > 0 ? 1 : 0;
 }
 
+// The shaking's peaks by component, and the whole records' checked: the first check of a
+// record's units (a record in gal read as g shakes at hundreds of g).
+void print_ground_motion_peaks(const Scenario& sc) {
+  const GroundMotionPeaks p = ground_motion_peaks(sc.motion());
+  const Vec3 a = p.accel_m_s2, v = p.velocity_m_s, d = p.displacement_m;
+  std::printf("  peak ground acceleration x %.3g, y %.3g, z %.3g m/s^2 (%.3g, %.3g, %.3g g), velocity %.3g, %.3g, %.3g m/s, "
+              "displacement %.3g, %.3g, %.3g m\n", a.x(), a.y(), a.z(), a.x() / kStandardGravity_m_s2, a.y() / kStandardGravity_m_s2,
+              a.z() / kStandardGravity_m_s2, v.x(), v.y(), v.z(), d.x(), d.y(), d.z());
+  constexpr double kLargest_g = 5, kSmallest_g = 1e-3;  // recorded peaks reach about 4 g
+  GroundMotionSpec whole = sc.ground_motion;  // a window may hold only the quiet start
+  whole.start_s = whole.duration_s = 0;
+  const double largest_g = ground_motion_peaks(whole).accel_m_s2.maxCoeff() / kStandardGravity_m_s2;
+  if (largest_g > kLargest_g || (largest_g > 0 && largest_g < kSmallest_g))
+    std::printf("warning: the records' peak ground acceleration of %.3g g %s: check each record's unit in %s ([ground_motion] unit = "
+                "\"g\", \"gal\" or \"m/s2\" for columns; an .AT2 file says its own) and its scale\n",
+                largest_g, largest_g > kLargest_g ? "is above any earthquake recorded (about 4 g)" : "would move no masonry",
+                sc.file.c_str());
+}
+
 int run_scenario(const RunOptions& o) {
   Scenario scenario;
   if (o.resume.empty()) {
@@ -217,6 +236,7 @@ int run_scenario(const RunOptions& o) {
               "%.2f s of the record)\n", sc.model.name.c_str(), m.block_count, sub_contact_count(run.world().state()),
               joint_rule_name(sc.settings.joint_rule), run.dt_s(), run.world().thread_tuner().max_threads(),
               run.ground_motion().duration_s(), sc.settings.start_s);
+  print_ground_motion_peaks(sc);
   if (sc.settings.duration_s > run.ground_motion().duration_s() + run.dt_s())
     std::printf("  the record ends %.2f s after start_s: the run shakes for that long, not the %.2f s asked\n",
                 run.ground_motion().duration_s(), sc.settings.duration_s);

@@ -103,11 +103,20 @@ GroundMotion prepare_ground_motion(const GroundMotionSpec& spec, double dt_s) {
   }
 }
 
-double horizontal_pga_m_s2(const GroundMotionSpec& spec) {
+GroundMotionPeaks ground_motion_peaks(const GroundMotionSpec& spec) {
   const GroundMotion g = prepare_ground_motion(spec, 0.005);  // interpolation never exceeds a sample
-  double peak = 0;
-  for (const Vec3& a : g.accel_m_s2) peak = std::max({peak, std::abs(a.x()), std::abs(a.y())});
-  return peak;
+  GroundMotionPeaks p;
+  for (std::size_t k = 0; k < g.accel_m_s2.size(); ++k) {
+    p.accel_m_s2 = p.accel_m_s2.cwiseMax(g.accel_m_s2[k].cwiseAbs());
+    p.velocity_m_s = p.velocity_m_s.cwiseMax(g.velocity_m_s[k].cwiseAbs());
+    p.displacement_m = p.displacement_m.cwiseMax(g.displacement_m[k].cwiseAbs());
+  }
+  return p;
+}
+
+double horizontal_pga_m_s2(const GroundMotionSpec& spec) {
+  const Vec3 a = ground_motion_peaks(spec).accel_m_s2;
+  return std::max(a.x(), a.y());
 }
 
 double arias_time_s(const GroundMotion& g, double fraction) {

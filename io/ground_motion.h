@@ -18,6 +18,7 @@
 
 namespace ishibashi {
 
+constexpr double kStandardGravity_m_s2 = 9.80665;  // records' g
 enum class AccelerationUnit { g, gal, m_s2 };
 
 struct Record {
@@ -102,8 +103,14 @@ struct GroundMotion {
 
 GroundMotion prepare_ground_motion(const GroundMotionSpec& spec, double dt_s);
 
-// The peak ground acceleration of the horizontal components (the larger of x and y) of
-// the motion as prepared (window, scale, baseline correction), m/s^2.
+// The peaks of each component (x, y, z) of the motion as prepared (window, scale,
+// baseline correction): |acceleration| m/s^2, |velocity| m/s, |displacement| m.
+struct GroundMotionPeaks {
+  Vec3 accel_m_s2 = Vec3::Zero(), velocity_m_s = Vec3::Zero(), displacement_m = Vec3::Zero();
+};
+GroundMotionPeaks ground_motion_peaks(const GroundMotionSpec& spec);
+
+// The peak ground acceleration of the horizontal components (the larger of x and y), m/s^2.
 double horizontal_pga_m_s2(const GroundMotionSpec& spec);
 
 // The time (s from the motion's start) by which the horizontal components' Arias

@@ -12,7 +12,6 @@
 namespace ishibashi {
 namespace {
 
-constexpr double kG = 9.80665;  // standard gravity, m/s^2 (unit conversion of records)
 
 [[noreturn]] void fail(const std::filesystem::path& file, int line, const std::string& what) {
   std::ostringstream s;
@@ -120,7 +119,7 @@ bool at2_header_fields(const std::string& line, std::string& npts, std::string& 
 
 double unit_factor(AccelerationUnit u) {
   switch (u) {
-    case AccelerationUnit::g: return kG;
+    case AccelerationUnit::g: return kStandardGravity_m_s2;
     case AccelerationUnit::gal: return 0.01;
     case AccelerationUnit::m_s2: return 1.0;
   }
@@ -156,7 +155,7 @@ Record read_at2(const std::filesystem::path& file) {
   if (r.dt_s <= 0 || npts <= 1) fail(file, 4, "NPTS must exceed 1 and DT must be positive");
   std::string upper = units;
   std::transform(upper.begin(), upper.end(), upper.begin(), ::toupper);
-  const double factor = upper.find("UNITS OF G") != std::string::npos ? kG
+  const double factor = upper.find("UNITS OF G") != std::string::npos ? kStandardGravity_m_s2
                         : upper.find("CM/S") != std::string::npos ? 0.01
                                                                   : 0.0;
   if (factor == 0.0) fail(file, 3, "unknown acceleration units (expected 'UNITS OF G' or 'CM/S/S')");

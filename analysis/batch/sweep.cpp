@@ -26,7 +26,6 @@ namespace ishibashi {
 namespace {
 
 namespace fs = std::filesystem;
-constexpr double kG = 9.80665;
 
 struct Case {
   int scenario, record, level, member;  // member: of the sweep's members (0 when it has none)
@@ -77,7 +76,7 @@ std::string run_case(const SweepFile& sweep, const Case& c, int threads, const f
   const bool baseline_correction = sc.ground_motion.baseline_correction;
   sc.ground_motion = record.motion;  // the record's components; its window is the settings'
   sc.ground_motion.baseline_correction = baseline_correction;
-  const double record_pga_g = horizontal_pga_m_s2(sc.motion()) / kG;
+  const double record_pga_g = horizontal_pga_m_s2(sc.motion()) / kStandardGravity_m_s2;
   if (sweep.scale_to_pga && !(record_pga_g > 0))
     throw InputError(sweep.file.string() + ": record '" + record.name + "' has no horizontal acceleration to scale to a PGA");
   const double factor = sweep.scale_to_pga ? level / record_pga_g : level;

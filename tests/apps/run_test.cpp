@@ -391,6 +391,39 @@ TEST(Run, ModelWithoutContactsAsksForATimeStep) {
 }
 
 
+// The run's header gives the shaking's peaks by component, the first check of a record's
+// units; a record whose unit is wrong (gal values read as g: a peak of 306 g) is warned of.
+// A 1 Hz sine of 300 gal, 10 periods at 0.01 s, from its first crest (a short window left
+// uncorrected: a baseline correction takes away a short window's mean): its peak
+// acceleration is 3 m/s^2 (0.306 g).
+TEST(Run, HeaderGivesTheShakingsPeaksAndWarnsOfAWrongUnit) {
+  const auto dir = test::tmp_dir() / "ishibashi_run_peaks";
+  std::filesystem::create_directories(dir);
+  {
+    std::ofstream sine(dir / "sine.txt");
+    for (int k = 0; k <= 1000; ++k) sine << 300 * std::sin(2 * M_PI * k * 0.01) << "\n";
+  }
+  for (const std::string unit : {"gal", "g"}) {
+    std::ofstream(dir / (unit + ".toml")) << "[model]\nfile = \"" << (kRoot / "models/nishida_a.toml").string()
+                                          << "\"\n[run]\nsettle_max_s = 0.01\nduration_s = 0.01\n"
+                                          << "[ground_motion]\nstart_s = 0.25\nbaseline_correction = false\n"
+                                          << "x = { file = \"sine.txt\", format = \"columns\", dt_s = 0.01, unit = \"" << unit << "\" }\n";
+    int status = 0;
+    const std::string run = test::run_command(test::program() + " run --quiet " + (dir / (unit + ".toml")).string() +
+                                                  " --out " + (dir / unit).string(), &status);
+    ASSERT_EQ(status, 0) << run;
+    if (unit == "gal") {
+      EXPECT_NE(run.find("  peak ground acceleration x 3, y 0, z 0 m/s^2 (0.306, 0, 0 g)"), std::string::npos) << run;
+      EXPECT_EQ(run.find("warning"), std::string::npos) << run;
+    } else {
+      EXPECT_NE(run.find("warning: the records' peak ground acceleration of 300 g is above any earthquake recorded (about "
+                         "4 g): check each record's unit in " + (dir / "g.toml").string()),
+                std::string::npos) << run;
+    }
+  }
+  std::filesystem::remove_all(dir);
+}
+
 // A duration past the record's end is cut to the record, and the run says so.
 TEST(Run, DurationPastTheRecordsEndIsSaid) {
   int status = 0;
