@@ -67,6 +67,7 @@ CLI::App* add_run_command(CLI::App& app, ishibashi::RunOptions& run) {
   run_cmd->add_option("--trace-steps", run.trace_steps, "FROM:TO, the steps traced, counted from the run's start")
       ->capture_default_str();
   run_cmd->add_flag("--quiet", run.quiet, "no progress bar");
+  run_cmd->add_flag("--no-report", run.no_report, "no report.png at the end (its figures need python3 with matplotlib)");
   const std::vector<CLI::Option*> run_settings = ishibashi::add_run_setting_flags(run_cmd, run.overrides);
   run_cmd->add_option("--dt-factor", run.dt_factor, "multiplies the time step (0.5 halves it: convergence studies)")
       ->check(ishibashi::number_in(1e-3, 1.0));

@@ -14,6 +14,7 @@
 
 #include "analysis/batch/chaos_probe.h"
 #include "analysis/batch/ensemble.h"
+#include "analysis/batch/job_queue.h"
 #include "analysis/batch/study_progress.h"
 #include "analysis/run/run_recorder.h"
 #include "analysis/run/seismic_run.h"
@@ -277,8 +278,12 @@ int run_scenario(const RunOptions& o) {
     std::printf("trace of %ld steps (%ld:%ld asked) in %s: open it in https://ui.perfetto.dev or chrome://tracing\n", traced,
                 trace.first_step, trace.last_step, o.trace.c_str());
   }
+  const std::string not_drawn =
+      o.no_report ? "" : run_report_script("run_report.py", options.out, sc.model.name + ", " + sc.file.filename().string());
   std::printf("outputs in %s: blocks.pvd, contacts.pvd, view.pvsm (ParaView: File > Load State, files searched in its "
-              "folder), history.csv, summary.json\n", options.out.c_str());
+              "folder), history.csv, summary.json%s\n", options.out.c_str(),
+              o.no_report || !not_drawn.empty() ? "" : ", report.png (the run at a glance)");
+  if (!not_drawn.empty()) std::printf("warning: report.png not drawn: %s\n", not_drawn.c_str());
   return r.interrupted ? 130 : 0;
 }
 

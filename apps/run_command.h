@@ -15,6 +15,7 @@ struct RunOptions {
   std::filesystem::path trace;     // non-empty: a Chrome trace-event timeline of trace_steps here
   std::string trace_steps = "1000:1100";  // FROM:TO, steps counted from the run's start
   bool quiet = false;         // no progress bar
+  bool no_report = false;     // no report.png (analysis/report/run_report.py) at the end
   RunOverrides overrides;     // settings replacing the scenario's (--dt, --duration, ...; a resume: --threads)
   double dt_factor = 1;       // multiplies the time step (0.5: half of it, for convergence studies)
   bool fixed_threads = false; // every step on all threads (default: the team size found fastest)

@@ -21,7 +21,7 @@ import matplotlib.pyplot as plt  # noqa: E402
 from mpl_toolkits.mplot3d.art3d import Poly3DCollection  # noqa: E402
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
-from run_outputs import read_rows, read_vtu, surface  # noqa: E402
+from run_outputs import read_rows, read_vtu, save_figure, surface  # noqa: E402
 
 EFFECTIVE_MASS_SHARE = 0.05  # a first mode along an axis carries more than this of the mass
 VIEWS = (("the front", 0, -90), ("above", 90, -90))  # (from where, elevation, azimuth), degrees
@@ -85,7 +85,7 @@ def mode_shape_figure(folder, title, path=None):
     fig.suptitle(f"{title}: first modes (grey: undeformed)", fontsize=10)
     fig.tight_layout()
     path = Path(path) if path else folder / "mode_shapes.png"
-    fig.savefig(path, dpi=90)
+    save_figure(fig, path, dpi=90)
     plt.close(fig)
     return path
 

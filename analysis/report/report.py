@@ -26,7 +26,7 @@ import matplotlib.pyplot as plt  # noqa: E402
 from mpl_toolkits.mplot3d.art3d import Poly3DCollection  # noqa: E402
 
 from mode_shapes import mode_shape_figure  # noqa: E402  (beside this file)
-from run_outputs import frames, read_rows, read_vtu, surface  # noqa: E402
+from run_outputs import frames, read_rows, read_vtu, save_figure, surface  # noqa: E402
 
 G = 9.80665  # m/s^2
 
@@ -49,7 +49,7 @@ def model_letter(scenario):
 
 
 def save(fig, path):
-    fig.savefig(path, dpi=110, bbox_inches="tight")
+    save_figure(fig, path)
     plt.close(fig)
     return path
 

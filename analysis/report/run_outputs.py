@@ -4,6 +4,7 @@ sweep.csv, history.csv, ...) under the names the program writes now (analysis/ru
 run_result.cpp, run_recorder.cpp), whatever program wrote them, and the ParaView series."""
 import csv
 import json
+import os
 import xml.etree.ElementTree as ET
 from pathlib import Path
 
@@ -37,6 +38,19 @@ def _today(row):
 def read_summary(run):
     """A run folder's summary.json as a dict (first_opening_s is None when no joint opened)."""
     return _today(json.loads((Path(run) / "summary.json").read_text()))
+
+
+def save_figure(fig, path, dpi=110):
+    """Writes a matplotlib figure to `path` whole or not at all (a temporary name, then a
+    rename, as the program writes its files) and returns the path."""
+    path = Path(path)
+    temporary = path.with_name(f"{path.stem}.tmp{os.getpid()}{path.suffix}")
+    try:
+        fig.savefig(temporary, dpi=dpi, bbox_inches="tight")
+        os.replace(temporary, path)
+    finally:
+        temporary.unlink(missing_ok=True)
+    return path
 
 
 def read_rows(path):

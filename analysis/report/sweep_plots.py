@@ -14,7 +14,7 @@ import matplotlib
 matplotlib.use("Agg")  # headless
 import matplotlib.pyplot as plt  # noqa: E402
 
-from run_outputs import read_rows  # noqa: E402  (beside this file)
+from run_outputs import read_rows, save_figure  # noqa: E402  (beside this file)
 
 STYLES = ["-", "--", ":", "-."]
 
@@ -51,7 +51,7 @@ def main():
     ax.set_title("Incremental dynamic analysis (red x: failure)")
     ax.grid(alpha=0.3)
     ax.legend(fontsize=8)
-    fig.savefig(out / "ida.png", dpi=110, bbox_inches="tight")
+    save_figure(fig, out / "ida.png")
     plt.close(fig)
 
     curve = read_rows(out / "fragility.csv")
@@ -80,7 +80,7 @@ def main():
     ax.set_title("Fragility (lognormal fits; dots: fraction failed per level)")
     ax.grid(alpha=0.3)
     ax.legend(fontsize=8, loc="upper center", bbox_to_anchor=(0.5, -0.13))  # below the axes: long names, no curve hidden
-    fig.savefig(out / "fragility.png", dpi=110, bbox_inches="tight")
+    save_figure(fig, out / "fragility.png")
     plt.close(fig)
     print(f"sweep plots: {out / 'ida.png'}, {out / 'fragility.png'}")
 

@@ -5,7 +5,6 @@
 #include <cmath>
 #include <csignal>
 #include <cstdlib>
-#include <fstream>
 #include <sstream>
 
 #include "analysis/model/compile_model.h"
@@ -326,6 +325,7 @@ SeismicRunResult SeismicRun::run() {
   const std::filesystem::path& out = options_.out;
   std::filesystem::create_directories(out);
   const FolderLock claim(out);
+  std::filesystem::remove(out / "report.png");  // an earlier run's picture (`run` draws this one's at its end)
   if (!scenario_.file.empty() && std::filesystem::exists(scenario_.file))
     std::filesystem::copy_file(scenario_.file, out / "scenario.toml", std::filesystem::copy_options::overwrite_existing);
   Progress p(options_, world_->model(), monitors_, world_->state());

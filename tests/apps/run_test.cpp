@@ -125,12 +125,20 @@ void expect_valid_outputs(const std::filesystem::path& out) {
     EXPECT_EQ(f.path().string().find(".tmp"), std::string::npos) << f.path();
 }
 
+// ... and report.png, the run at a glance (analysis/report/run_report.py), unless --no-report.
 TEST(Run, ShortSeismicRunWritesOutputsVtkReads) {
   const auto out = std::filesystem::temp_directory_path() / "ishibashi_run";
   std::filesystem::remove_all(out);
   const std::string cmd = test::program() + " run --quiet " + short_scenario(0.05, 0.05).string() + " --out " + out.string();
-  ASSERT_EQ(std::system(cmd.c_str()), 0) << cmd;
+  int status = 0;
+  const std::string said = test::run_command(cmd, &status);
+  ASSERT_EQ(status, 0) << said;
   expect_valid_outputs(out);
+  EXPECT_NE(said.find("summary.json, report.png (the run at a glance)"), std::string::npos) << said;
+  EXPECT_EQ(said.find("warning"), std::string::npos) << said;
+  EXPECT_EQ(test::text_of(out / "report.png").substr(0, 8), "\x89PNG\r\n\x1a\n");
+  ASSERT_EQ((test::run_command(cmd + " --no-report", &status), status), 0);
+  EXPECT_FALSE(std::filesystem::exists(out / "report.png"));
 }
 
 // Frames are for watching: asking for five times as many must not change the run (the

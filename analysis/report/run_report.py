@@ -1,0 +1,113 @@
+#!/usr/bin/python3
+"""A seismic run at a glance, from its history.csv and summary.json: the ground's
+acceleration as applied, the monitored units' displacement relative to the ground, the
+joints open, cracked and slipped and the stones fallen, and the energy terms, through the
+shaking, under a title with the verdict. One PNG in the run's folder:
+
+    /usr/bin/python3 analysis/report/run_report.py FOLDER [TITLE]   (FOLDER: history.csv, summary.json)
+
+writes FOLDER/report.png. `ishibashi run` calls it when the run ends (`--no-report`: not);
+ParaView shows the same run in 3D (FOLDER/view.pvsm).
+"""
+import math
+import re
+import sys
+from pathlib import Path
+
+import matplotlib
+
+matplotlib.use("Agg")  # headless
+import matplotlib.pyplot as plt  # noqa: E402
+
+sys.path.insert(0, str(Path(__file__).resolve().parent))
+from run_outputs import read_rows, read_summary, save_figure  # noqa: E402
+
+G = 9.80665  # m/s^2, the records' g (io/ground_motion.h)
+ENERGY_TERMS = ("kinetic_j", "elastic_j", "damping_j", "friction_j", "bond_j", "ground_work_j", "balance_error_j")
+COUNTS = (("joints_open", "joints open"), ("joints_cracked", "joints cracked"), ("joints_slipped", "joints slipped"),
+          ("fallen_stones", "stones fallen"))
+
+
+def number(text):
+    try:
+        return float(text)
+    except (TypeError, ValueError):
+        return math.nan
+
+
+def verdict(summary):
+    """The run's outcome in a line: collapse or not, stones fallen, first opening, balance."""
+    state = "interrupted" if summary.get("interrupted") else "collapse" if summary.get("collapse") else "stands"
+    opening = summary.get("first_opening_s")
+    return (f"{state} after {summary.get('shaking_time_s', 0):.2f} s of shaking: {summary.get('fallen_stones', 0)} stones "
+            f"fallen, {summary.get('joints_cracked', 0)} of {summary.get('joints', 0)} joints cracked, first opening "
+            + ("none" if opening is None else f"{opening:.3f} s")
+            + f"; energy balance {100 * summary.get('energy_balance_error_relative', 0):.3f} %")
+
+
+def draw(folder, title):
+    folder = Path(folder)
+    summary = read_summary(folder)
+    rows = read_rows(folder / "history.csv")
+    settled = [r for r in rows if r["phase"] == "settle"]
+    shake = [r for r in rows if r["phase"] != "settle"]
+    if not shake:  # stopped while settling: the settling is the run
+        shake, t0 = rows, 0.0
+    else:
+        t0 = number(settled[-1]["time_s"]) if settled else 0.0
+    t = [number(r["time_s"]) - t0 for r in shake]
+    fig, axes = plt.subplots(4, 1, figsize=(10, 11), sharex=True)
+
+    a = axes[0]
+    for axis in "xyz":
+        a.plot(t, [number(r[f"ground_a{axis}_m_s2"]) / G for r in shake], lw=0.7, label=axis)
+    a.set_ylabel("ground acceleration [g]")
+    a.set_title("the ground's acceleration as applied", fontsize=9)
+
+    a = axes[1]
+    monitors = sorted({m.group(1) for key in shake[0] for m in [re.fullmatch(r"block(\d+)_dx_m", key)] if m}, key=int)
+    for block in monitors:
+        for axis, style in zip("xyz", ("-", "--", ":")):
+            a.plot(t, [1000 * number(r[f"block{block}_d{axis}_m"]) for r in shake], lw=0.9, ls=style,
+                   label=f"block {block}, {axis}")
+    a.set_ylabel("displacement [mm]")
+    a.set_title("monitored units (the crown's unless [monitor] says), relative to the ground" if monitors
+                else "no unit monitored ([monitor] blocks names some)", fontsize=9)
+
+    a = axes[2]
+    for key, label in COUNTS:
+        a.plot(t, [number(r[key]) for r in shake], lw=1.0, label=label)
+    a.set_ylabel("count")
+    a.set_title("joints (cracked: opened by more than 1 mm or bond broken, for good) and fallen stones", fontsize=9)
+
+    a = axes[3]
+    potential0 = number(shake[0]["gravitational_j"])  # a potential: its change is what the others balance
+    a.plot(t, [(number(r["gravitational_j"]) - potential0) / 1000 for r in shake], lw=0.9, label="gravitational (change, the ground's own sinking too)")
+    for term in ENERGY_TERMS:
+        a.plot(t, [number(r[term]) / 1000 for r in shake], lw=0.9, label=term[:-2].replace("_", " "))
+    a.set_ylabel("energy [kJ]")
+    a.set_title("energy (dissipated and ground work since the start; balance error: what the terms leave unexplained)",
+                fontsize=9)
+    a.set_xlabel("time of shaking [s]" if settled and shake is not rows else "time [s]")
+
+    for a in axes:
+        a.grid(alpha=0.3)
+        if a.get_lines():
+            a.legend(fontsize=7, loc="upper left", ncol=4)
+    fig.suptitle(f"{title}\n{verdict(summary)}", fontsize=10)
+    fig.tight_layout()
+    path = save_figure(fig, folder / "report.png", dpi=100)
+    plt.close(fig)
+    return path
+
+
+def main():
+    if len(sys.argv) not in (2, 3):
+        sys.exit(__doc__)
+    folder = Path(sys.argv[1])
+    title = sys.argv[2] if len(sys.argv) == 3 else folder.name
+    draw(folder, title)
+
+
+if __name__ == "__main__":
+    main()
