@@ -49,6 +49,8 @@ def draw(folder, title):
     folder = Path(folder)
     summary = read_summary(folder)
     rows = read_rows(folder / "history.csv")
+    if not rows:
+        sys.exit(f"run_report.py: {folder / 'history.csv'} has no rows: nothing to draw")
     settled = [r for r in rows if r["phase"] == "settle"]
     shake = [r for r in rows if r["phase"] != "settle"]
     if not shake:  # stopped while settling: the settling is the run
