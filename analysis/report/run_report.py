@@ -64,7 +64,8 @@ def draw(folder, title):
     for axis in "xyz":
         a.plot(t, [number(r[f"ground_a{axis}_m_s2"]) / G for r in shake], lw=0.7, label=axis)
     a.set_ylabel("ground acceleration [g]")
-    a.set_title("the ground's acceleration as applied", fontsize=9)
+    a.set_title("the ground's acceleration as applied, sampled at the frames (output_interval_s: its peaks may fall "
+                "between them; the run's header gives them)", fontsize=9)
 
     a = axes[1]
     monitors = sorted({m.group(1) for key in shake[0] for m in [re.fullmatch(r"block(\d+)_dx_m", key)] if m}, key=int)
@@ -95,7 +96,7 @@ def draw(folder, title):
     for a in axes:
         a.grid(alpha=0.3)
         if a.get_lines():
-            a.legend(fontsize=7, loc="upper left", ncol=4)
+            a.legend(fontsize=7, loc="best", ncol=4)
     fig.suptitle(f"{title}\n{verdict(summary)}", fontsize=10)
     fig.tight_layout()
     path = save_figure(fig, folder / "report.png", dpi=100)
