@@ -205,7 +205,6 @@ int run_scenario(const RunOptions& o) {
   // A bar on a terminal; into a log file (nohup, a cluster's job) a line every tenth of the
   // shaking, where the bar's redraws made one line of hundreds.
   const bool bar = !o.quiet && isatty(STDERR_FILENO);
-  std::unique_ptr<SeismicRun> resumed;  // the run (a new one, or one resumed)
   bool settle_shown = false;  // on a terminal: the settling's line, ended by the shaking's bar
   const auto print_line = [](const std::string& line) { std::fprintf(stderr, "%s\n", line.c_str()); };
   if (bar) {
@@ -224,12 +223,10 @@ int run_scenario(const RunOptions& o) {
     options.on_settle_frame = settling_lines("  run", print_line);
     options.on_frame = with_progress_lines(nullptr, "  run", print_line);
   }
-  if (!o.resume.empty()) {
-    resumed = SeismicRun::resume(options, o.overrides);  // threads: the only setting a resume may change
-  } else {
-    resumed = std::make_unique<SeismicRun>(scenario, options);
-  }
-  SeismicRun& run = *resumed;
+  const std::unique_ptr<SeismicRun> made = !o.resume.empty()
+                                               ? SeismicRun::resume(options, o.overrides)  // threads: the only setting a resume may change
+                                               : std::make_unique<SeismicRun>(scenario, options);
+  SeismicRun& run = *made;
   const Scenario& sc = run.scenario();
   const Model& m = run.world().model();
   if (!o.resume.empty()) std::printf("resuming %s from its checkpoint\n", options.out.c_str());
