@@ -137,7 +137,8 @@ std::string block_fault(const Polyhedron& p, double& volume) {
   const double hull_volume = PMP::volume(hull);
   if (hull_volume > volume * (1 + 1e-9) + 1e-12 * extent * extent * extent) {
     std::ostringstream s;
-    s << "not convex (its volume " << volume << " m^3 is less than its convex hull's " << hull_volume << " m^3)";
+    s << "not convex (its volume " << volume << " m^3 is less than its convex hull's " << hull_volume
+      << " m^3): a block is one convex stone; cut a concave one into convex pieces, each a closed component of the mesh";
     return s.str();
   }
   return "";
