@@ -153,8 +153,7 @@ int run_probe_of(const RunOptions& o, const Scenario& sc) {
 
 // The shaking's peaks by component, and the whole records' checked: the first check of a
 // record's units (a record in gal read as g shakes at hundreds of g).
-void print_ground_motion_peaks(const Scenario& sc) {
-  const GroundMotionPeaks p = ground_motion_peaks(sc.motion());
+void print_ground_motion_peaks(const Scenario& sc, const GroundMotionPeaks& p) {
   const Vec3 a = p.accel_m_s2, v = p.velocity_m_s, d = p.displacement_m;
   std::printf("  peak ground acceleration x %.3g, y %.3g, z %.3g m/s^2 (%.3g, %.3g, %.3g g), velocity %.3g, %.3g, %.3g m/s, "
               "displacement %.3g, %.3g, %.3g m\n", a.x(), a.y(), a.z(), a.x() / kStandardGravity_m_s2, a.y() / kStandardGravity_m_s2,
@@ -234,7 +233,7 @@ int run_scenario(const RunOptions& o) {
               "%.2f s of the record)\n", sc.model.name.c_str(), m.block_count, sub_contact_count(run.world().state()),
               joint_rule_name(sc.settings.joint_rule), run.dt_s(), run.world().thread_tuner().max_threads(),
               run.ground_motion().duration_s(), sc.settings.start_s);
-  print_ground_motion_peaks(sc);
+  print_ground_motion_peaks(sc, run.ground_motion_peaks());
   if (sc.settings.duration_s > run.ground_motion().duration_s() + run.dt_s())
     std::printf("  the record ends %.2f s after start_s: the run shakes for that long, not the %.2f s asked\n",
                 run.ground_motion().duration_s(), sc.settings.duration_s);

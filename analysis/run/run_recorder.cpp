@@ -208,6 +208,11 @@ void RunRecorder::write_summary(const RunDescription& run, const SeismicRunResul
   j["fallen_blocks"] = fallen;
   j["monitored_block"] = run.monitored_block;
   j["dt_s"] = run.dt_s;  // the step used (settings.dt_s: the one asked for, 0 a share of the limit)
+  const GroundMotionPeaks& peaks = run.ground_peaks;  // x, y, z: what a fragility takes as the intensity
+  auto xyz = [](const Vec3& v) { return Json::array({v.x(), v.y(), v.z()}); };
+  j["ground_motion"] = {{"peak_acceleration_m_s2", xyz(peaks.accel_m_s2)},
+                        {"peak_velocity_m_s", xyz(peaks.velocity_m_s)},
+                        {"peak_displacement_m", xyz(peaks.displacement_m)}};
   j["mortar_pa"] = run.mortar_pa;
   j["mortar_fracture_j_m2"] = {run.mortar_fracture_j_m2[0], run.mortar_fracture_j_m2[1]};
   j["threads"] = run.threads;

@@ -13,6 +13,7 @@
 #include "engine/joints.h"
 #include "engine/model.h"
 #include "engine/state.h"
+#include "io/ground_motion.h"
 #include "io/paraview_state.h"
 #include "io/run_settings.h"
 #include "io/vtk_output.h"
@@ -38,6 +39,7 @@ struct RunDescription {
   double mortar_pa = 0;                             // f_t = c of the stone joints; 0: dry
   double mortar_fracture_j_m2[2] = {0, 0};          // G_f^I, G_f^II; 0, 0: a brittle bond
   RunSettings settings;                             // as the run was asked for ("settings" in summary.json)
+  GroundMotionPeaks ground_peaks;                   // the shaking's, by component ("ground_motion")
   struct Member {                                   // an ensemble's member ("member" in summary.json)
     int index = -1;
     MemberDraw draw;

@@ -66,6 +66,7 @@ SeismicRun::SeismicRun(const Scenario& scenario, SeismicRunOptions options)
   dt_ = (settings.dt_s > 0 ? settings.dt_s : share * limit_s_) * options_.dt_factor;
   steps_per_frame_ = std::max(1L, std::lround(settings.output_interval_s / dt_));
   ground_ = GroundMotionStream(motion, dt_);
+  peaks_ = ishibashi::ground_motion_peaks(motion);
   world_ = std::make_unique<World>(model, dt_);
   world_->set_adaptive_threads(options_.adaptive_threads);
   world_->set_thread_timing(options_.time_threads);
@@ -169,14 +170,8 @@ void SeismicRun::write_summary(Progress& p, bool finished) {
   r.motion_hash = world_->motion_hash();
   r.wall_s = p.wall_s();
   const BridgeSpec& bridge = scenario_.model.bridge;
-  RunDescription run{scenario_.model.name,
-                     monitored_block(),
-                     dt_,
-                     world_->thread_tuner().max_threads(),
-                     bridge.mortar_pa,
-                     {bridge.mortar_tension_fracture_j_m2, bridge.mortar_shear_fracture_j_m2},
-                     scenario_.settings,
-                     {}};
+  RunDescription run{scenario_.model.name, monitored_block(), dt_, world_->thread_tuner().max_threads(), bridge.mortar_pa,
+                     {bridge.mortar_tension_fracture_j_m2, bridge.mortar_shear_fracture_j_m2}, scenario_.settings, peaks_, {}};
   if (options_.member >= 0) run.member = {options_.member, draw_member(scenario_.ensemble, options_.member), scenario_.ensemble};
   p.recorder.write_summary(run, r, s, p.joints, finished);
 }

@@ -94,6 +94,8 @@ class SeismicRun {
   double stability_limit_s() const { return limit_s_; }
   int limiting_block() const { return limiting_block_; }
   const GroundMotionStream& ground_motion() const { return ground_; }
+  // The shaking's peaks by component (a member's amplitude draw included).
+  const GroundMotionPeaks& ground_motion_peaks() const { return peaks_; }
   int monitored_block() const { return monitors_.empty() ? -1 : monitors_.front(); }
   // Where this process took the run up: the checkpoint's step and profile (0 and empty for
   // a new run), so that run --profile reports the steps it ran itself.
@@ -118,6 +120,7 @@ class SeismicRun {
   long steps_per_frame_ = 1;  // steps between output frames
   int limiting_block_ = -1;
   GroundMotionStream ground_;
+  GroundMotionPeaks peaks_;
   std::unique_ptr<World> world_;
   std::vector<int> monitors_;
   std::string resume_from_;  // the checkpoint's body (after its header); empty: a new run

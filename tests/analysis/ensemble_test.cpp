@@ -268,9 +268,15 @@ TEST(Ensemble, RunMembersWritesProbabilitiesAndKeepsFinishedMembers) {
   // how many members each fell. Given other lists (these short runs drop none), the tables
   // written again count them, and fallen_share.vtu colours each block by its share.
   const std::vector<std::vector<int>> fell = {{5, 7}, {7}, {}, {7, 9}};
+  double peak_per_amplitude[4];  // each member's record is the scenario's times its amplitude draw
   for (int i = 0; i < 4; ++i) {
     const auto summary_file = out / ("member_00" + std::to_string(i)) / "summary.json";
     nlohmann::json summary = nlohmann::json::parse(text_of(summary_file));
+    const double amplitude = summary["member"]["amplitude"].get<double>();
+    EXPECT_GT(amplitude, 0.9);
+    EXPECT_LT(amplitude, 1.1);
+    peak_per_amplitude[i] = summary["ground_motion"]["peak_acceleration_m_s2"][1].get<double>() / amplitude;
+    EXPECT_NEAR(peak_per_amplitude[i], peak_per_amplitude[0], 1e-12 * peak_per_amplitude[0]) << "member " << i;
     EXPECT_EQ(summary["fallen_blocks"].size(), summary["fallen_stones"].get<std::size_t>());
     summary["fallen_blocks"] = fell[i];
     std::ofstream(summary_file) << summary.dump(2);

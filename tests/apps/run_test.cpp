@@ -422,6 +422,9 @@ TEST(Run, HeaderGivesTheShakingsPeaksAndWarnsOfAWrongUnit) {
     ASSERT_EQ(status, 0) << run;
     if (unit == "gal") {
       EXPECT_NE(run.find("  peak ground acceleration x 3, y 0, z 0 m/s^2 (0.306, 0, 0 g)"), std::string::npos) << run;
+      const nlohmann::json peaks = nlohmann::json::parse(test::text_of(dir / unit / "summary.json"))["ground_motion"];
+      EXPECT_NEAR(peaks["peak_acceleration_m_s2"][0].get<double>(), 3.0, 1e-9) << peaks;
+      EXPECT_EQ(peaks["peak_acceleration_m_s2"][2].get<double>(), 0.0) << peaks;
       EXPECT_EQ(run.find("warning"), std::string::npos) << run;
     } else {
       EXPECT_NE(run.find("warning: the records' peak ground acceleration of 300 g is above any earthquake recorded (about "
