@@ -180,6 +180,11 @@ int run_scenario(const RunOptions& o) {
       throw InputError("--member-range " + o.member_range + ": a share of an ensemble, but " + o.scenario.string() +
                        " has no [ensemble] table and no --members was given");
   }
+  if (!o.resume.empty() && !std::filesystem::exists(o.resume / "checkpoint.bin") &&
+      std::filesystem::exists(o.resume / "member_000"))
+    throw InputError(o.resume.string() + ": the folder of an ensemble or a chaos probe, whose members resume each from its " +
+                     "own checkpoint: give the command that made it again (its scenario, --members N or --probe N, and --out " +
+                     o.resume.string() + "); finished members are kept");
   if (const double shaken_s = o.resume.empty() ? -1 : finished_shaking_s(o.resume); shaken_s >= 0) {
     // Its last checkpoint lies before the end: going on from it would only write the end again.
     std::printf("%s: the run there finished (%.2f s of shaking, summary.json): nothing to resume; to run it again, run "

@@ -243,6 +243,11 @@ TEST(Ensemble, RunMembersWritesProbabilitiesAndKeepsFinishedMembers) {
   EXPECT_NE(first.find("member 1: 80 % of the shaking done, about "), std::string::npos) << first;
   EXPECT_EQ(first.find("member 1: 100 %"), std::string::npos) << first;
   EXPECT_FALSE(std::filesystem::exists(out / "member_002"));
+  // The folder is the ensemble's, not a run's: --resume says how an ensemble goes on.
+  const std::string resumed = run_command(test::program() + " run --resume " + out.string(), &status);
+  EXPECT_EQ(WEXITSTATUS(status), 2) << resumed;
+  EXPECT_NE(resumed.find(": the folder of an ensemble or a chaos probe, whose members resume each from its own checkpoint"),
+            std::string::npos) << resumed;
   const auto elsewhere = tmp_dir() / "ensemble_a_elsewhere";
   std::filesystem::remove_all(elsewhere);
   const std::string share = test::program() + " run " + file.string() + " --member-range 2:3 --out " +
