@@ -117,7 +117,13 @@ int run_ensemble_of(const RunOptions& o, Scenario sc) {
   };
   std::printf("  collapse: %s\n  any stone fell: %s\n  a ring stone fell: %s\n", share(r.collapses).c_str(),
               share(r.stones_fell).c_str(), share(r.ring_stones_fell).c_str());
-  std::printf("outputs in %s: member_NNN/ (each member's run), ensemble.csv, ensemble.json\n", options.out.c_str());
+  const std::string not_drawn = o.no_report || r.finished == 0
+                                    ? ""
+                                    : run_report_script("ensemble_figure.py", options.out,
+                                                        sc.model.name + ", " + o.scenario.filename().string());
+  std::printf("outputs in %s: member_NNN/ (each member's run), ensemble.csv, ensemble.json%s\n", options.out.c_str(),
+              o.no_report || r.finished == 0 || !not_drawn.empty() ? "" : ", ensemble.png (every member through the shaking)");
+  if (!not_drawn.empty()) std::printf("warning: ensemble.png not drawn: %s\n", not_drawn.c_str());
   return r.interrupted > 0 ? 130 : r.failed > 0 ? 1 : 0;
 }
 

@@ -24,14 +24,14 @@ stones fallen against the time of shaking, each ensemble in its colour, its memb
 and their median at each frame bold (member folders with histories only).
 """
 import argparse
-import bisect
 import csv
 import itertools
-import json
-import lzma
 import math
-import re
+import sys
 from pathlib import Path
+
+sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "analysis" / "report"))
+from ensemble_figure import draw, finished_members, median, median_curve  # noqa: E402,F401  (median_curve: tests)
 
 NUMBERS = [("fallen_stones", "stones fallen", "{:g}"), ("fallen_ring_stones", "ring stones fallen", "{:g}"),
            ("first_opening_s", "first opening [s]", "{:.3f}"), ("first_fall_s", "first fall [s]", "{:.2f}"),
@@ -39,52 +39,6 @@ NUMBERS = [("fallen_stones", "stones fallen", "{:g}"), ("fallen_ring_stones", "r
 YES_NO = [("collapse", "collapse", lambda s: bool(s["collapse"])),
           ("stones_fall", "any stone falls", lambda s: s["fallen_stones"] > 0),
           ("ring_stones_fall", "a ring stone falls", lambda s: s["fallen_ring_stones"] > 0)]
-
-
-def history_rows(folder):
-    """A member folder's history.csv rows (from history.csv.xz where that is what is kept)."""
-    plain = folder / "history.csv"
-    text = plain.read_text() if plain.exists() else lzma.open(folder / "history.csv.xz", "rt").read()
-    return list(csv.DictReader(text.splitlines()))
-
-
-def first_fall_s(rows, settle_time_s):
-    """Seconds of shaking at the first frame with a fallen stone (None: none fell)."""
-    for row in rows:
-        if row["phase"] == "shake" and int(row["fallen_stones"]) > 0:
-            return float(row["time_s"]) - settle_time_s
-    return None
-
-
-def shaking_series(rows, settle_time_s):
-    """(time of shaking [s], crown unit's dz [mm], stones fallen) at each frame of the shaking;
-    None without the monitored unit's column."""
-    crown = next((k for k in rows[0] if re.fullmatch(r"block\d+_dz_m", k)), None) if rows else None
-    if crown is None:
-        return None
-    shake = [r for r in rows if r["phase"] == "shake"]
-    return ([float(r["time_s"]) - settle_time_s for r in shake], [1000 * float(r[crown]) for r in shake],
-            [int(r["fallen_stones"]) for r in shake])
-
-
-def median(values):
-    values = sorted(values)
-    middle = len(values) // 2
-    return values[middle] if len(values) % 2 else (values[middle - 1] + values[middle]) / 2
-
-
-def median_curve(curves, frame_s):
-    """The members' median at every multiple of frame_s (s of shaking) within all their frames; each
-    member's (times, values) read at a frame by linear interpolation (members settle for
-    different times, so their frames fall at slightly different times of shaking)."""
-    def at(times, values, t):
-        k = max(1, min(len(times) - 1, bisect.bisect_left(times, t)))
-        w = (t - times[k - 1]) / (times[k] - times[k - 1])
-        return values[k - 1] + w * (values[k] - values[k - 1])
-    start = max(times[0] for times, _ in curves)
-    end = min(times[-1] for times, _ in curves)
-    grid = [i * frame_s for i in range(math.ceil(start / frame_s - 1e-9), int(end / frame_s + 1e-9) + 1)]
-    return grid, [median([at(times, values, t) for times, values in curves]) for t in grid]
 
 
 def csv_value(text):
@@ -108,20 +62,7 @@ def share_members(ensemble):
     if ensemble.suffix == ".csv":
         rows = [{k: csv_value(v) for k, v in row.items()} for row in csv.DictReader(open(ensemble))]
         return [r for r in rows if not r.get("interrupted")]
-    found = []
-    for folder in sorted(ensemble.glob("member_*")):
-        summary_file = folder / "summary.json"
-        if not summary_file.exists():
-            continue
-        s = json.load(open(summary_file))
-        if not s.get("finished") or s.get("interrupted"):
-            continue
-        rows = history_rows(folder)
-        s["first_fall_s"] = first_fall_s(rows, s["settle_time_s"])
-        if series := shaking_series(rows, s["settle_time_s"]):
-            s["series"] = series
-        found.append(s)
-    return found
+    return finished_members(ensemble)
 
 
 def fisher_p(yes_a, n_a, yes_b, n_b):
@@ -169,35 +110,6 @@ def spread(values, form):
     return f"{form.format(median(values))} ({form.format(min(values))} to {form.format(max(values))})"
 
 
-def draw(runs, labels, path):
-    """The figure of --figure."""
-    import matplotlib
-    matplotlib.use("Agg")  # headless
-    import matplotlib.pyplot as plt
-    fig, axes = plt.subplots(2, 1, figsize=(9, 6.5), sharex=True)
-    for colour, label, found in zip(("tab:blue", "tab:red"), labels, runs):
-        series = [s["series"] for s in found if "series" in s]
-        if not series:
-            raise SystemExit(f"{label}: --figure needs its members' histories (member folders, not an ensemble.csv)")
-        times = series[0][0]
-        frame_s = (times[-1] - times[0]) / (len(times) - 1)  # the members' output interval
-        for a, column in zip(axes, (1, 2)):
-            for one in series:
-                a.plot(one[0], one[column], lw=0.6, alpha=0.5, color=colour)
-            grid, middle = median_curve([(one[0], one[column]) for one in series], frame_s)
-            a.plot(grid, middle, lw=1.8, color=colour, label=f"{label}: {len(series)} member{'' if len(series) == 1 else 's'} (median bold)")
-    axes[0].set_ylabel("crown unit dz [mm]")
-    axes[1].set_ylabel("stones fallen")
-    axes[1].set_xlabel("time of shaking [s]")
-    axes[0].set_title("Every member: the crown unit, vertical, relative to the ground; the stones fallen", fontsize=9)
-    for a in axes:
-        a.grid(alpha=0.3)
-    axes[0].legend(fontsize=8)
-    fig.tight_layout()
-    fig.savefig(path, dpi=110)
-    plt.close(fig)
-
-
 def main():
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     parser.add_argument("ensembles", nargs=2, help="a folder or ensemble.csv, or shares joined by '+'")
@@ -225,7 +137,7 @@ def main():
         p = f"{rank_sum_p(*values):.3f} (rank sum)" if all(values) else "(a side has none)"
         print(f"| {name} | {spread(values[0], form)} | {spread(values[1], form)} | {p} |")
     if o.figure:
-        draw(runs, labels, o.figure)
+        draw(list(zip(labels, runs)), o.figure)
 
 
 if __name__ == "__main__":

@@ -257,6 +257,8 @@ TEST(Ensemble, RunMembersWritesProbabilitiesAndKeepsFinishedMembers) {
   const std::string merged = run_command(command, &status);
   ASSERT_EQ(status, 0) << merged;
   EXPECT_NE(merged.find("0 ran, 3 were current"), std::string::npos) << merged;
+  EXPECT_NE(merged.find("ensemble.json, ensemble.png (every member through the shaking)"), std::string::npos) << merged;
+  EXPECT_EQ(text_of(out / "ensemble.png").substr(0, 4), "\x89PNG");
   const std::string json = text_of(out / "ensemble.json");
   EXPECT_NE(json.find("\"finished\": 3"), std::string::npos) << json;
   EXPECT_NE(json.find("\"collapse\""), std::string::npos) << json;
