@@ -22,9 +22,12 @@ void read_ground_motion_components(TableReader& table, const std::filesystem::pa
     comp.number("scale", cs.scale);
     comp.finish();
     if (path.empty()) throw InputError(file.string() + ": [" + name + "] " + axes[c] + " needs file = \"...\"");
-    if (cs.format != "columns" && (cs.layout.column > 0 || cs.layout.header_lines > 0))
-      throw InputError(file.string() + ": [" + name + "] " + axes[c] + ": column and header_lines are for format = \"columns\" (" +
-                       cs.format + " files say where their samples are)");
+    // An .AT2 or K-NET file says its own unit, step and layout: a setting for columns given
+    // for one was read as nothing (unit = "gal" on an .AT2 file in g).
+    if (cs.format != "columns" &&
+        (cs.layout.column > 0 || cs.layout.header_lines > 0 || cs.layout.dt_s > 0 || t->contains("unit")))
+      throw InputError(file.string() + ": [" + name + "] " + axes[c] + ": unit, dt_s, column and header_lines are for format = " +
+                       "\"columns\" (" + cs.format + " files say their own unit, step and where their samples are)");
     cs.file = base / path;
     cs.unit = unit == "gal" ? AccelerationUnit::gal : unit == "m/s2" ? AccelerationUnit::m_s2 : AccelerationUnit::g;
     spec.component[c] = cs;

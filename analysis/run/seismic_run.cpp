@@ -1,5 +1,6 @@
 #include "analysis/run/seismic_run.h"
 
+#include <algorithm>
 #include <atomic>
 #include <chrono>
 #include <cmath>
@@ -44,6 +45,9 @@ double relative_balance_error(const Energy& e) {
 SeismicRun::SeismicRun(const Scenario& scenario, SeismicRunOptions options)
     : scenario_(scenario), options_(std::move(options)) {
   const RunSettings& settings = scenario_.settings;
+  if (std::none_of(scenario_.ground_motion.component.begin(), scenario_.ground_motion.component.end(),
+                   [](const auto& c) { return c.has_value(); }))  // before the model's minutes of building
+    throw InputError(scenario_.file.string() + ": no ground motion to shake with: [ground_motion] x, y or z = { file = ... }");
   // Threads of this run: the calling thread's OpenMP teams (a study runs several at once).
   use_threads(settings.threads);
   ModelOptions model_wanted = model_options(settings);

@@ -435,6 +435,19 @@ TEST(Run, HeaderGivesTheShakingsPeaksAndWarnsOfAWrongUnit) {
   std::filesystem::remove_all(dir);
 }
 
+// A scenario without [ground_motion] is refused naming it, before its model is built (it
+// said "ground motion: no component given", naming no file, once the model was built).
+TEST(Run, ScenarioWithoutGroundMotionIsRefusedNamingIt) {
+  const auto file = test::tmp_dir() / "ishibashi_no_motion.toml";
+  std::ofstream(file) << "[model]\nfile = \"" << (kRoot / "models/nishida_a.toml").string() << "\"\n[run]\nduration_s = 1\n";
+  int status = 0;
+  const std::string run = test::run_command(test::program() + " run --quiet " + file.string() + " --out " +
+                                                (test::tmp_dir() / "ishibashi_no_motion").string(), &status);
+  EXPECT_EQ(WEXITSTATUS(status), 2) << run;
+  EXPECT_NE(run.find("ishibashi_no_motion.toml: no ground motion to shake with: [ground_motion] x, y or z"), std::string::npos)
+      << run;
+}
+
 // A duration past the record's end is cut to the record, and the run says so.
 TEST(Run, DurationPastTheRecordsEndIsSaid) {
   int status = 0;

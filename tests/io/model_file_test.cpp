@@ -114,7 +114,7 @@ TEST(ScenarioFile, DampingIsStudyCappedOrImplicitAndABadChoiceNamesItsLine) {
 
 // A component's column and header of a file of several components, read from the scenario;
 // refused for the formats that say where their samples are, and a column from 1.
-TEST(ScenarioFile, ColumnAndHeaderLinesAreForColumnFiles) {
+TEST(ScenarioFile, ColumnSettingsAreForColumnFiles) {
   const auto file = std::filesystem::temp_directory_path() / "ishibashi_scenario_columns.toml";
   const auto root = std::filesystem::path(ISHIBASHI_SOURCE_DIR);
   auto write = [&](const std::string& component) {
@@ -128,6 +128,8 @@ TEST(ScenarioFile, ColumnAndHeaderLinesAreForColumnFiles) {
   EXPECT_EQ(z.layout.dt_s, 0.0);
   for (const auto& [component, message] :
        {std::pair<std::string, std::string>{"{ file = \"a.AT2\", column = 2 }", "column and header_lines are for format = \"columns\""},
+        {"{ file = \"a.AT2\", unit = \"gal\" }", "z: unit, dt_s, column and header_lines are for format = \"columns\" (at2 files"},
+        {"{ file = \"a.txt\", format = \"knet\", dt_s = 0.01 }", "z: unit, dt_s, column and header_lines are for format"},
         {"{ file = \"a.csv\", format = \"columns\", column = 0 }", "'column' is 0; it must be at least 1"},
         {"{ file = \"a.csv\", format = \"columns\", header_lines = -1 }", "'header_lines' is -1"},
         {"{ file = \"a.csv\", format = \"columns\", dt_s = -0.01 }", "'dt_s' is -0.01; it must be >= 0"}}) {
