@@ -1,8 +1,9 @@
 #!/usr/bin/python3
-"""A seismic run at a glance, from its history.csv and summary.json: the ground's
-acceleration as applied, the monitored units' displacement relative to the ground, the
-joints open, cracked and slipped and the stones fallen, and the energy terms, through the
-shaking, under a title with the verdict. One PNG in the run's folder:
+"""A seismic run at a glance, from its history.csv, summary.json and last frame: the bridge
+at the end (coloured by displacement relative to the ground, fallen stones red), then
+through the shaking the ground's acceleration as applied, the monitored units'
+displacement relative to the ground, the joints open, cracked and slipped and the stones
+fallen, and the energy terms, under a title with the verdict. One PNG in the run's folder:
 
     /usr/bin/python3 analysis/report/run_report.py FOLDER [TITLE]   (FOLDER: history.csv, summary.json)
 
@@ -20,9 +21,8 @@ matplotlib.use("Agg")  # headless
 import matplotlib.pyplot as plt  # noqa: E402
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
-from run_outputs import read_rows, read_summary, save_figure  # noqa: E402
-
-G = 9.80665  # m/s^2, the records' g (io/ground_motion.h)
+from report import G, block_faces, draw_bridge  # noqa: E402
+from run_outputs import frames, read_rows, read_summary, save_figure  # noqa: E402
 ENERGY_TERMS = ("kinetic_j", "elastic_j", "damping_j", "friction_j", "bond_j", "ground_work_j", "balance_error_j")
 COUNTS = (("joints_open", "joints open"), ("joints_cracked", "joints cracked"), ("joints_slipped", "joints slipped"),
           ("fallen_stones", "stones fallen"))
@@ -45,6 +45,23 @@ def verdict(summary):
             + f"; energy balance {100 * summary.get('energy_balance_error_relative', 0):.3f} %")
 
 
+def bridge_at_the_end(axes, folder, shaken_s):
+    """The last frame's blocks in 3D on the first frame's bounds (a stone that fell far is
+    cut off), coloured by displacement relative to the ground, fallen stones red."""
+    series = frames(folder)
+    if not series:
+        axes.set_axis_off()
+        return
+    first = [p for face in block_faces(series[0][1])[0] for p in face]
+    lo = [min(p[i] for p in first) for i in range(3)]
+    hi = [max(p[i] for p in first) for i in range(3)]
+    faces, moved, fallen, stones = block_faces(series[-1][1])
+    top = max([m for m, f in zip(moved, fallen) if not f] + [1e-3])
+    draw_bridge(axes, faces, moved, fallen, top, (lo, hi), -75)
+    axes.set_title(f"the bridge at the end ({shaken_s:.2f} s of shaking): displacement relative to the ground up to "
+                   f"{1000 * top:.0f} mm (yellow), {stones} fallen stones red", fontsize=9)
+
+
 def draw(folder, title):
     folder = Path(folder)
     summary = read_summary(folder)
@@ -58,7 +75,11 @@ def draw(folder, title):
     else:
         t0 = number(settled[-1]["time_s"]) if settled else 0.0
     t = [number(r["time_s"]) - t0 for r in shake]
-    fig, axes = plt.subplots(4, 1, figsize=(10, 11), sharex=True)
+    fig = plt.figure(figsize=(10, 15))
+    grid = fig.add_gridspec(5, 1, height_ratios=(1.6, 1, 1, 1, 1))
+    bridge_at_the_end(fig.add_subplot(grid[0], projection="3d"), folder, t[-1])
+    axes = [fig.add_subplot(grid[1])]
+    axes += [fig.add_subplot(grid[k], sharex=axes[0]) for k in (2, 3, 4)]
 
     a = axes[0]
     for axis in "xyz":
@@ -97,8 +118,8 @@ def draw(folder, title):
         a.grid(alpha=0.3)
         if a.get_lines():
             a.legend(fontsize=7, loc="best", ncol=4)
-    fig.suptitle(f"{title}\n{verdict(summary)}", fontsize=10)
-    fig.tight_layout()
+    fig.suptitle(f"{title}\n{verdict(summary)}", fontsize=11)
+    fig.tight_layout(rect=(0, 0, 1, 0.97))
     path = save_figure(fig, folder / "report.png", dpi=100)
     plt.close(fig)
     return path
