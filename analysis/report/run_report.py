@@ -10,7 +10,6 @@ fallen, and the energy terms, under a title with the verdict. One PNG in the run
 writes FOLDER/report.png. `ishibashi run` calls it when the run ends (`--no-report`: not);
 ParaView shows the same run in 3D (FOLDER/view.pvsm).
 """
-import math
 import re
 import sys
 from pathlib import Path
@@ -21,18 +20,12 @@ matplotlib.use("Agg")  # headless
 import matplotlib.pyplot as plt  # noqa: E402
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
-from report import G, block_faces, draw_bridge  # noqa: E402
+from report import G, block_faces, draw_bridge, number  # noqa: E402
 from run_outputs import frames, read_rows, read_summary, save_figure  # noqa: E402
+
 ENERGY_TERMS = ("kinetic_j", "elastic_j", "damping_j", "friction_j", "bond_j", "ground_work_j", "balance_error_j")
 COUNTS = (("joints_open", "joints open"), ("joints_cracked", "joints cracked"), ("joints_slipped", "joints slipped"),
           ("fallen_stones", "stones fallen"))
-
-
-def number(text):
-    try:
-        return float(text)
-    except (TypeError, ValueError):
-        return math.nan
 
 
 def verdict(summary):
