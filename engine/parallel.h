@@ -72,7 +72,7 @@ void run_on_team(std::ptrdiff_t items, int chunk_count, const Chunk& chunk) {
     const Chunk& chunk;
     std::atomic<bool> failed{false};
     std::exception_ptr error;  // written by the thread that set `failed`
-  } loop{chunk};
+  } loop{chunk, {false}, {}};
   const int threads = items >= kMinParallelItems ? thread_count() : 1;
   Team::of_this_thread().run(
       threads, chunk_count,

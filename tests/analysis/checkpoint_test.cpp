@@ -46,7 +46,7 @@ std::filesystem::path scenario(const std::string& name, double settle_max_s = 1.
   return f;
 }
 
-const std::string kRun = test::program() + " run --quiet ";
+const std::string kRun = test::program() + " run --quiet --no-report ";  // a picture costs a second a run
 
 // Runs the scenario whole, and again killed with SIGKILL at a random moment after its
 // first checkpoint (a random part, up to max_part, of the whole run's wall time later, so
