@@ -245,6 +245,9 @@ int run_scenario(const RunOptions& o) {
               joint_rule_name(sc.settings.joint_rule), run.dt_s(), run.world().thread_tuner().max_threads(),
               run.ground_motion().duration_s(), sc.settings.start_s);
   print_ground_motion_peaks(sc, run.ground_motion_peaks());
+  if (sc.model.bridge.mortar_pa > 0)
+    std::printf("  mortar %s, %s\n", mortar_description(sc.model.bridge).c_str(),
+                sc.settings.mortar_bonds == MortarBonds::settled ? "set once the bridge has settled" : "set from the first step");
   if (sc.settings.duration_s > run.ground_motion().duration_s() + run.dt_s())
     std::printf("  the record ends %.2f s after start_s: the run shakes for that long, not the %.2f s asked\n",
                 run.ground_motion().duration_s(), sc.settings.duration_s);

@@ -25,6 +25,40 @@ const char* part_name(Part p) {
   return "?";
 }
 
+namespace {
+constexpr Part kMortarParts[] = {Part::ring, Part::wall, Part::fill, Part::side_wall, Part::ground};
+}  // namespace
+
+const char* mortar_part_name(Part part) {
+  for (std::size_t i = 0; i < kMortarPartNames.size(); ++i)
+    if (part == kMortarParts[i]) return kMortarPartNames[i];
+  return part_name(part);
+}
+
+std::vector<std::string> mortar_part_names(const BridgeSpec& spec) {
+  if (spec.mortar_parts.empty()) return {kMortarPartNames.begin(), kMortarPartNames.end()};
+  std::vector<std::string> names;
+  for (Part p : spec.mortar_parts) names.push_back(mortar_part_name(p));
+  return names;
+}
+
+std::string mortar_description(const BridgeSpec& spec) {
+  if (!(spec.mortar_pa > 0)) return "";
+  std::ostringstream text;
+  text << "f_t = c = " << std::setprecision(4) << spec.mortar_pa << " Pa at the stone joints in contact within ";
+  const std::vector<std::string> names = mortar_part_names(spec);
+  for (std::size_t i = 0; i < names.size(); ++i) text << (i ? ", " : "") << names[i];
+  return text.str();
+}
+
+Part parse_mortar_part(const std::string& name) {
+  for (std::size_t i = 0; i < kMortarPartNames.size(); ++i)
+    if (name == kMortarPartNames[i]) return kMortarParts[i];
+  std::string list;
+  for (const char* n : kMortarPartNames) list += std::string(list.empty() ? "" : ", ") + n;
+  throw ModelError("mortar part '" + name + "' is none of " + list);
+}
+
 // x of each span's centre: springers a pier width apart, the whole centred on x = 0.
 static std::vector<double> span_centres(const BridgeSpec& s, const RingGeometry& g) {
   const double pitch = 2.0 * g.springer_half_width + s.pier_width_m;
@@ -136,10 +170,32 @@ ModelBuilder bridge_builder(const BridgeSpec& s, const std::vector<BridgeBlock>&
   Material soil = s.soil.name.empty() ? nishida_soil() : s.soil;
   soil.tensile_pa = soil.cohesion_pa = 0.0;  // soil joints are never reinforced
   const int soil_id = builder.add_material(soil);
+  auto of_soil = [&](const BridgeBlock& b) {
+    return b.part == Part::soil || (b.part == Part::ground && s.ground == GroundMaterial::soil);
+  };
+  // Stone outside the mortar's parts: a material of its own without the bond, so that the
+  // pair law of a joint (the weaker side's bond) carries mortar only between two listed parts.
+  auto mortared = [&](Part p) {
+    return s.mortar_parts.empty() || std::find(s.mortar_parts.begin(), s.mortar_parts.end(), p) != s.mortar_parts.end();
+  };
+  int dry_stone_id = stone_id;
+  if (s.mortar_pa > 0) {
+    for (Part p : s.mortar_parts)
+      if (std::none_of(blocks.begin(), blocks.end(), [&](const BridgeBlock& b) { return b.part == p && !of_soil(b); }))
+        throw ModelError(std::string("mortar_parts lists \"") + mortar_part_name(p) +
+                         "\", but the bridge has no stone block of that part (the ground of soil and soil backfill "
+                         "never carry mortar; a ring alone has no wall, fill or side wall)");
+    if (std::any_of(blocks.begin(), blocks.end(), [&](const BridgeBlock& b) { return !of_soil(b) && !mortared(b.part); })) {
+      Material dry = stone;
+      dry.name = stone.name + " (dry joints)";
+      dry.tensile_pa = dry.cohesion_pa = dry.tension_fracture_j_m2 = dry.shear_fracture_j_m2 = 0.0;
+      dry_stone_id = builder.add_material(dry);
+    }
+  }
   int index = 0;
   for (const BridgeBlock& b : blocks) {
-    const bool of_soil = b.part == Part::soil || (b.part == Part::ground && s.ground == GroundMaterial::soil);
-    builder.add_block(b.shape.vertices, b.shape.faces, of_soil ? soil_id : stone_id, b.fixed ? Motion::fixed : Motion::free,
+    const int material = of_soil(b) ? soil_id : mortared(b.part) ? stone_id : dry_stone_id;
+    builder.add_block(b.shape.vertices, b.shape.faces, material, b.fixed ? Motion::fixed : Motion::free,
                       std::string(part_name(b.part)) + "-" + std::to_string(index++),
                       BlockTag{static_cast<int>(b.part), b.course});
   }

@@ -6,6 +6,7 @@
 // Layout: x along the bridge (spans side by side, centred on x = 0), y across it
 // (centred), z up from the ground at the springings.
 #pragma once
+#include <array>
 #include <string>
 #include <vector>
 
@@ -18,6 +19,11 @@ namespace ishibashi {
 
 enum class Part : int { ground = 0, ring = 1, wall = 2, fill = 3, soil = 4, side_wall = 5, imported = 6 };
 const char* part_name(Part part);
+
+// The parts whose stone joints mortar may bond, by the names model files give them.
+inline constexpr std::array<const char*, 5> kMortarPartNames{"ring", "wall", "fill", "side_wall", "ground"};
+Part parse_mortar_part(const std::string& name);  // one of kMortarPartNames
+const char* mortar_part_name(Part part);          // its name there ("side_wall")
 
 enum class Backfill { stone, soil };
 enum class GroundMaterial { stone, soil };
@@ -46,7 +52,17 @@ struct BridgeSpec {
   // both 0, brittle (MODEL.md as written); both > 0, a softening bond.
   double mortar_tension_fracture_j_m2 = 0.0;
   double mortar_shear_fracture_j_m2 = 0.0;
+  // Where the mortar lies: a joint carries it when both its blocks belong to a listed part
+  // (a retrofit that grouts the ring alone, or repoints the walls and fill). Empty, the
+  // default: every stone part, as the study's mortar runs have it. Soil never carries it.
+  std::vector<Part> mortar_parts;
 };
+
+// The names of the parts whose joints the spec's mortar bonds (every one of
+// kMortarPartNames when mortar_parts is empty), for summaries.
+std::vector<std::string> mortar_part_names(const BridgeSpec& spec);
+// "f_t = c = 2e+05 Pa at the stone joints in contact within ring, wall", or "" when dry.
+std::string mortar_description(const BridgeSpec& spec);
 
 struct BridgeBlock {
   Polyhedron shape;
@@ -67,8 +83,9 @@ std::vector<BridgeBlock> generate_bridge(const BridgeSpec& spec);
 // intrados chords, plus the side walls (m^3). Independent of how blocks are cut.
 double design_volume_m3(const BridgeSpec& spec);
 
-// The blocks with their materials (stone, soil; mortar on stone-stone joints), ready to
-// build the engine Model with an analysis's options.
+// The blocks with their materials (stone, soil; mortar on the stone-stone joints within
+// spec.mortar_parts), ready to build the engine Model with an analysis's options. Throws
+// ModelError, when the bridge carries mortar, for a listed part of which it has no stone block.
 ModelBuilder bridge_builder(const BridgeSpec& spec, const std::vector<BridgeBlock>& blocks);
 inline Model compile_bridge(const BridgeSpec& spec, const std::vector<BridgeBlock>& blocks, const ModelOptions& options = {}) {
   return bridge_builder(spec, blocks).build(options);

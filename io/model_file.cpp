@@ -17,6 +17,14 @@ void require_both_fracture_energies(const std::filesystem::path& file, const std
                      "must both be > 0 (a softening bond, e.g. 12 and 50 J/m^2) or both 0 (brittle)");
 }
 
+void read_mortar_parts(TableReader& table, std::vector<Part>& parts) {
+  std::vector<std::string> names;
+  table.texts("mortar_parts", names, kMortarPartNames);
+  if (names.empty()) return;  // absent
+  parts.clear();
+  for (const std::string& name : names) parts.push_back(parse_mortar_part(name));
+}
+
 ModelFile read_model_file(const std::filesystem::path& file) {
   const toml::table root = parse_toml_file(file, kModelFile);
 
@@ -61,6 +69,7 @@ ModelFile read_model_file(const std::filesystem::path& file) {
   bridge.non_negative("mortar_pa", b.mortar_pa);
   bridge.non_negative("mortar_tension_fracture_j_m2", b.mortar_tension_fracture_j_m2);
   bridge.non_negative("mortar_shear_fracture_j_m2", b.mortar_shear_fracture_j_m2);
+  read_mortar_parts(bridge, b.mortar_parts);
   bridge.finish();
   require_both_fracture_energies(file, "[bridge]", b);
 

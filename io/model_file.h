@@ -29,4 +29,8 @@ ModelFile read_model_file(const std::filesystem::path& file);
 // an InputError naming `file` and `table` otherwise.
 void require_both_fracture_energies(const std::filesystem::path& file, const std::string& table, const BridgeSpec& b);
 
+class TableReader;
+// A table's mortar_parts (["ring"], ...): replaces `parts` when given.
+void read_mortar_parts(TableReader& table, std::vector<Part>& parts);
+
 }  // namespace ishibashi

@@ -57,12 +57,15 @@ Scenario read_scenario(const std::filesystem::path& file) {
   model.non_negative("mortar_pa", mortar_pa);
   model.non_negative("mortar_tension_fracture_j_m2", tension_fracture);
   model.non_negative("mortar_shear_fracture_j_m2", shear_fracture);
+  std::vector<Part> mortar_parts;  // empty where absent: as the model file says
+  read_mortar_parts(model, mortar_parts);
   read_run_settings(model, "model", sc.settings);
   model.finish();
   if (model_file.empty()) throw InputError(file.string() + ": [model] file = \"...\" is required (a model file, e.g. models/nishida_a.toml)");
   sc.model_file = base / model_file;
   sc.model = read_model_file(sc.model_file);
   if (mortar_pa >= 0) sc.model.bridge.mortar_pa = mortar_pa;
+  if (!mortar_parts.empty()) sc.model.bridge.mortar_parts = mortar_parts;
   if (tension_fracture >= 0 || shear_fracture >= 0) {
     sc.model.bridge.mortar_tension_fracture_j_m2 = std::max(0.0, tension_fracture);
     sc.model.bridge.mortar_shear_fracture_j_m2 = std::max(0.0, shear_fracture);

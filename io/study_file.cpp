@@ -79,7 +79,7 @@ StudyFile read_study(const std::filesystem::path& file, bool quick) {
   TableReader frequencies(file, root, "frequencies");
   frequencies.integer_in("modes", s.modes, 1, 500);  // as modal --modes
   frequencies.non_negative("impulse_s", s.impulse_s);  // 0: no impulse responses
-  frequencies.texts("joint_rules", s.joint_rules, {"corners", "moments"});
+  frequencies.texts("joint_rules", s.joint_rules, kJointRuleNames);
   frequencies.finish();
 
   read_reference(file, root, s);  // against the whole study's models and scenarios

@@ -3,6 +3,7 @@
 #pragma once
 #include <toml++/toml.h>
 
+#include <algorithm>
 #include <array>
 #include <cctype>
 #include <climits>
@@ -137,21 +138,19 @@ class TableReader {
       }
     }
   }
-  // An array of strings, each one of `allowed`.
-  void texts(const char* key, std::vector<std::string>& out, std::initializer_list<const char*> allowed) {
+  // A non-empty array of strings, each one of `allowed`; replaces `out` when present.
+  template <std::size_t N>
+  void texts(const char* key, std::vector<std::string>& out, const std::array<const char*, N>& allowed) {
     if (const toml::node* n = find(key)) {
+      std::string list;
+      for (const char* choice : allowed) list += std::string(list.empty() ? "\"" : ", \"") + choice + "\"";
       const toml::array* a = n->as_array();
-      if (!a) fail(*n, std::string("'") + key + "' must be an array of strings");
+      if (!a || a->empty()) fail(*n, std::string("'") + key + "' must be an array of one or more of " + list);
       out.clear();
       for (const toml::node& e : *a) {
         auto v = e.value<std::string>();
-        bool ok = false;
-        std::string list;
-        for (const char* choice : allowed) {
-          ok = ok || (v && *v == choice);
-          list += std::string(list.empty() ? "\"" : ", \"") + choice + "\"";
-        }
-        if (!ok) fail(e, std::string("'") + key + "' may only hold " + list);
+        if (!v || std::find(allowed.begin(), allowed.end(), *v) == allowed.end())
+          fail(e, std::string("'") + key + "' may only hold " + list);
         out.push_back(*v);
       }
     }

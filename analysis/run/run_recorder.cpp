@@ -215,6 +215,7 @@ void RunRecorder::write_summary(const RunDescription& run, const SeismicRunResul
                         {"peak_displacement_m", xyz(peaks.displacement_m)}};
   j["mortar_pa"] = run.mortar_pa;
   j["mortar_fracture_j_m2"] = {run.mortar_fracture_j_m2[0], run.mortar_fracture_j_m2[1]};
+  j["mortar_parts"] = run.mortar_parts;
   j["threads"] = run.threads;
   j["mean_team_size"] = s.step > 0 ? double(s.profile.thread_steps) / s.step : 0.0;
   // Where the steps' time went (settling included): run --profile's table.

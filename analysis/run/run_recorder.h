@@ -38,6 +38,7 @@ struct RunDescription {
   int threads = 0;                                  // at most, in a step
   double mortar_pa = 0;                             // f_t = c of the stone joints; 0: dry
   double mortar_fracture_j_m2[2] = {0, 0};          // G_f^I, G_f^II; 0, 0: a brittle bond
+  std::vector<std::string> mortar_parts;            // the parts whose joints it bonds
   RunSettings settings;                             // as the run was asked for ("settings" in summary.json)
   GroundMotionPeaks ground_peaks;                   // the shaking's, by component ("ground_motion")
   struct Member {                                   // an ensemble's member ("member" in summary.json)

@@ -175,7 +175,8 @@ void SeismicRun::write_summary(Progress& p, bool finished) {
   r.wall_s = p.wall_s();
   const BridgeSpec& bridge = scenario_.model.bridge;
   RunDescription run{scenario_.model.name, monitored_block(), dt_, world_->thread_tuner().max_threads(), bridge.mortar_pa,
-                     {bridge.mortar_tension_fracture_j_m2, bridge.mortar_shear_fracture_j_m2}, scenario_.settings, peaks_, {}};
+                     {bridge.mortar_tension_fracture_j_m2, bridge.mortar_shear_fracture_j_m2}, mortar_part_names(bridge),
+                     scenario_.settings, peaks_, {}};
   if (options_.member >= 0) run.member = {options_.member, draw_member(scenario_.ensemble, options_.member), scenario_.ensemble};
   p.recorder.write_summary(run, r, s, p.joints, finished);
 }

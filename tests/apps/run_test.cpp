@@ -435,6 +435,33 @@ TEST(Run, HeaderGivesTheShakingsPeaksAndWarnsOfAWrongUnit) {
   std::filesystem::remove_all(dir);
 }
 
+// Where the mortar lies (mortar_parts) is said in the run's header and summary.json; a
+// dry run says nothing of mortar.
+TEST(Run, HeaderAndSummarySayWhereTheMortarLies) {
+  const auto dir = test::tmp_dir() / "ishibashi_run_mortar_parts";
+  std::filesystem::create_directories(dir);
+  std::ofstream(dir / "still.txt") << "0\n0\n0\n0\n0\n";
+  for (const std::string mortar : {"", "mortar_pa = 2e5\nmortar_parts = [\"ring\"]\n"}) {
+    std::ofstream(dir / "run.toml") << "[model]\nfile = \"" << (kRoot / "models/nishida_a.toml").string() << "\"\n"
+                                    << mortar << "[run]\nsettle_max_s = 0.01\nduration_s = 0.01\n[ground_motion]\n"
+                                    << "x = { file = \"still.txt\", format = \"columns\", dt_s = 0.01, unit = \"g\" }\n";
+    int status = 0;
+    const std::string run = test::run_command(test::program() + " run --quiet --no-report " + (dir / "run.toml").string() +
+                                                  " --out " + (dir / "out").string(), &status);
+    ASSERT_EQ(status, 0) << run;
+    const nlohmann::json summary = nlohmann::json::parse(test::text_of(dir / "out" / "summary.json"));
+    if (mortar.empty()) {
+      EXPECT_EQ(run.find("  mortar "), std::string::npos) << run;
+      EXPECT_EQ(summary["mortar_pa"].get<double>(), 0.0);
+    } else {
+      EXPECT_NE(run.find("  mortar f_t = c = 2e+05 Pa at the stone joints in contact within ring, set once the bridge has settled\n"),
+                std::string::npos) << run;
+      EXPECT_EQ(summary["mortar_parts"], nlohmann::json::array({"ring"})) << summary["mortar_parts"];
+    }
+  }
+  std::filesystem::remove_all(dir);
+}
+
 // A scenario without [ground_motion] is refused naming it, before its model is built (it
 // said "ground motion: no component given", naming no file, once the model was built).
 TEST(Run, ScenarioWithoutGroundMotionIsRefusedNamingIt) {

@@ -5,8 +5,10 @@
 
 #include <algorithm>
 #include <fstream>
+#include <map>
 #include <string>
 
+#include "engine/world.h"
 #include "geometry/bridge.h"
 #include "geometry/validate.h"
 #include "io/model_file.h"
@@ -186,6 +188,74 @@ TEST(Bridge, FixedBottomCourseFixesWhatStandsOnTheGround) {
       EXPECT_GT(on_ground, 2 * 5) << "a course of stones five across on each side of the ring";
       EXPECT_EQ(fixed_fill, fixed_bottom ? on_ground : 0);
     }
+}
+
+// mortar_parts: a joint carries the mortar when both its blocks belong to a listed part.
+// Counted on the bonded sub-contacts of the joints in contact at the start, by the parts
+// their blocks belong to: the ring grouted alone bonds ring to ring and nothing else; the
+// walls and fill repointed bond no joint of the ring; every stone part (the default, or
+// listed in full) bonds the same sub-contacts with one stone material, as before the option.
+TEST(Bridge, MortarPartsBondOnlyTheJointsBetweenListedParts) {
+  BridgeSpec s;
+  s.fill_height_m = 5.8;
+  s.length_m = 24.0;
+  s.mortar_pa = 2e5;
+  const std::vector<BridgeBlock> blocks = generate_bridge(s);
+  using PartPair = std::pair<Part, Part>;
+  auto bonded_by_parts = [&](std::vector<Part> parts, int* materials) {
+    s.mortar_parts = std::move(parts);
+    World world(compile_bridge(s, blocks), 1e-8);
+    world.form_bonds();
+    const Model& m = world.model();
+    const State& st = world.state();
+    *materials = static_cast<int>(m.materials.size());
+    std::map<PartPair, int> count;
+    for (const Pair& pair : st.pairs)
+      for (int i = pair.sub_begin; i < pair.sub_begin + pair.sub_count; ++i) {
+        if (!(st.contacts.flags[i] & SubContactFlag::bonded)) continue;
+        Part a = static_cast<Part>(m.block_tag[pair.a].part), b = static_cast<Part>(m.block_tag[pair.b].part);
+        count[{std::min(a, b), std::max(a, b)}]++;
+      }
+    return count;
+  };
+  int materials = 0;
+  const auto every = bonded_by_parts({}, &materials);
+  EXPECT_EQ(materials, 2);  // stone, soil: as before mortar_parts
+  EXPECT_GT(every.at({Part::ring, Part::ring}), 0);
+  EXPECT_GT(every.at({Part::wall, Part::wall}), 0);
+  EXPECT_GT(every.at({Part::ring, Part::fill}), 0);
+  for (const auto& [parts, n] : every) EXPECT_NE(parts.first, Part::ground) << "the soil ground never carries mortar";
+  EXPECT_EQ(bonded_by_parts({Part::ring, Part::wall, Part::fill}, &materials), every);
+  EXPECT_EQ(materials, 2);
+
+  const auto ring = bonded_by_parts({Part::ring}, &materials);
+  EXPECT_EQ(materials, 3);  // and stone without the bond
+  ASSERT_EQ(ring.size(), 1u);
+  EXPECT_EQ(ring.at({Part::ring, Part::ring}), every.at({Part::ring, Part::ring}));
+
+  const auto walls_and_fill = bonded_by_parts({Part::wall, Part::fill}, &materials);
+  for (const auto& [parts, n] : walls_and_fill) {
+    EXPECT_NE(parts.first, Part::ring);
+    EXPECT_EQ(n, every.at(parts));
+  }
+  EXPECT_EQ(walls_and_fill.at({Part::wall, Part::wall}), every.at({Part::wall, Part::wall}));
+  EXPECT_FALSE(walls_and_fill.count({Part::ring, Part::fill}));
+}
+
+// A listed part the bridge has no stone block of is an error, not mortar silently nowhere.
+TEST(Bridge, AMortarPartTheBridgeLacksIsAnError) {
+  using ::testing::HasSubstr;
+  BridgeSpec s;  // the ring alone
+  s.mortar_pa = 2e5;
+  s.mortar_parts = {Part::ring, Part::wall};
+  try {
+    compile_bridge(s, generate_bridge(s));
+    ADD_FAILURE() << "no error";
+  } catch (const ModelError& e) {
+    EXPECT_THAT(e.what(), HasSubstr("mortar_parts lists \"wall\", but the bridge has no stone block of that part"));
+  }
+  s.mortar_pa = 0;  // dry: the list says nothing
+  EXPECT_NO_THROW(compile_bridge(s, generate_bridge(s)));
 }
 
 TEST(Bridge, ImpossibleParametersAreClearErrors) {

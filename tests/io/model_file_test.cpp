@@ -3,9 +3,12 @@
 #include <gtest/gtest.h>
 
 #include <fstream>
+#include <toml++/toml.h>
 
 #include "io/model_file.h"
 #include "io/scenario_file.h"
+#include "io/study_file.h"
+#include "io/sweep_file.h"
 
 namespace ishibashi {
 namespace {
@@ -22,6 +25,42 @@ std::string error_of(const std::string& text) {
     return e.what();
   }
   return "no error";
+}
+
+// Every input file shipped with the program reads: models/ as model files, scenarios/ as
+// scenario, sweep or study files (by their tables), with each scenario a sweep names.
+TEST(ShippedFiles, EveryModelScenarioSweepAndStudyFileReads) {
+  const auto root = std::filesystem::path(ISHIBASHI_SOURCE_DIR);
+  int models = 0, scenarios = 0, sweeps = 0, studies = 0;
+  for (const auto& entry : std::filesystem::recursive_directory_iterator(root / "models"))
+    if (entry.path().extension() == ".toml") {
+      EXPECT_NO_THROW(read_model_file(entry.path())) << entry.path();
+      ++models;
+    }
+  for (const auto& entry : std::filesystem::recursive_directory_iterator(root / "scenarios")) {
+    const std::filesystem::path& file = entry.path();
+    if (file.extension() != ".toml") continue;
+    const toml::table tables = toml::parse_file(file.string());
+    try {
+      if (tables.contains("sweep")) {
+        for (const auto& scenario : read_sweep(file).scenarios) read_scenario(scenario);
+        ++sweeps;
+      } else if (tables.contains("study")) {
+        read_study(file, false);
+        if (tables.contains("quick")) read_study(file, true);
+        ++studies;
+      } else {
+        read_scenario(file);
+        ++scenarios;
+      }
+    } catch (const std::exception& e) {
+      ADD_FAILURE() << e.what();
+    }
+  }
+  EXPECT_GE(models, 9);
+  EXPECT_GE(scenarios, 17);
+  EXPECT_GE(sweeps, 4);
+  EXPECT_GE(studies, 2);
 }
 
 TEST(ModelFile, PresetReads) {
@@ -63,6 +102,17 @@ TEST(ModelFile, AMeshWhereATomlFileGoesSaysHowToImportIt) {
     EXPECT_THAT(e.what(), HasSubstr("ishibashi_stones.OFF: a mesh given where a model file (models/) goes, a TOML file"));
     EXPECT_THAT(e.what(), HasSubstr("[import] files = [\"ishibashi_stones.OFF\"]"));
   }
+}
+
+// mortar_parts: names of parts, at least one; anything else named at its line.
+TEST(ModelFile, MortarPartsAreNamedPartsAndABadOneIsRefusedAtItsLine) {
+  const auto file = std::filesystem::temp_directory_path() / "ishibashi_model_test.toml";
+  std::ofstream(file) << "[bridge]\nmortar_parts = [\"ring\", \"side_wall\"]\n";
+  EXPECT_EQ(read_model_file(file).bridge.mortar_parts, (std::vector<Part>{Part::ring, Part::side_wall}));
+  EXPECT_THAT(error_of("[bridge]\nmortar_parts = []\n"),
+              HasSubstr(":2: 'mortar_parts' must be an array of one or more of \"ring\", \"wall\", \"fill\", \"side_wall\", \"ground\""));
+  EXPECT_THAT(error_of("[bridge]\nmortar_parts = [\"ring\", \"spandrel\"]\n"), HasSubstr(":2: 'mortar_parts' may only hold \"ring\""));
+  EXPECT_THAT(error_of("[bridge]\nmortar_parts = \"ring\"\n"), HasSubstr(":2: 'mortar_parts' must be an array"));
 }
 
 TEST(ModelFile, NumbersOutOfRangeNameTheirLine) {
@@ -192,6 +242,9 @@ TEST(ScenarioFile, MortarOverridesReplaceTheModelsAndANegativeOneIsRefused) {
   EXPECT_EQ(read_scenario(file).model.bridge.mortar_pa, model_value);
   write("mortar_pa = 250000.0");
   EXPECT_EQ(read_scenario(file).model.bridge.mortar_pa, 250000.0);
+  EXPECT_TRUE(read_scenario(file).model.bridge.mortar_parts.empty());  // the model file's: every stone part
+  write("mortar_parts = [\"ring\"]");
+  EXPECT_EQ(read_scenario(file).model.bridge.mortar_parts, std::vector<Part>{Part::ring});
   for (const std::string key : {"mortar_pa", "mortar_tension_fracture_j_m2", "mortar_shear_fracture_j_m2"}) {
     write(key + " = -5.0");
     try {
