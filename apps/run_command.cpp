@@ -104,6 +104,12 @@ int run_ensemble_of(const RunOptions& o, Scenario sc) {
   options.threads_per_member = sc.settings.threads;
   if (o.checkpoint_wall_s > 0) options.checkpoint_wall_s = o.checkpoint_wall_s;
   options.on_event = event_printer(o);
+  if (!o.no_report)
+    options.on_member_ran = [&](const std::filesystem::path& folder, int member) {
+      const std::string not_drawn = run_report_script(
+          "run_report.py", folder, sc.model.name + ", " + o.scenario.filename().string() + ", member " + std::to_string(member));
+      return not_drawn.empty() ? "" : "report.png not drawn: " + not_drawn;
+    };
   stop_runs_on_interrupt();
   const EnsembleOutcome r = run_ensemble(sc, options);
   if (mpi.rank() != 0) return r.interrupted > 0 ? 130 : r.failed > 0 ? 1 : 0;
@@ -121,7 +127,8 @@ int run_ensemble_of(const RunOptions& o, Scenario sc) {
                                     ? ""
                                     : run_report_script("ensemble_figure.py", options.out,
                                                         sc.model.name + ", " + o.scenario.filename().string());
-  std::printf("outputs in %s: member_NNN/ (each member's run), ensemble.csv, ensemble.json%s\n", options.out.c_str(),
+  std::printf("outputs in %s: member_NNN/ (each member's run%s), ensemble.csv, ensemble.json%s\n", options.out.c_str(),
+              o.no_report ? "" : " and its report.png",
               o.no_report || r.finished == 0 || !not_drawn.empty() ? "" : ", ensemble.png (every member through the shaking)");
   if (!not_drawn.empty()) std::printf("warning: ensemble.png not drawn: %s\n", not_drawn.c_str());
   return r.interrupted > 0 ? 130 : r.failed > 0 ? 1 : 0;

@@ -41,13 +41,14 @@ def first_fall_s(rows, settle_time_s):
 
 def shaking_series(rows, settle_time_s):
     """(time of shaking [s], crown unit's dz [mm], stones fallen) at each frame of the shaking;
-    None without the monitored unit's column."""
-    crown = next((k for k in rows[0] if re.fullmatch(r"block\d+_dz_m", k)), None) if rows else None
-    if crown is None:
-        return None
+    the crown's None where the history has no monitored unit (a model without an arch ring
+    and no [monitor] blocks), the whole None without a frame of shaking."""
     shake = [r for r in rows if r["phase"] == "shake"]
-    return ([float(r["time_s"]) - settle_time_s for r in shake], [1000 * float(r[crown]) for r in shake],
-            [int(r["fallen_stones"]) for r in shake])
+    if not shake:
+        return None
+    crown = next((k for k in rows[0] if re.fullmatch(r"block\d+_dz_m", k)), None)
+    return ([float(r["time_s"]) - settle_time_s for r in shake],
+            [1000 * float(r[crown]) for r in shake] if crown else None, [int(r["fallen_stones"]) for r in shake])
 
 
 def median(values):
@@ -103,18 +104,24 @@ def draw(ensembles, path, title=None):
         times = series[0][0]
         frame_s = (times[-1] - times[0]) / max(len(times) - 1, 1)  # the members' output interval
         for a, column in zip(axes, (1, 2)):
-            for one in series:
-                a.plot(one[0], one[column], lw=0.6, alpha=0.5, color=colour)
-            grid, middle = median_curve([(one[0], one[column]) for one in series], frame_s)
+            curves = [(one[0], one[column]) for one in series if one[column] is not None]
+            if not curves:
+                continue
+            for curve in curves:
+                a.plot(*curve, lw=0.6, alpha=0.5, color=colour)
+            grid, middle = median_curve(curves, frame_s)
             a.plot(grid, middle, lw=1.8, color=colour,
-                   label=f"{label}: {len(series)} member{'' if len(series) == 1 else 's'} (median bold)")
+                   label=f"{label}: {len(curves)} member{'' if len(curves) == 1 else 's'} (median bold)")
+    if not axes[0].lines:
+        axes[0].text(0.5, 0.5, "no monitored unit: the model has no arch ring ([monitor] blocks names one)",
+                     ha="center", va="center", transform=axes[0].transAxes, fontsize=9)
     axes[0].set_ylabel("crown unit dz [mm]")
     axes[1].set_ylabel("stones fallen")
     axes[1].set_xlabel("time of shaking [s]")
     axes[0].set_title("Every member: the crown unit, vertical, relative to the ground; the stones fallen", fontsize=9)
     for a in axes:
         a.grid(alpha=0.3)
-    axes[0].legend(fontsize=8)
+    axes[0 if axes[0].lines else 1].legend(fontsize=8)
     if title:
         fig.suptitle(title, fontsize=10)
     fig.tight_layout()
@@ -130,8 +137,8 @@ def probabilities(ensemble):
         return ""
     j = json.load(open(Path(ensemble) / "ensemble.json"))
     def share(key, name):
-        o = j[key]
-        return f"{name} {round(o['p'] * o['members'])} of {o['members']} [{o['lo']:.2f}-{o['hi']:.2f}]"
+        o = j[key]  # its "members": those in which it happened, of the finished ones
+        return f"{name} {o['members']} of {j['finished']} [{o['lo']:.2f}-{o['hi']:.2f}]"
     return ", ".join([share("collapse", "collapse"), share("stones_fall", "a stone falls"),
                       share("ring_stones_fall", "a ring stone falls")]) + " (95 % intervals)"
 

@@ -218,7 +218,7 @@ TEST(Ensemble, MembersSettlingComesAsLines) {
   std::filesystem::remove_all(out);
   int status = 0;
   const std::string log = run_command(test::program() + " run " + file.string() +
-                                          " --settle-max 0.3 --settle-kinetic 1e-12 --duration 0.01 --out " + out.string(),
+                                          " --settle-max 0.3 --settle-kinetic 1e-12 --duration 0.01 --no-report --out " + out.string(),
                                       &status);
   ASSERT_EQ(status, 0) << log;
   EXPECT_NE(log.find("member 0: settling, 0.2"), std::string::npos) << log;  // the first frame past 0.25 s
@@ -243,6 +243,10 @@ TEST(Ensemble, RunMembersWritesProbabilitiesAndKeepsFinishedMembers) {
   EXPECT_NE(first.find("member 1: 80 % of the shaking done, about "), std::string::npos) << first;
   EXPECT_EQ(first.find("member 1: 100 %"), std::string::npos) << first;
   EXPECT_FALSE(std::filesystem::exists(out / "member_002"));
+  // Each member that ran has its report, drawn where it ran, as a single run has.
+  for (const char* member : {"member_000", "member_001"})
+    EXPECT_EQ(text_of(out / member / "report.png").substr(0, 4), "\x89PNG") << member;
+  EXPECT_NE(first.find("member_NNN/ (each member's run and its report.png)"), std::string::npos) << first;
   // The folder is the ensemble's, not a run's: --resume says how an ensemble goes on.
   const std::string resumed = run_command(test::program() + " run --resume " + out.string(), &status);
   EXPECT_EQ(WEXITSTATUS(status), 2) << resumed;
