@@ -25,9 +25,12 @@ int run_sweep_command(const SweepCommandOptions& o) {
               stop_requested() ? " (interrupted: run the same command again to go on)" : "");
   for (const ScenarioFragility& s : r.fragility) {
     const FragilityFit& f = s.fit;
-    std::printf("fragility of %s (lognormal, maximum likelihood, %d runs, %d failures): median PGA %.3f g, beta %.3f%s\n",
-                s.scenario.c_str(), f.outcomes, f.failures, f.median, f.beta,
-                f.degenerate ? " (degenerate: all runs failed, none did, or failures and survivals overlap at one level at most)" : "");
+    if (f.degenerate)
+      std::printf("fragility of %s (%d runs, %d failures): no curve fits, %s\n", s.scenario.c_str(), f.outcomes, f.failures,
+                  degenerate_reason(f, "g").c_str());
+    else
+      std::printf("fragility of %s (lognormal, maximum likelihood, %d runs, %d failures): median PGA %.3f g, beta %.3f\n",
+                  s.scenario.c_str(), f.outcomes, f.failures, f.median, f.beta);
     if (s.reference.empty()) continue;
     std::printf("  against %s on the same %d cases (record, level, member): both stand %d, both fail %d, only %s fails %d, only %s fails %d; "
                 "one curve for both: p = %.3g (likelihood ratio %.2f)\n",

@@ -1,5 +1,7 @@
 #include "analysis/batch/fragility.h"
 
+#include <cstdio>
+
 #include <Eigen/Dense>
 
 #include <algorithm>
@@ -55,6 +57,8 @@ FragilityFit fit_lognormal_fragility(const std::vector<double>& intensity, const
     if (failed[i]) lowest_failure = std::min(lowest_failure, lnx[i]);
     else highest_survival = std::max(highest_survival, lnx[i]);
   }
+  fit.highest_survival = std::isfinite(highest_survival) ? std::exp(highest_survival) : 0.0;
+  fit.lowest_failure = std::isfinite(lowest_failure) ? std::exp(lowest_failure) : 0.0;
   // One level: the same intensity within rounding (a sweep scales each record to a level,
   // so records at one level differ in their last bits).
   constexpr double kSameLevel = 1e-9;  // in ln x
@@ -102,6 +106,25 @@ FragilityFit fit_lognormal_fragility(const std::vector<double>& intensity, const
   fit.beta = 1.0 / b;
   fit.degenerate = !(b > 0);
   return fit;
+}
+
+std::string degenerate_reason(const FragilityFit& fit, const std::string& unit) {
+  if (!fit.degenerate) return "";
+  auto x = [&](double v) {
+    char text[32];
+    std::snprintf(text, sizeof text, "%.3g %s", v, unit.c_str());
+    return std::string(text);
+  };
+  if (fit.outcomes == 0) return "no run yet";
+  if (fit.failures == 0) return "no run failed: the median lies above " + x(fit.highest_survival) + ", the highest level run";
+  if (fit.failures == fit.outcomes) return "every run failed: the median lies below " + x(fit.lowest_failure) + ", the lowest level run";
+  if (fit.lowest_failure >= fit.highest_survival * (1 - 1e-9))  // separated, or mixed at one level only
+    return fit.lowest_failure <= fit.highest_survival * (1 + 1e-9)
+               ? "failures and survivals mix at " + x(fit.median) + " only, apart elsewhere: the median is that level, the "
+                 "dispersion unknown"
+               : "every failure lies above every survival: the median lies between " + x(fit.highest_survival) + " and " +
+                     x(fit.lowest_failure) + " (the curve drawn at their geometric mean), the dispersion unknown";
+  return "no finite maximum of the likelihood";
 }
 
 double failure_probability(const FragilityFit& fit, double intensity) {

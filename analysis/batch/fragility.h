@@ -3,6 +3,7 @@
 // (probit regression on ln x, Newton's method), as in Baker (2015), "Efficient analytical
 // fragility function fitting using dynamic structural analysis".
 #pragma once
+#include <string>
 #include <vector>
 
 namespace ishibashi {
@@ -16,7 +17,14 @@ struct FragilityFit {
   // survivals, or at one level mixed and separated elsewhere: the maximum likelihood beta
   // is 0). median and beta are then only bounds (both 0 without any outcome).
   bool degenerate = false;
+  // The outcomes' bounds on the median (x units; 0 where there is none): the highest
+  // intensity a run stood and the lowest one a run failed at.
+  double highest_survival = 0, lowest_failure = 0;
 };
+
+// Why a degenerate fit has no curve and where its median lies, for a user ("no run
+// failed: the median lies above 0.6 g, the highest level run"); "" for a fit that is not.
+std::string degenerate_reason(const FragilityFit& fit, const std::string& unit);
 
 // intensity: > 0 each; failed: 0 or 1, the same length.
 FragilityFit fit_lognormal_fragility(const std::vector<double>& intensity, const std::vector<int>& failed);

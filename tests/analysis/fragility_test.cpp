@@ -1,5 +1,6 @@
 // The lognormal fragility fit recovers known parameters from synthetic outcomes, and
 // reports separated outcomes instead of a made-up dispersion.
+#include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -59,6 +60,21 @@ TEST(Fragility, SeparatedOrOneSidedOutcomesAreDegenerate) {
   const FragilityFit mixed = fit_lognormal_fragility({0.1, 0.2, 0.3, 0.4, 0.5}, {0, 1, 0, 1, 1});
   EXPECT_FALSE(mixed.degenerate);
   EXPECT_GT(mixed.beta, 0);
+  EXPECT_EQ(degenerate_reason(mixed, "g"), "");
+}
+
+// What a degenerate fit tells its user: which case, and where its outcomes put the median.
+TEST(Fragility, ADegenerateFitSaysWhereTheMedianLies) {
+  using ::testing::HasSubstr;
+  EXPECT_EQ(degenerate_reason(fit_lognormal_fragility({0.2, 0.6}, {0, 0}), "g"),
+            "no run failed: the median lies above 0.6 g, the highest level run");
+  EXPECT_EQ(degenerate_reason(fit_lognormal_fragility({0.2, 0.6}, {1, 1}), "g"),
+            "every run failed: the median lies below 0.2 g, the lowest level run");
+  EXPECT_THAT(degenerate_reason(fit_lognormal_fragility({0.1, 0.2, 0.4, 0.8}, {0, 0, 1, 1}), "g"),
+              HasSubstr("every failure lies above every survival: the median lies between 0.2 g and 0.4 g"));
+  EXPECT_THAT(degenerate_reason(fit_lognormal_fragility({0.2, 0.6, 0.6, 1.0}, {0, 1, 0, 1}), "g"),
+              HasSubstr("failures and survivals mix at 0.6 g only"));
+  EXPECT_EQ(degenerate_reason(fit_lognormal_fragility({}, {}), "g"), "no run yet");
 }
 
 // Outcomes at n random levels around the median of the curve (median, beta).
