@@ -182,9 +182,10 @@ ModelBuilder bridge_builder(const BridgeSpec& s, const std::vector<BridgeBlock>&
   if (s.mortar_pa > 0) {
     for (Part p : s.mortar_parts)
       if (std::none_of(blocks.begin(), blocks.end(), [&](const BridgeBlock& b) { return b.part == p && !of_soil(b); }))
-        throw ModelError(std::string("mortar_parts lists \"") + mortar_part_name(p) +
-                         "\", but the bridge has no stone block of that part (the ground of soil and soil backfill "
-                         "never carry mortar; a ring alone has no wall, fill or side wall)");
+        throw ModelError(std::string("mortar_parts (the model's [bridge] or the scenario's [model]) lists \"") +
+                         mortar_part_name(p) + "\", but the bridge has no stone block of that part (the ground of soil and "
+                         "soil backfill never carry mortar; a ring alone has no wall, fill or side wall; imported blocks "
+                         "have no parts: leave mortar_parts out)");
     if (std::any_of(blocks.begin(), blocks.end(), [&](const BridgeBlock& b) { return !of_soil(b) && !mortared(b.part); })) {
       Material dry = stone;
       dry.name = stone.name + " (dry joints)";

@@ -97,7 +97,11 @@ CompiledModel compile_model(const ModelFile& file, const std::filesystem::path& 
   // face is a contact plane); only once validation has shown them convex.
   if (file.imported())
     for (BridgeBlock& b : c.blocks) b.shape = merged_faces(b.shape);
-  c.builder = bridge_builder(file.bridge, c.blocks);
+  try {
+    c.builder = bridge_builder(file.bridge, c.blocks);
+  } catch (const ModelError& e) {
+    throw InputError(path.string() + ": " + e.what());
+  }
   c.model = build_model(c.builder, options, path);
   return c;
 }

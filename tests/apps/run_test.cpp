@@ -436,7 +436,7 @@ TEST(Run, HeaderGivesTheShakingsPeaksAndWarnsOfAWrongUnit) {
 }
 
 // Where the mortar lies (mortar_parts) is said in the run's header and summary.json; a
-// dry run says nothing of mortar.
+// dry run says nothing of mortar; a part the bridge lacks is refused naming the model file.
 TEST(Run, HeaderAndSummarySayWhereTheMortarLies) {
   const auto dir = test::tmp_dir() / "ishibashi_run_mortar_parts";
   std::filesystem::create_directories(dir);
@@ -459,6 +459,15 @@ TEST(Run, HeaderAndSummarySayWhereTheMortarLies) {
       EXPECT_EQ(summary["mortar_parts"], nlohmann::json::array({"ring"})) << summary["mortar_parts"];
     }
   }
+  std::ofstream(dir / "run.toml") << "[model]\nfile = \"" << (kRoot / "models/nishida_a.toml").string()
+                                  << "\"\nmortar_pa = 2e5\nmortar_parts = [\"ring\", \"wall\"]\n[ground_motion]\n"
+                                  << "x = { file = \"still.txt\", format = \"columns\", dt_s = 0.01, unit = \"g\" }\n";
+  int status = 0;
+  const std::string refused = test::run_command(test::program() + " run --quiet " + (dir / "run.toml").string() + " --out " +
+                                                    (dir / "refused").string(), &status);
+  EXPECT_EQ(WEXITSTATUS(status), 2) << refused;
+  EXPECT_NE(refused.find("nishida_a.toml: mortar_parts (the model's [bridge] or the scenario's [model]) lists \"wall\", "
+                         "but the bridge has no stone block of that part"), std::string::npos) << refused;
   std::filesystem::remove_all(dir);
 }
 

@@ -277,7 +277,7 @@ TEST(Bridge, AMortarPartTheBridgeLacksIsAnError) {
     compile_bridge(s, generate_bridge(s));
     ADD_FAILURE() << "no error";
   } catch (const ModelError& e) {
-    EXPECT_THAT(e.what(), HasSubstr("mortar_parts lists \"wall\", but the bridge has no stone block of that part"));
+    EXPECT_THAT(e.what(), HasSubstr("lists \"wall\", but the bridge has no stone block of that part"));
   }
   s.mortar_pa = 0;  // dry: the list says nothing
   EXPECT_NO_THROW(compile_bridge(s, generate_bridge(s)));
