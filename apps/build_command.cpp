@@ -80,6 +80,7 @@ int run_build(const BuildOptions& o) {
   }
 
   if (!o.export_file.empty()) {
+    if (o.export_file.has_parent_path()) std::filesystem::create_directories(o.export_file.parent_path());
     std::vector<Polyhedron> shapes_out;
     for (const BridgeBlock& b : compiled.blocks) shapes_out.push_back(b.shape);
     write_atomically(o.export_file, [&](const std::filesystem::path& tmp) {

@@ -27,8 +27,9 @@ void warn_of_implausible_sizes(const std::vector<BridgeBlock>& blocks, const std
   static std::once_flag warned;
   std::call_once(warned, [&] {
     std::fprintf(stderr, "warning: %s: its largest free block is %.3g m across; mesh coordinates are read as metres times "
-                 "[import] scale: a mesh drawn in millimetres needs scale = 0.001, in centimetres 0.01\n",
-                 path.c_str(), largest);
+                 "[import] scale: a mesh drawn in millimetres needs scale = 0.001, in centimetres 0.01%s\n",
+                 path.c_str(), largest,
+                 largest > kLargestPlausibleStone_m ? "; a ground slab or abutment that stays still goes in [import] fixed_files" : "");
   });
 }
 

@@ -357,13 +357,15 @@ TEST(Run, NanOrInfinityOnTheCommandLineIsRefused) {
 
 
 // `build --export` writes the blocks as a mesh that reads back block for block (model A:
-// 165 stones and the ground slab), and a name CGAL cannot write is refused before the
-// validation, not after it.
+// 165 stones and the ground slab), into a folder it makes (the output folder, as a user
+// gives it: it said "a full disk or no permission?" where the folder was not there yet),
+// and a name CGAL cannot write is refused before the validation, not after it.
 TEST(Run, BuildExportsTheBlocksAndRefusesAnUnknownMeshFormatAtOnce) {
-  const auto mesh = test::tmp_dir() / "ishibashi_export.obj";
-  std::filesystem::remove(mesh);
+  const std::string out = (test::tmp_dir() / "ishibashi_export").string();
+  std::filesystem::remove_all(out);
+  const auto mesh = std::filesystem::path(out) / "blocks.obj";
   int status = 0;
-  const std::string model = (kRoot / "models/nishida_a.toml").string(), out = (test::tmp_dir() / "ishibashi_export").string();
+  const std::string model = (kRoot / "models/nishida_a.toml").string();
   const std::string built = test::run_command(test::program() + " build " + model + " --export " + mesh.string() + " --out " + out, &status);
   ASSERT_EQ(status, 0) << built;
   EXPECT_EQ(read_block_file(mesh).size(), 166u);
