@@ -11,6 +11,7 @@ namespace ishibashi {
 
 GroundMotionStream::GroundMotionStream(const GroundMotionSpec& spec, double dt_s) : dt_s_(dt_s), start_s_(spec.start_s) {
   double end = INFINITY;
+  std::filesystem::path shortest;  // the component whose record ends first
   bool any = false;
   for (int c = 0; c < 3; ++c) {
     if (!spec.component[c]) continue;
@@ -21,15 +22,16 @@ GroundMotionStream::GroundMotionStream(const GroundMotionSpec& spec, double dt_s
     else if (cs.format == "columns") r = read_columns(cs.file, cs.unit, cs.layout);
     else throw InputError(cs.file.string() + ": unknown format '" + cs.format + "' (at2, knet or columns)");
     for (double& a : r.accel_m_s2) a *= cs.scale;
-    end = std::min(end, r.dt_s * (r.accel_m_s2.size() - 1));
+    if (r.dt_s * (r.accel_m_s2.size() - 1) < end) end = r.dt_s * (r.accel_m_s2.size() - 1), shortest = cs.file;
     record_[c] = std::move(r);
     any = true;
   }
   if (!any) throw InputError("ground motion: no component given (x, y or z)");
   if (spec.start_s < 0 || spec.start_s >= end) {
     std::ostringstream message;
-    message << "ground motion: start_s = " << spec.start_s << " s lies outside the record; it must lie in [0, " << end
-            << ") s (the shortest component's length)";
+    message << "ground motion: start_s = " << spec.start_s << " s (a scenario's [ground_motion] start_s, a sweep record's, or "
+            << "--start) lies outside the record; it must lie in [0, " << end << ") s, the length of its shortest component, "
+            << shortest.string();
     throw InputError(message.str());
   }
   const double duration = spec.duration_s > 0 ? std::min(spec.duration_s, end - spec.start_s) : end - spec.start_s;
