@@ -96,6 +96,10 @@ void run_job(Job& job, int i, const StudyFile& study, const StudyOptions& o, int
     write_text_atomically(job.folder / "row.csv", row);
     stamp_outputs(job.folder, job.key);  // last: the outputs are complete
     job.status = "ran";
+    if (job.kind == JobKind::run && !ensemble && o.report)  // the run at a glance, as `run` draws it
+      if (const std::string failed = run_report_script("run_report.py", job.folder, study.name + ": " + job.input.filename().string());
+          !failed.empty())
+        event(name + ": report.png not drawn: " + failed);
   } catch (const std::exception& e) {
     job.status = "failed";
     job.error = e.what();

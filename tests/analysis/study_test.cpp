@@ -54,8 +54,10 @@ TEST(Study, QuickStudyWritesTablesAndAReportWithEveryFigureThenKeepsCurrentOutpu
   // What it said while it worked: a progress line after each job, the last with all done.
   EXPECT_EQ(count_of(first, "progress: "), 4) << first;
   EXPECT_NE(first.find("progress: 4 of 4 jobs done\n"), std::string::npos) << first;
-  for (const char* run : {"nishida_a_kobe_dry", "nishida_a_kobe_mortar"})
+  for (const char* run : {"nishida_a_kobe_dry", "nishida_a_kobe_mortar"}) {
     EXPECT_TRUE(std::filesystem::exists(out / "runs" / run / "view.pvsm")) << run;
+    EXPECT_EQ(text_of(out / "runs" / run / "report.png").substr(0, 4), "\x89PNG") << run;  // as `run` draws it
+  }
   // The study's own figures and verdicts beside ours (the study file's [reference]).
   EXPECT_NE(md.find("## Natural frequencies against the study"), std::string::npos);
   EXPECT_NE(md.find("| 17.6 |"), std::string::npos) << "model A's x frequency in the study";
