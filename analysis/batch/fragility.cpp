@@ -108,23 +108,33 @@ FragilityFit fit_lognormal_fragility(const std::vector<double>& intensity, const
   return fit;
 }
 
+const char* median_is(const FragilityFit& fit) {
+  if (!fit.degenerate) return "fit";
+  if (fit.outcomes == 0) return "none";
+  if (fit.failures == 0) return "above";
+  if (fit.failures == fit.outcomes) return "below";
+  // Separated: all failures above all survivals, apart, or mixed at one level only.
+  return fit.lowest_failure <= fit.highest_survival * (1 + 1e-9) ? "at" : "between";
+}
+
+bool has_curve(const FragilityFit& fit) { return fit.failures > 0 && fit.failures < fit.outcomes; }
+
 std::string degenerate_reason(const FragilityFit& fit, const std::string& unit) {
-  if (!fit.degenerate) return "";
   auto x = [&](double v) {
     char text[32];
     std::snprintf(text, sizeof text, "%.3g %s", v, unit.c_str());
     return std::string(text);
   };
-  if (fit.outcomes == 0) return "no run yet";
-  if (fit.failures == 0) return "no run failed: the median lies above " + x(fit.highest_survival) + ", the highest level run";
-  if (fit.failures == fit.outcomes) return "every run failed: the median lies below " + x(fit.lowest_failure) + ", the lowest level run";
-  if (fit.lowest_failure >= fit.highest_survival * (1 - 1e-9))  // separated, or mixed at one level only
-    return fit.lowest_failure <= fit.highest_survival * (1 + 1e-9)
-               ? "failures and survivals mix at " + x(fit.median) + " only, apart elsewhere: the median is that level, the "
-                 "dispersion unknown"
-               : "every failure lies above every survival: the median lies between " + x(fit.highest_survival) + " and " +
-                     x(fit.lowest_failure) + " (the curve drawn at their geometric mean), the dispersion unknown";
-  return "no finite maximum of the likelihood";
+  const std::string kind = median_is(fit);
+  if (kind == "fit") return "";
+  if (kind == "none") return "no run yet";
+  if (kind == "above") return "no run failed: the median lies above " + x(fit.highest_survival) + ", the highest level run";
+  if (kind == "below") return "every run failed: the median lies below " + x(fit.lowest_failure) + ", the lowest level run";
+  if (kind == "at")
+    return "failures and survivals mix at " + x(fit.median) + " only, apart elsewhere: the median is that level, the "
+           "dispersion unknown";
+  return "every failure lies above every survival: the median lies between " + x(fit.highest_survival) + " and " +
+         x(fit.lowest_failure) + " (the curve drawn at their geometric mean), the dispersion unknown";
 }
 
 double failure_probability(const FragilityFit& fit, double intensity) {

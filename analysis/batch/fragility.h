@@ -22,6 +22,14 @@ struct FragilityFit {
   double highest_survival = 0, lowest_failure = 0;
 };
 
+// What the median is: "fit" (a curve fitted), or of a degenerate fit where the outcomes
+// put it: "above" the highest survival (no run failed), "below" the lowest failure (every
+// run failed), "between" the two (all failures above all survivals), "at" the one level
+// where they mix; "none" without outcomes.
+const char* median_is(const FragilityFit& fit);
+// Whether a curve can be drawn: some runs failed and some stood (a degenerate fit's step at
+// its median is the likelihood's limit there; with none failed or all, any curve is made up).
+bool has_curve(const FragilityFit& fit);
 // Why a degenerate fit has no curve and where its median lies, for a user ("no run
 // failed: the median lies above 0.6 g, the highest level run"); "" for a fit that is not.
 std::string degenerate_reason(const FragilityFit& fit, const std::string& unit);

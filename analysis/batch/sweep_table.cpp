@@ -94,7 +94,7 @@ std::vector<ScenarioFragility> write_sweep_curves(const SweepFile& sweep, const 
   std::ostringstream fits, curve, comparison;
   fits.precision(9);
   comparison.precision(9);
-  fits << "scenario,median_g,beta,degenerate,outcomes,failures,log_likelihood\n";
+  fits << "scenario,median_g,beta,degenerate,outcomes,failures,log_likelihood,median_is,highest_survival_g,lowest_failure_g\n";
   curve << "scenario,pga_g,failure_probability\n";
   comparison << "scenario,reference,cases,both_stand,both_fail,only_reference_fails,only_scenario_fails,"
                 "likelihood_ratio,p_same_fragility\n";
@@ -111,8 +111,10 @@ std::vector<ScenarioFragility> write_sweep_curves(const SweepFile& sweep, const 
     r.fit = fit_lognormal_fragility(o.pga, o.failed);
     const FragilityFit& fit = r.fit;
     fits << r.scenario << "," << fit.median << "," << fit.beta << "," << (fit.degenerate ? 1 : 0) << "," << fit.outcomes
-         << "," << fit.failures << "," << fit.log_likelihood << "\n";
-    for (int i = 1; i <= 150; ++i) curve << r.scenario << "," << top * i / 150 << "," << failure_probability(fit, top * i / 150) << "\n";
+         << "," << fit.failures << "," << fit.log_likelihood << "," << median_is(fit) << "," << fit.highest_survival << ","
+         << fit.lowest_failure << "\n";
+    if (has_curve(fit))  // none where no run failed or every one did: any curve there would be made up
+      for (int i = 1; i <= 150; ++i) curve << r.scenario << "," << top * i / 150 << "," << failure_probability(fit, top * i / 150) << "\n";
     if (k > 0) {  // against the reference, case by case (same record and level) and as curves
       r.reference = result.front().scenario;
       const Outcomes& ref = outcomes_of(r.reference);

@@ -19,6 +19,19 @@ from run_outputs import read_rows, save_figure  # noqa: E402  (beside this file)
 STYLES = ["-", "--", ":", "-."]
 
 
+def median_text(fit):
+    """A fit's median as fragility_fit.csv gives it: fitted, or where a degenerate fit's outcomes
+    put it (programs before median_is: "degenerate")."""
+    g = lambda key: f"{float(fit[key]):.3g} g"  # noqa: E731
+    kind = fit.get("median_is", "fit" if fit["degenerate"] == "0" else "degenerate")
+    return {"fit": f"median {g('median_g')}, beta {float(fit['beta']):.3f}",
+            "above": f"no curve: median above {g('highest_survival_g')}",
+            "below": f"no curve: median below {g('lowest_failure_g')}",
+            "between": f"step: median between {g('highest_survival_g')} and {g('lowest_failure_g')}",
+            "at": f"step: median at {g('median_g')}, where failures and survivals mix",
+            "none": "no run yet"}.get(kind, f"median {g('median_g')} (degenerate)")
+
+
 def main():
     if len(sys.argv) != 2:
         sys.exit("usage: sweep_plots.py SWEEP_OUTPUT_FOLDER")
@@ -59,12 +72,10 @@ def main():
     fig, ax = plt.subplots(figsize=(7, 4.5))
     for k, fit in enumerate(fits):
         scenario = fit["scenario"]
-        points = [c for c in curve if c["scenario"] == scenario]
+        points = [c for c in curve if c["scenario"] == scenario]  # none where no run failed or every one did
         ax.plot([float(c["pga_g"]) for c in points], [float(c["failure_probability"]) for c in points], color=f"C{k}",
                 linestyle=STYLES[k % len(STYLES)],
-                label=f"{scenario}: median {float(fit['median_g']):.3f} g, beta {float(fit['beta']):.3f}"
-                + (" (degenerate)" if fit["degenerate"] == "1" else "")
-                + f", {fit['failures']} of {fit['outcomes']} failed"
+                label=f"{scenario}: {median_text(fit)}, {fit['failures']} of {fit['outcomes']} failed"
                 + (f"; one curve with {compared[scenario]['reference']}: p = {float(compared[scenario]['p_same_fragility']):.2g}"
                    if scenario in compared else ""))
         by_level = {}

@@ -77,6 +77,27 @@ TEST(Fragility, ADegenerateFitSaysWhereTheMedianLies) {
   EXPECT_EQ(degenerate_reason(fit_lognormal_fragility({}, {}), "g"), "no run yet");
 }
 
+// What fragility_fit.csv says of the median, and where a curve may be drawn: not where no
+// run failed or every one did (a step at the level run would claim a certainty the runs do
+// not give).
+TEST(Fragility, MedianIsSaysWhereAndACurveOnlyWhereRunsBothFailedAndStood) {
+  const FragilityFit none_failed = fit_lognormal_fragility({0.2, 0.6}, {0, 0});
+  EXPECT_STREQ(median_is(none_failed), "above");
+  EXPECT_EQ(none_failed.highest_survival, 0.6);
+  EXPECT_EQ(none_failed.lowest_failure, 0.0);
+  EXPECT_FALSE(has_curve(none_failed));
+  EXPECT_STREQ(median_is(fit_lognormal_fragility({0.2, 0.6}, {1, 1})), "below");
+  EXPECT_FALSE(has_curve(fit_lognormal_fragility({0.2, 0.6}, {1, 1})));
+  const FragilityFit separated = fit_lognormal_fragility({0.1, 0.2, 0.4, 0.8}, {0, 0, 1, 1});
+  EXPECT_STREQ(median_is(separated), "between");
+  EXPECT_TRUE(has_curve(separated));
+  EXPECT_STREQ(median_is(fit_lognormal_fragility({0.2, 0.6, 0.6, 1.0}, {0, 1, 0, 1})), "at");
+  const FragilityFit mixed = fit_lognormal_fragility({0.1, 0.2, 0.3, 0.4, 0.5}, {0, 1, 0, 1, 1});
+  EXPECT_STREQ(median_is(mixed), "fit");
+  EXPECT_TRUE(has_curve(mixed));
+  EXPECT_STREQ(median_is(fit_lognormal_fragility({}, {})), "none");
+}
+
 // Outcomes at n random levels around the median of the curve (median, beta).
 void draw_outcomes(std::mt19937& random, double median, double beta, int n, std::vector<double>& x, std::vector<int>& failed) {
   std::uniform_real_distribution<double> level(std::log(0.45) - 1.0, std::log(0.45) + 1.0);
