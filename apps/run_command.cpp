@@ -252,6 +252,9 @@ int run_scenario(const RunOptions& o) {
               joint_rule_name(sc.settings.joint_rule), run.dt_s(), run.world().thread_tuner().max_threads(),
               run.ground_motion().duration_s(), sc.settings.start_s);
   print_ground_motion_peaks(sc, run.ground_motion_peaks());
+  if (const int cores = usable_cores(); run.world().thread_tuner().max_threads() > cores)
+    std::printf("warning: %d threads on %d usable cores (affinity and CPU quota): the threads beyond the cores wait for "
+                "their turn at every step (--threads 0 takes every usable core)\n", run.world().thread_tuner().max_threads(), cores);
   if (sc.model.bridge.mortar_pa > 0)
     std::printf("  mortar %s, %s\n", mortar_description(sc.model.bridge).c_str(),
                 sc.settings.mortar_bonds == MortarBonds::settled ? "set once the bridge has settled" : "set from the first step");

@@ -14,6 +14,7 @@
 #include <sstream>
 
 #include "command_line.h"
+#include "engine/cores.h"
 #include "geometry/block_files.h"
 #include "io/vtk_input.h"
 
@@ -471,6 +472,23 @@ TEST(Run, HeaderAndSummarySayWhereTheMortarLies) {
   EXPECT_NE(refused.find("nishida_a.toml: mortar_parts (the model's [bridge] or the scenario's [model]) lists \"wall\", "
                          "but the bridge has no stone block of that part"), std::string::npos) << refused;
   std::filesystem::remove_all(dir);
+}
+
+// More threads than usable cores are warned of (they wait their turn at every step); as
+// many as there are, not.
+TEST(Run, MoreThreadsThanCoresAreWarnedOf) {
+  const int cores = usable_cores();
+  for (const int threads : {cores, cores + 1}) {
+    int status = 0;
+    const std::string run = test::run_command(test::program() + " run --quiet --no-report " +
+                                                  (kRoot / "scenarios/nishida_a_kobe_dry.toml").string() +
+                                                  " --settle-max 0.01 --duration 0.01 --threads " + std::to_string(threads) +
+                                                  " --out " + (test::tmp_dir() / "ishibashi_threads").string(), &status);
+    ASSERT_EQ(status, 0) << run;
+    EXPECT_EQ(run.find("warning: " + std::to_string(threads) + " threads on " + std::to_string(cores) + " usable cores") !=
+                  std::string::npos,
+              threads > cores) << run;
+  }
 }
 
 // A scenario without [ground_motion] is refused naming it, before its model is built (it
