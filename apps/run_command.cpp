@@ -104,12 +104,8 @@ int run_ensemble_of(const RunOptions& o, Scenario sc) {
   options.threads_per_member = sc.settings.threads;
   if (o.checkpoint_wall_s > 0) options.checkpoint_wall_s = o.checkpoint_wall_s;
   options.on_event = event_printer(o);
-  if (!o.no_report)
-    options.on_member_ran = [&](const std::filesystem::path& folder, int member) {
-      const std::string not_drawn = run_report_script(
-          "run_report.py", folder, sc.model.name + ", " + o.scenario.filename().string() + ", member " + std::to_string(member));
-      return not_drawn.empty() ? "" : "report.png not drawn: " + not_drawn;
-    };
+  options.member_reports = !o.no_report;
+  options.report_title = sc.model.name + ", " + o.scenario.filename().string();
   stop_runs_on_interrupt();
   const EnsembleOutcome r = run_ensemble(sc, options);
   if (mpi.rank() != 0) return r.interrupted > 0 ? 130 : r.failed > 0 ? 1 : 0;

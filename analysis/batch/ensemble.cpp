@@ -103,8 +103,11 @@ EnsembleOutcome run_ensemble(const Scenario& scenario, const EnsembleOptions& o)
     };
     const std::string name = "member " + std::to_string(i) + (ranks ? " (rank " + std::to_string(o.mpi->rank()) + ")" : "");
     const MemberStatus status = run_in_folder(member_folder(o.out, i), member_key(sc, i), name, options, threads, start, event);
-    if (status == MemberStatus::ran && o.on_member_ran)
-      if (const std::string warning = o.on_member_ran(member_folder(o.out, i), i); !warning.empty()) event(name + ": " + warning);
+    if (status == MemberStatus::ran && o.member_reports)
+      if (const std::string failed = run_report_script("run_report.py", member_folder(o.out, i),
+                                                       o.report_title + ", member " + std::to_string(i));
+          !failed.empty())
+        event(name + ": report.png not drawn: " + failed);
     ++counts[static_cast<int>(status)];
     return std::to_string(static_cast<int>(status));
   };

@@ -36,10 +36,11 @@ struct EnsembleOptions {
   int threads_per_member = 0;      // 0: the cores shared among the jobs
   double checkpoint_wall_s = 300;  // each member's checkpoint, so that an interrupted ensemble resumes
   std::function<void(const std::string&)> on_event;  // a line per member started or finished
-  // Called on the member's own rank once it finished running (not for one kept from
-  // before), with its folder and number: its report.png, drawn where it ran. Returns a
-  // warning to print, or "".
-  std::function<std::string(const std::filesystem::path&, int)> on_member_ran;
+  // Each member that finished running (not one kept from before) draws its report.png
+  // where it ran (analysis/report/run_report.py), titled report_title and its number; a
+  // picture it cannot draw is an event saying why.
+  bool member_reports = false;
+  std::string report_title;
   const MpiSession* mpi = nullptr;  // under mpirun, more than one rank: members handed out across them
 };
 

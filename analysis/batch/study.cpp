@@ -89,7 +89,7 @@ void run_job(Job& job, int i, const StudyFile& study, const StudyOptions& o, int
   try {
     use_threads(threads);
     const std::string row =
-        ensemble ? ensemble_job(job, study, threads)
+        ensemble ? ensemble_job(job, study, threads, o.report)
         : job.kind == JobKind::run
             ? seismic_job(job, study, threads, [&progress, i](double done) { progress.advanced(i, done); }, resumed)
             : frequency_job(job, study);
@@ -166,7 +166,7 @@ std::vector<double> run_members_across_ranks(const std::vector<Job>& jobs, const
         event(name + ": started");
         progress.started(u);
         const auto t0 = std::chrono::steady_clock::now();
-        const std::string status = ensemble_member(jobs[j], k, study, threads);
+        const std::string status = ensemble_member(jobs[j], k, study, threads, o.report);
         const double s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
         event(name + ": " + status);
         progress.finished(u, state(status));

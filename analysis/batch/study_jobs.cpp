@@ -58,12 +58,14 @@ Scenario run_scenario_of(const Job& job, const StudyFile& study, int threads) {
 
 // A run's ensemble (study members >= 2) in its folder, its members checkpointed as the
 // study's runs are.
-EnsembleOptions ensemble_options(const Job& job, const StudyFile& study, int threads) {
+EnsembleOptions ensemble_options(const Job& job, const StudyFile& study, int threads, bool reports) {
   EnsembleOptions options;
   options.out = job.folder;
   options.members = study.members;
   options.threads_per_member = threads;
   options.checkpoint_wall_s = kStudyCheckpointWallS;
+  options.member_reports = reports;
+  options.report_title = study.name + ": " + job.input.filename().string();
   return options;
 }
 
@@ -91,10 +93,10 @@ bool resumable(const Job& job) {
 
 // An ensemble's row of runs.csv (its members in the job's folder, finished ones kept): the
 // most common outcome's member's result, then the probabilities.
-std::string ensemble_job(const Job& job, const StudyFile& study, int threads) {
+std::string ensemble_job(const Job& job, const StudyFile& study, int threads, bool reports) {
   fs::create_directories(job.folder);
   const Scenario sc = run_scenario_of(job, study, threads);
-  const EnsembleOutcome e = run_ensemble(sc, ensemble_options(job, study, threads));
+  const EnsembleOutcome e = run_ensemble(sc, ensemble_options(job, study, threads, reports));
   if (e.interrupted > 0) throw std::runtime_error("interrupted (its members' checkpoints are kept: the next study goes on from them)");
   if (e.failed > 0 || e.finished < e.members) throw std::runtime_error(std::to_string(e.failed) + " members failed");
   write_ground_motion(sc, job.folder);
@@ -116,9 +118,9 @@ std::string ensemble_job(const Job& job, const StudyFile& study, int threads) {
 
 // Member `member` of a run's ensemble, in the run's folder: "ran", "current" (kept),
 // "interrupted" or "failed".
-std::string ensemble_member(const Job& job, int member, const StudyFile& study, int threads) {
+std::string ensemble_member(const Job& job, int member, const StudyFile& study, int threads, bool reports) {
   fs::create_directories(job.folder);
-  EnsembleOptions options = ensemble_options(job, study, threads);
+  EnsembleOptions options = ensemble_options(job, study, threads, reports);
   options.first_member = member;
   options.end_member = member + 1;
   const EnsembleOutcome e = run_ensemble(run_scenario_of(job, study, threads), options);

@@ -45,7 +45,8 @@ extern const std::string kRunHeader;
 extern const char* const kFrequencyHeader;  // of frequencies.csv
 
 // Each job's row (with the header line first), its outputs in job.folder.
-std::string ensemble_job(const Job& job, const StudyFile& study, int threads);
+// `reports`: each member that runs draws its report.png.
+std::string ensemble_job(const Job& job, const StudyFile& study, int threads, bool reports);
 // `on_fraction`: how much of its shaking is done, after each frame; `resumed`: it goes on
 // from its checkpoint (else it starts afresh).
 std::string seismic_job(const Job& job, const StudyFile& study, int threads,
@@ -54,6 +55,6 @@ std::string frequency_job(const Job& job, const StudyFile& study);
 // One member of a run's ensemble (study members >= 2) in the run's folder, for a job of its
 // own; its run's ensemble_job then keeps it. Returns "ran", "current" (kept), "interrupted"
 // or "failed".
-std::string ensemble_member(const Job& job, int member, const StudyFile& study, int threads);
+std::string ensemble_member(const Job& job, int member, const StudyFile& study, int threads, bool reports);
 
 }  // namespace ishibashi

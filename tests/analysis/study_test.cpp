@@ -119,6 +119,8 @@ TEST(Study, RunsAsEnsemblesGiveTheirProbabilitiesAndTheStudysOutcomeInTheReport)
   const auto run = out / "runs" / "nishida_a_kobe_dry";
   EXPECT_TRUE(std::filesystem::exists(run / "member_001" / "summary.json"));
   EXPECT_FALSE(std::filesystem::exists(run / "member_002"));
+  for (const char* member : {"member_000", "member_001"})  // each member's own picture, as `run --members` draws
+    EXPECT_EQ(text_of(run / member / "report.png").substr(0, 4), "\x89PNG") << member;
   const std::string runs = text_of(out / "runs.csv");
   EXPECT_NE(runs.find(",2,member_00"), std::string::npos) << runs;  // members, the most common outcome's member
   EXPECT_NE(runs.find("p_collapse,p_collapse_lo"), std::string::npos) << runs;
