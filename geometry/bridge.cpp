@@ -45,7 +45,9 @@ std::vector<std::string> mortar_part_names(const BridgeSpec& spec) {
 std::string mortar_description(const BridgeSpec& spec) {
   if (!(spec.mortar_pa > 0)) return "";
   std::ostringstream text;
-  text << "f_t = c = " << std::setprecision(4) << spec.mortar_pa << " Pa at the stone joints in contact within ";
+  text << "f_t = c = " << std::setprecision(4) << spec.mortar_pa << " Pa at ";
+  if (spec.mortar_parts.empty()) return text.str() + "every stone joint in contact";
+  text << "the stone joints in contact within ";
   const std::vector<std::string> names = mortar_part_names(spec);
   for (std::size_t i = 0; i < names.size(); ++i) text << (i ? ", " : "") << names[i];
   return text.str();

@@ -61,7 +61,8 @@ struct BridgeSpec {
 // The names of the parts whose joints the spec's mortar bonds (every one of
 // kMortarPartNames when mortar_parts is empty), for summaries.
 std::vector<std::string> mortar_part_names(const BridgeSpec& spec);
-// "f_t = c = 2e+05 Pa at the stone joints in contact within ring, wall", or "" when dry.
+// "f_t = c = 2e+05 Pa at the stone joints in contact within ring, wall" ("at every stone
+// joint in contact" without mortar_parts), or "" when dry.
 std::string mortar_description(const BridgeSpec& spec);
 
 struct BridgeBlock {

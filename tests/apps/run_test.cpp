@@ -444,7 +444,7 @@ TEST(Run, HeaderAndSummarySayWhereTheMortarLies) {
   const auto dir = test::tmp_dir() / "ishibashi_run_mortar_parts";
   std::filesystem::create_directories(dir);
   std::ofstream(dir / "still.txt") << "0\n0\n0\n0\n0\n";
-  for (const std::string mortar : {"", "mortar_pa = 2e5\nmortar_parts = [\"ring\"]\n"}) {
+  for (const std::string mortar : {"", "mortar_pa = 2e5\n", "mortar_pa = 2e5\nmortar_parts = [\"ring\"]\n"}) {
     std::ofstream(dir / "run.toml") << "[model]\nfile = \"" << (kRoot / "models/nishida_a.toml").string() << "\"\n"
                                     << mortar << "[run]\nsettle_max_s = 0.01\nduration_s = 0.01\n[ground_motion]\n"
                                     << "x = { file = \"still.txt\", format = \"columns\", dt_s = 0.01, unit = \"g\" }\n";
@@ -456,6 +456,10 @@ TEST(Run, HeaderAndSummarySayWhereTheMortarLies) {
     if (mortar.empty()) {
       EXPECT_EQ(run.find("  mortar "), std::string::npos) << run;
       EXPECT_EQ(summary["mortar_pa"].get<double>(), 0.0);
+    } else if (mortar.find("mortar_parts") == std::string::npos) {
+      EXPECT_NE(run.find("  mortar f_t = c = 2e+05 Pa at every stone joint in contact, set once the bridge has settled\n"),
+                std::string::npos) << run;
+      EXPECT_EQ(summary["mortar_parts"].size(), 5u) << summary["mortar_parts"];  // every stone part
     } else {
       EXPECT_NE(run.find("  mortar f_t = c = 2e+05 Pa at the stone joints in contact within ring, set once the bridge has settled\n"),
                 std::string::npos) << run;
