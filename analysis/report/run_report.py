@@ -51,6 +51,7 @@ def bridge_at_the_end(axes, folder, shaken_s):
     faces, moved, fallen, stones = block_faces(series[-1][1])
     top = max([m for m, f in zip(moved, fallen) if not f] + [1e-3])
     draw_bridge(axes, faces, moved, fallen, top, (lo, hi), -75)
+    axes.set_box_aspect([max(hi[i] - lo[i], 1e-3) for i in range(3)], zoom=1.5)  # the panel is wide: fill it
     axes.set_title(f"the bridge at the end ({shaken_s:.2f} s of shaking): displacement relative to the ground up to "
                    f"{1000 * top:.0f} mm (yellow), {stones} fallen stones red", fontsize=9)
 
@@ -67,6 +68,7 @@ def draw(folder, title):
         shake, t0 = rows, 0.0
     else:
         t0 = number(settled[-1]["time_s"]) if settled else 0.0
+        shake = settled[-1:] + shake  # from the settled state, time 0 of the shaking: a short run's one frame draws too
     t = [number(r["time_s"]) - t0 for r in shake]
     fig = plt.figure(figsize=(10, 15))
     grid = fig.add_gridspec(5, 1, height_ratios=(1.6, 1, 1, 1, 1))
