@@ -22,7 +22,8 @@ GroundMotionStream::GroundMotionStream(const GroundMotionSpec& spec, double dt_s
     else if (cs.format == "columns") r = read_columns(cs.file, cs.unit, cs.layout);
     else throw InputError(cs.file.string() + ": unknown format '" + cs.format + "' (at2, knet or columns)");
     for (double& a : r.accel_m_s2) a *= cs.scale;
-    if (r.dt_s * (r.accel_m_s2.size() - 1) < end) end = r.dt_s * (r.accel_m_s2.size() - 1), shortest = cs.file;
+    const double length_s = r.dt_s * (r.accel_m_s2.size() - 1);
+    if (length_s < end) end = length_s, shortest = cs.file;
     record_[c] = std::move(r);
     any = true;
   }
