@@ -90,6 +90,15 @@ void gather_block(const Model& m, State& s, std::ptrdiff_t b) {
       f -= s.pair_force_n[entry >> 1];
     t += s.pair_moment_nm[entry];
   }
+  if (!m.ties.empty())
+    for (int q = m.block_tie_begin[b]; q < m.block_tie_begin[b + 1]; ++q) {
+      const int side = m.block_tie[q];  // 2 t: b is the tie's block_a, 2 t + 1: its block_b
+      if (side & 1)
+        f += s.tie_force_n[side >> 1];
+      else
+        f -= s.tie_force_n[side >> 1];
+      t += s.tie_moment_nm[side];
+    }
   s.force[b] = f + s.applied_force[b];
   s.torque[b] = t + s.applied_torque[b];
 }

@@ -287,6 +287,7 @@ Model ModelBuilder::build(const ModelOptions& options) const {
     }
     if (std::isfinite(deepest_immobile)) m.leave_depth_m = deepest_immobile + largest;
   }
+  index_ties(m);
   if (options.linear_joints) m.gravity_m_s2 = Vec3::Zero();
   require(!(options.linear_joints && options.bonds_when_settled), "linear joints are bonded from the start");
   const std::size_t n = m.materials.size();

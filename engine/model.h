@@ -196,6 +196,17 @@ struct ModelOptions {
   bool bonds_when_settled = false;
 };
 
+// A tie rod: a steel bar through the masonry, anchored by plates at two points fixed in
+// two blocks. It carries tension only (a slack rod, or one pushed, carries nothing),
+// elastic up to its yield force, then perfectly plastic: it lengthens for good.
+struct Tie {
+  int block_a = -1, block_b = -1;
+  Vec3 anchor_a_local = Vec3::Zero(), anchor_b_local = Vec3::Zero();  // the anchor points in each block's principal frame, m
+  double rest_length_m = 0.0;           // the anchors' distance as built: snug, no pretension
+  double stiffness_n_m = 0.0;           // E A / L
+  double yield_force_n = 0.0;           // f_y A
+};
+
 struct Model {
   // ---- blocks (nb) ----
   int block_count = 0;
@@ -259,9 +270,17 @@ struct Model {
     return contact.point_area_ratio * size * size;
   }
 
+  // ---- ties (nt): steel rods anchored in two free blocks (a retrofit), ties.cpp ----
+  std::vector<Tie> ties;
+  std::vector<int> block_tie_begin;      // (nb+1) block b's tie sides are block_tie[block_tie_begin[b] ..]
+  std::vector<int> block_tie;            // side 2 t: block_a of tie t, 2 t + 1: its block_b (2 nt)
+
   int face_count(int b) const { return face_begin[b + 1] - face_begin[b]; }
   std::string block_label(int b) const;  // "block 12 'ring-3'" for messages
 };
+
+// ties.cpp: Model::block_tie_begin and block_tie from Model::ties (ModelBuilder::build).
+void index_ties(Model& model);
 
 // Collects materials and blocks, validates each block and computes its mass properties.
 class ModelBuilder {
@@ -273,6 +292,12 @@ class ModelBuilder {
   // when it is open, non-convex, degenerate or inside out.
   int add_block(const std::vector<Vec3>& vertices, const std::vector<std::vector<int>>& faces,
                 int material, Motion motion = Motion::free, std::string name = {}, BlockTag tag = {});
+
+  // A tie rod between two points (world frame, m), each strictly inside one free block (an
+  // anchor plate on a wall's outer face: a point just inside it), of cross-section area_m2,
+  // Young's modulus young_pa and yield stress yield_pa. Throws ModelError saying which
+  // point lies in no block, or on a joint between two, or in a block that cannot move.
+  int add_tie(const Vec3& from, const Vec3& to, double area_m2, double young_pa, double yield_pa);
 
   void set_gravity(const Vec3& g) { gravity_ = g; }
   ContactSettings& contact_settings() { return contact_; }

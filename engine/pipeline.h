@@ -56,6 +56,14 @@ SpringConstants spring_constants(const Model& model, int a, int b, double lever_
 // accumulates dissipated energy and returns the elastic energy now stored (J).
 double apply_contact_law(const Model& model, State& state, double dt_s);
 
+// ties.cpp, after the contact law: each tie rod's tension at the current pose (tension only,
+// yielding at its yield force: State::tie_plastic_m grows and Energy::tie_yield_j books the
+// work), its force on b and moments for the gather. Returns the elastic energy of the ties (J).
+double apply_ties(const Model& model, State& state);
+// ties.cpp: adds each tie's axial stiffness to its blocks' diagonal stiffness (N/m, N m/rad in
+// the principal frame; (nb)), for the stability limit.
+void add_tie_stiffness(const Model& model, const State& state, std::vector<Vec6>& stiffness);
+
 // stability.cpp: the largest stable dt of the free blocks on their current sub-contacts,
 // per block and degree of freedom 2/omega (sqrt(1 + zeta^2) - zeta), omega^2 = K/M; with
 // zeta = 0 unless with_damping. Sets *block to the limiting block.

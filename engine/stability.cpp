@@ -42,6 +42,7 @@ void block_stiffness_damping(const Model& m, const State& s, std::vector<Vec6>& 
       add(t2, k.ks, k.cs);
     }
   });
+  add_tie_stiffness(m, s, stiffness);
 }
 
 Vec6 block_mass(const Model& m, int b) {

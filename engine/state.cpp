@@ -32,6 +32,11 @@ State make_initial_state(const Model& model) {
   s.prescribed_moment_carried.assign(nb, Vec3::Zero());
   for (int b = 0; b < nb; ++b)  // a block's motion never changes: listed once
     if (model.motion[b] == Motion::prescribed) s.prescribed_block.push_back(b);
+  const std::size_t nt = model.ties.size();
+  s.tie_plastic_m.assign(nt, 0.0);
+  s.tie_tension_n.assign(nt, 0.0);
+  s.tie_force_n.assign(nt, Vec3::Zero());
+  s.tie_moment_nm.assign(2 * nt, Vec3::Zero());
   s.rotation.resize(nb);
   s.face_normal_world.resize(model.face_normal_local.size());
   s.face_offset_world.resize(model.face_offset_local.size());

@@ -149,6 +149,7 @@ struct Energy {
   double damping_j = 0.0;        // dissipated by dashpots so far
   double friction_j = 0.0;       // dissipated by sliding so far
   double bond_j = 0.0;           // spring energy released when bonds broke
+  double tie_yield_j = 0.0;      // dissipated by tie rods yielding (ties.cpp)
   double prescribed_work_j = 0.0;  // work done on the system by prescribed blocks so far
   double left_model_j = 0.0;     // mechanical energy taken from blocks that left the model
                                  // when they were frozen (Model::leave_depth_m; integrate.cpp)
@@ -157,7 +158,7 @@ struct Energy {
   double mechanical_j() const { return kinetic_j + gravitational_j + elastic_j; }
   // (mechanical + dissipated - work in) - initial; zero for an exact integrator.
   double balance_error_j() const {
-    return mechanical_j() + damping_j + friction_j + bond_j + left_model_j - prescribed_work_j - initial_total_j;
+    return mechanical_j() + damping_j + friction_j + bond_j + tie_yield_j + left_model_j - prescribed_work_j - initial_total_j;
   }
 };
 
@@ -280,6 +281,12 @@ struct State {
                                          // Damping::capped caps them
   std::vector<Vec6> cap_stiffness, cap_damping;  // (nb) scratch of update_damping_caps
   ImplicitDamping implicit;              // Damping::implicit
+
+  // ---- tie rods (nt; ties.cpp) ----
+  std::vector<double> tie_plastic_m;     // (nt) permanent elongation from yielding, m
+  std::vector<double> tie_tension_n;     // (nt) this step's tension, N (0: slack)
+  std::vector<Vec3> tie_force_n;         // (nt) its force on the tie's block_b (on block_a: -)
+  std::vector<Vec3> tie_moment_nm;       // (2 nt) moment on block_a about its centroid (2 t), on block_b (2 t + 1)
 
   // ---- broadphase ----
   std::vector<Vec3> position_at_rebuild; // (nb)

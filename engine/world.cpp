@@ -124,7 +124,11 @@ void World::step() {
   // Caps follow the blocks' joints as they change, checked when the pair list is rebuilt
   // (a block moved half the margin): between rebuilds a block's joints barely change.
   if (rebuilt && m.options.damping == Damping::capped) timed(Stage::damping_caps, [&] { update_damping_caps(m, s, dt_s_); });
-  const double elastic = timed(Stage::contact_law, [&] { return apply_contact_law(m, s, dt_s_); });
+  // The ties' few rods go with the contact law's stage (no stage of their own in profiles).
+  const double elastic = timed(Stage::contact_law, [&] {
+    const double contacts = apply_contact_law(m, s, dt_s_);
+    return m.ties.empty() ? contacts : contacts + apply_ties(m, s);
+  });
   double prescribed_power = 0;
   BlockEnergy before;
   if (m.options.damping == Damping::implicit) {

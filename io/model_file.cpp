@@ -25,6 +25,36 @@ void read_mortar_parts(TableReader& table, std::vector<Part>& parts) {
   for (const std::string& name : names) parts.push_back(parse_mortar_part(name));
 }
 
+namespace {
+
+void read_ties(const std::filesystem::path& file, const toml::table& root, std::vector<TieSpec>& ties) {
+  const toml::node* node = root.get("tie");
+  if (!node) return;
+  const toml::array* list = node->as_array();
+  const auto at = [&](const toml::node& n) { return file.string() + ":" + std::to_string(n.source().begin.line) + ": "; };
+  if (!list) throw InputError(at(*node) + "ties are [[tie]] tables (each: from, to, diameter_m)");
+  for (const toml::node& entry : *list) {
+    const toml::table* table = entry.as_table();
+    if (!table) throw InputError(at(entry) + "[[tie]] must be a table");
+    TableReader reader(file, table, "tie");
+    TieSpec tie;
+    tie.line = static_cast<int>(entry.source().begin.line);
+    for (const char* key : {"from", "to", "diameter_m"})
+      if (!table->contains(key))
+        throw InputError(at(entry) + "[[tie]] needs from = [x, y, z], to = [x, y, z] (anchor points inside two stones, m) "
+                         "and diameter_m; '" + key + "' is missing");
+    reader.point("from", tie.from);
+    reader.point("to", tie.to);
+    reader.positive("diameter_m", tie.diameter_m);
+    reader.positive("young_pa", tie.young_pa);
+    reader.positive("yield_pa", tie.yield_pa);
+    reader.finish();
+    ties.push_back(tie);
+  }
+}
+
+}  // namespace
+
 ModelFile read_model_file(const std::filesystem::path& file) {
   const toml::table root = parse_toml_file(file, kModelFile);
 
@@ -81,6 +111,8 @@ ModelFile read_model_file(const std::filesystem::path& file) {
   import.finish();
   if (import.present() && (ring.present() || bridge.present()))
     throw InputError(file.string() + ": [import] and [ring]/[bridge] exclude each other: a model is either imported or generated");
+
+  read_ties(file, root, m.ties);
 
   TableReader stone(file, root, "stone");
   stone.material(b.stone);

@@ -12,6 +12,17 @@
 
 namespace ishibashi {
 
+// A [[tie]] table: a steel tie rod between two anchor points, each inside one free stone
+// (ModelBuilder::add_tie).
+struct TieSpec {
+  Vec3 from = Vec3::Zero(), to = Vec3::Zero();  // anchor points, m (the model's frame)
+  double diameter_m = 0.0;
+  double young_pa = 2.0e11;  // steel
+  double yield_pa = 2.35e8;  // mild steel (S235); wrought iron of old ties: about 2e8
+  int line = 0;              // of its [[tie]] in the model file, for messages
+  double area_m2() const { return 0.25 * 3.14159265358979323846 * diameter_m * diameter_m; }
+};
+
 struct ModelFile {
   std::string name;        // [model] name, or the file's stem
   std::string description; // [model] description
@@ -20,6 +31,7 @@ struct ModelFile {
   std::vector<std::filesystem::path> import_files;  // free blocks
   std::vector<std::filesystem::path> fixed_files;   // fixed blocks (ground, abutments)
   double import_scale = 1;  // metres per unit of the mesh files (0.001: drawn in millimetres)
+  std::vector<TieSpec> ties;  // [[tie]]: tie rods, a retrofit (generated or imported blocks)
   bool imported() const { return !import_files.empty() || !fixed_files.empty(); }
 };
 

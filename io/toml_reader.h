@@ -125,6 +125,19 @@ class TableReader {
       out = {*lo, *hi};
     }
   }
+  // [x, y, z]: three finite numbers; replaces `out` when present.
+  void point(const char* key, Vec3& out) {
+    if (const toml::node* n = find(key)) {
+      const toml::array* a = n->as_array();
+      const std::string expected = std::string("'") + key + "' must be a point [x, y, z] of three numbers, m";
+      if (!a || a->size() != 3) fail(*n, expected);
+      for (int i = 0; i < 3; ++i) {
+        const auto v = (*a)[i].value<double>();
+        if (!v || !std::isfinite(*v)) fail(*n, expected);
+        out[i] = *v;
+      }
+    }
+  }
   // An array of numbers >= 0 (e.g. times in seconds); replaces `out` when present.
   void non_negative_numbers(const char* key, std::vector<double>& out) {
     if (const toml::node* n = find(key)) {
@@ -235,7 +248,7 @@ struct InputFileKind {
   const char* name;  // for messages
   std::vector<std::string_view> tables;
 };
-inline const InputFileKind kModelFile{"a model file (models/)", {"model", "ring", "bridge", "stone", "soil", "import"}};
+inline const InputFileKind kModelFile{"a model file (models/)", {"model", "ring", "bridge", "stone", "soil", "import", "tie"}};
 inline const InputFileKind kScenarioFile{"a scenario file (scenarios/)", {"model", "run", "ground_motion", "monitor", "ensemble"}};
 inline const InputFileKind kSweepFile{"a sweep file (scenarios/*_sweep.toml)", {"sweep", "failure", "record"}};
 inline const InputFileKind kStudyFile{"a study file (scenarios/nishida_study.toml)", {"study", "frequencies", "quick", "reference"}};

@@ -47,31 +47,43 @@ ModalResult modal_analysis(const Model& m, const State& s, int modes) {
   // d . (u_b + theta_b x r_b) - d . (u_a + theta_a x r_a), theta x r . d = theta . (r x d).
   // Each row is multiplied by M^(-1/2), so K' = M^(-1/2) K M^(-1/2) = sum k j j^T.
   std::vector<Eigen::Triplet<double>> triplets;
+  // A spring of `stiffness` along d between point[0] of block[0] and point[1] of block[1].
+  auto add_spring = [&](const Vec3& d, double stiffness, const int (&block)[2], const Vec3 (&point)[2]) {
+    int index[12];
+    double value[12];
+    int count = 0;
+    for (int side = 0; side < 2; ++side) {
+      const int b = block[side];
+      if (dof_of[b] < 0) continue;
+      const int g = dof_of[b] / 6;
+      const double sign = side == 0 ? -1.0 : 1.0;
+      const Vec3 lin = sign * d / std::sqrt(mass[g]);
+      const Vec3 ang = sign * rot_inv_sqrt[g] * (point[side] - s.position[b]).cross(d);
+      for (int q = 0; q < 3; ++q) {
+        index[count] = dof_of[b] + q, value[count++] = lin[q];
+        index[count] = dof_of[b] + 3 + q, value[count++] = ang[q];
+      }
+    }
+    for (int p = 0; p < count; ++p)
+      for (int q = 0; q < count; ++q) triplets.emplace_back(index[p], index[q], stiffness * value[p] * value[q]);
+  };
   const SubContacts& c = s.contacts;
   for_each_sub_contact(s, [&](int i) {
     const SpringConstants k = c.constants(i);
     const Vec3& n_dir = c.normal[i];
     const Vec3 t1 = n_dir.unitOrthogonal(), t2 = n_dir.cross(t1);
-    for (const auto& [d, stiffness] : {std::pair{n_dir, k.kn}, {t1, k.ks}, {t2, k.ks}}) {
-      int index[12];
-      double value[12];
-      int count = 0;
-      for (int side = 0; side < 2; ++side) {
-        const int b = side == 0 ? c.block_a[i] : c.block_b[i];
-        if (dof_of[b] < 0) continue;
-        const int g = dof_of[b] / 6;
-        const double sign = side == 0 ? -1.0 : 1.0;
-        const Vec3 lin = sign * d / std::sqrt(mass[g]);
-        const Vec3 ang = sign * rot_inv_sqrt[g] * (c.point[i] - s.position[b]).cross(d);
-        for (int q = 0; q < 3; ++q) {
-          index[count] = dof_of[b] + q, value[count++] = lin[q];
-          index[count] = dof_of[b] + 3 + q, value[count++] = ang[q];
-        }
-      }
-      for (int p = 0; p < count; ++p)
-        for (int q = 0; q < count; ++q) triplets.emplace_back(index[p], index[q], stiffness * value[p] * value[q]);
-    }
+    const int block[2] = {c.block_a[i], c.block_b[i]};
+    const Vec3 point[2] = {c.point[i], c.point[i]};
+    for (const auto& [d, stiffness] : {std::pair{n_dir, k.kn}, {t1, k.ks}, {t2, k.ks}}) add_spring(d, stiffness, block, point);
   });
+  // Tie rods held linear, as the joints are: a snug rod stiffens the bridge in tension and
+  // pushes in compression here, where in a run it would go slack.
+  for (const Tie& tie : m.ties) {
+    const int block[2] = {tie.block_a, tie.block_b};
+    const Vec3 point[2] = {s.position[tie.block_a] + s.orientation[tie.block_a] * tie.anchor_a_local,
+                           s.position[tie.block_b] + s.orientation[tie.block_b] * tie.anchor_b_local};
+    if ((point[1] - point[0]).norm() > 0) add_spring((point[1] - point[0]).normalized(), tie.stiffness_n_m, block, point);
+  }
   Eigen::SparseMatrix<double> a(n, n);
   a.setFromTriplets(triplets.begin(), triplets.end());
 

@@ -87,6 +87,14 @@ ModelOptions frequency_options(RunSettings settings, const RunOverrides& overrid
   return options;
 }
 
+void add_ties(ModelBuilder& builder, const std::vector<TieSpec>& ties, const std::filesystem::path& path) {
+  for (const TieSpec& tie : ties) try {
+      builder.add_tie(tie.from, tie.to, tie.area_m2(), tie.young_pa, tie.yield_pa);
+    } catch (const ModelError& e) {
+      throw InputError(path.string() + ":" + std::to_string(tie.line) + ": " + e.what());
+    }
+}
+
 }  // namespace
 
 CompiledModel compile_model(const ModelFile& file, const std::filesystem::path& path, const ModelOptions& options) {
@@ -103,6 +111,7 @@ CompiledModel compile_model(const ModelFile& file, const std::filesystem::path& 
   } catch (const ModelError& e) {
     throw InputError(path.string() + ": " + e.what());
   }
+  add_ties(c.builder, file.ties, path);
   c.model = build_model(c.builder, options, path);
   return c;
 }
