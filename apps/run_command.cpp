@@ -254,6 +254,7 @@ int run_scenario(const RunOptions& o) {
   if (sc.model.bridge.mortar_pa > 0)
     std::printf("  mortar %s, %s\n", mortar_description(sc.model.bridge).c_str(),
                 sc.settings.mortar_bonds == MortarBonds::settled ? "set once the bridge has settled" : "set from the first step");
+  if (!sc.model.ties.empty()) std::printf("  %s\n", ties_description(sc.model.ties).c_str());
   if (sc.settings.duration_s > run.ground_motion().duration_s() + run.dt_s())
     std::printf("  the record ends %.2f s after start_s: the run shakes for that long, not the %.2f s asked\n",
                 run.ground_motion().duration_s(), sc.settings.duration_s);
@@ -296,8 +297,8 @@ int run_scenario(const RunOptions& o) {
   }
   const std::string not_drawn =
       o.no_report ? "" : run_report_script("run_report.py", options.out, sc.model.name + ", " + sc.file.filename().string());
-  std::printf("outputs in %s: blocks.pvd, contacts.pvd, view.pvsm (ParaView: File > Load State, files searched in its "
-              "folder), history.csv, summary.json%s\n", options.out.c_str(),
+  std::printf("outputs in %s: blocks.pvd, contacts.pvd, %sview.pvsm (ParaView: File > Load State, files searched in its "
+              "folder), history.csv, summary.json%s\n", options.out.c_str(), m.ties.empty() ? "" : "ties.pvd (the tie rods), ",
               o.no_report || !not_drawn.empty() ? "" : ", report.png (the run at a glance)");
   if (!not_drawn.empty()) std::printf("warning: report.png not drawn: %s\n", not_drawn.c_str());
   return r.interrupted ? 130 : 0;

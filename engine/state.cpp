@@ -35,6 +35,7 @@ State make_initial_state(const Model& model) {
   const std::size_t nt = model.ties.size();
   s.tie_plastic_m.assign(nt, 0.0);
   s.tie_tension_n.assign(nt, 0.0);
+  s.tie_peak_tension_n.assign(nt, 0.0);
   s.tie_force_n.assign(nt, Vec3::Zero());
   s.tie_moment_nm.assign(2 * nt, Vec3::Zero());
   s.rotation.resize(nb);

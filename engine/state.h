@@ -285,6 +285,7 @@ struct State {
   // ---- tie rods (nt; ties.cpp) ----
   std::vector<double> tie_plastic_m;     // (nt) permanent elongation from yielding, m
   std::vector<double> tie_tension_n;     // (nt) this step's tension, N (0: slack)
+  std::vector<double> tie_peak_tension_n;  // (nt) the largest tension so far, N (the demand on it)
   std::vector<Vec3> tie_force_n;         // (nt) its force on the tie's block_b (on block_a: -)
   std::vector<Vec3> tie_moment_nm;       // (2 nt) moment on block_a about its centroid (2 t), on block_b (2 t + 1)
 

@@ -4,6 +4,7 @@
 // each tie's force and its moments about the blocks' centroids go to per-tie arrays that
 // the gather reads through Model::block_tie, as it reads the pairs', so a block's sum is
 // the same for any number of threads.
+#include <algorithm>
 #include <sstream>
 
 #include "engine/pipeline.h"
@@ -112,6 +113,7 @@ double apply_ties(const Model& m, State& s) {
       tension = tie.yield_force_n;
     }
     s.tie_tension_n[t] = tension;
+    s.tie_peak_tension_n[t] = std::max(s.tie_peak_tension_n[t], tension);
     // The rod pulls b toward a and a toward b.
     const Vec3 on_b = length > 0 ? Vec3(-tension / length * span) : Vec3::Zero();
     s.tie_force_n[t] = on_b;

@@ -7,6 +7,7 @@
 #include "geometry/materials.h"
 
 #include <set>
+#include <iomanip>
 #include <sstream>
 
 namespace ishibashi {
@@ -23,6 +24,24 @@ void read_mortar_parts(TableReader& table, std::vector<Part>& parts) {
   if (names.empty()) return;  // absent
   parts.clear();
   for (const std::string& name : names) parts.push_back(parse_mortar_part(name));
+}
+
+std::string ties_description(const std::vector<TieSpec>& ties) {
+  if (ties.empty()) return "";
+  double d[2] = {INFINITY, 0}, fy[2] = {INFINITY, 0}, force[2] = {INFINITY, 0};
+  for (const TieSpec& t : ties) {
+    d[0] = std::min(d[0], t.diameter_m), d[1] = std::max(d[1], t.diameter_m);
+    fy[0] = std::min(fy[0], t.yield_pa), fy[1] = std::max(fy[1], t.yield_pa);
+    force[0] = std::min(force[0], t.yield_pa * t.area_m2()), force[1] = std::max(force[1], t.yield_pa * t.area_m2());
+  }
+  const auto range = [](const double (&r)[2], double scale) {
+    std::ostringstream s;
+    s << std::setprecision(3) << r[0] * scale;
+    if (r[1] > r[0]) s << "-" << r[1] * scale;
+    return s.str();
+  };
+  return std::to_string(ties.size()) + (ties.size() == 1 ? " tie rod" : " tie rods") + ", d = " + range(d, 1e3) +
+         " mm, f_y = " + range(fy, 1e-6) + " MPa, yield force " + range(force, 1e-3) + " kN";
 }
 
 namespace {

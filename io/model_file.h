@@ -23,6 +23,10 @@ struct TieSpec {
   double area_m2() const { return 0.25 * 3.14159265358979323846 * diameter_m * diameter_m; }
 };
 
+// "4 tie rods, d = 30 mm, f_y = 235 MPa, yield force 166 kN" (ranges where they differ),
+// or "" when there are none: for the build and run commands.
+std::string ties_description(const std::vector<TieSpec>& ties);
+
 struct ModelFile {
   std::string name;        // [model] name, or the file's stem
   std::string description; // [model] description

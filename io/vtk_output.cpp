@@ -267,6 +267,44 @@ void write_contacts_vtu(const Model& m, const State& s, const std::filesystem::p
   write_grid(grid, file);
 }
 
+void write_ties_vtu(const Model& m, const State& s, const std::filesystem::path& file) {
+  const vtkIdType n = static_cast<vtkIdType>(m.ties.size());
+  vtkNew<vtkPoints> points;
+  points->SetDataTypeToDouble();
+  points->SetNumberOfPoints(2 * n);
+  vtkNew<vtkDoubleArray> tension, peak, plastic;
+  tension->SetName("tension_n");
+  peak->SetName("peak_tension_n");
+  plastic->SetName("plastic_elongation_m");
+  vtkNew<vtkIntArray> tie_id, block_a, block_b, yielded;
+  tie_id->SetName("tie_id");
+  block_a->SetName("block_a");
+  block_b->SetName("block_b");
+  yielded->SetName("yielded");
+  vtkNew<vtkUnstructuredGrid> grid;
+  grid->Allocate(n);
+  for (vtkIdType t = 0; t < n; ++t) {
+    const Tie& tie = m.ties[t];
+    const Vec3 a = s.position[tie.block_a] + s.orientation[tie.block_a] * tie.anchor_a_local;
+    const Vec3 b = s.position[tie.block_b] + s.orientation[tie.block_b] * tie.anchor_b_local;
+    points->SetPoint(2 * t, a.data());
+    points->SetPoint(2 * t + 1, b.data());
+    const vtkIdType ends[2] = {2 * t, 2 * t + 1};
+    grid->InsertNextCell(VTK_LINE, 2, ends);
+    tension->InsertNextValue(s.tie_tension_n[t]);
+    peak->InsertNextValue(s.tie_peak_tension_n[t]);
+    plastic->InsertNextValue(s.tie_plastic_m[t]);
+    tie_id->InsertNextValue(static_cast<int>(t));
+    block_a->InsertNextValue(tie.block_a);
+    block_b->InsertNextValue(tie.block_b);
+    yielded->InsertNextValue(s.tie_plastic_m[t] > 0 ? 1 : 0);
+  }
+  grid->SetPoints(points);
+  for (vtkDataArray* array : std::initializer_list<vtkDataArray*>{tie_id, block_a, block_b, tension, peak, plastic, yielded})
+    grid->GetCellData()->AddArray(array);
+  write_grid(grid, file);
+}
+
 void write_blocks_with_value(const std::filesystem::path& blocks_frame, const std::filesystem::path& file,
                              const std::string& name, const std::function<double(int block)>& value) {
   vtkSmartPointer<vtkUnstructuredGrid> grid;
@@ -306,8 +344,10 @@ void VtkSeriesWriter::write(const Model& model, const State& state, const Vec3& 
   const std::string vtu = name_ + file;
   if (kind_ == Kind::blocks)
     write_blocks_vtu(model, state, directory_ / vtu, ground_displacement_m);
-  else
+  else if (kind_ == Kind::contacts)
     write_contacts_vtu(model, state, directory_ / vtu, joints);
+  else
+    write_ties_vtu(model, state, directory_ / vtu);
   times_.push_back(state.time_s);
   files_.push_back(vtu);
 

@@ -33,6 +33,10 @@ void write_blocks_vtu(const Model& model, const State& state, const std::filesys
 void write_contacts_vtu(const Model& model, const State& state, const std::filesystem::path& file,
                         const Joints* joints = nullptr);
 
+// The tie rods as lines between their anchors: cell data tie_id, block_a, block_b,
+// tension_n (0: slack), peak_tension_n (the largest so far), plastic_elongation_m, yielded.
+void write_ties_vtu(const Model& model, const State& state, const std::filesystem::path& file);
+
 // The blocks with one point array per mode, mode_1, mode_2, ...: each vertex's
 // displacement in that mode (mass-normalised), for ParaView's Warp By Vector / animation;
 // cell data: the blocks' labels (block_id, material, part, course, fixed), as blocks_*.vtu.
@@ -50,7 +54,7 @@ void write_blocks_with_value(const std::filesystem::path& blocks_frame, const st
 // atomically after each frame, so a run stopped at any moment leaves a valid series.
 class VtkSeriesWriter {
  public:
-  enum class Kind { blocks, contacts };
+  enum class Kind { blocks, contacts, ties };
   VtkSeriesWriter(std::filesystem::path directory, std::string name, Kind kind = Kind::blocks);
   void write(const Model& model, const State& state, const Vec3& ground_displacement_m = Vec3::Zero(),
              const Joints* joints = nullptr);

@@ -68,7 +68,8 @@ namespace {
 // 21: each apart pair's reading of the apart clock below which it is left unvisited
 //     (Pair::apart_until_clock_m); the clock is not kept: a restored run's first pose does
 //     not know its step turns, so its narrowphase visits every pair and schedules them anew.
-constexpr char kCheckpointMagic[] = "ishibashi checkpoint 21\n";
+// 22: the tie rods' plastic elongations, tensions and peak tensions; Energy::tie_yield_j.
+constexpr char kCheckpointMagic[] = "ishibashi checkpoint 22\n";
 
 template <class Archive, class H>
 void visit_header(Archive& a, H& h) {

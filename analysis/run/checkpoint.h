@@ -117,7 +117,7 @@ void visit_state(Archive& a, S& s) {
   a.field(s.prescribed_entry), a.field(s.prescribed_entry_force_before), a.field(s.prescribed_entry_moment_before);
   a.field(s.prescribed_force_carried), a.field(s.prescribed_moment_carried);
   a.field(s.energy_started);
-  a.field(s.tie_plastic_m), a.field(s.tie_tension_n);
+  a.field(s.tie_plastic_m), a.field(s.tie_tension_n), a.field(s.tie_peak_tension_n);
   a.field(s.profile);
 }
 

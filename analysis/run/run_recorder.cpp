@@ -18,6 +18,10 @@ RunCounts count_damage(const Model& m, const State& s, const JointThresholds& th
   RunCounts c;
   c.joints = measure_joints(s, thresholds, joints);
   c.bond_utilisation = largest_bond_utilisation(m, s);
+  for (std::size_t t = 0; t < m.ties.size(); ++t) {
+    c.ties_yielded += s.tie_plastic_m[t] > 0;
+    c.largest_tie_tension_n = std::max(c.largest_tie_tension_n, s.tie_tension_n[t]);
+  }
   for (int b = 0; b < m.block_count; ++b) {
     c.left_model += s.left_model[b];
     if (is_fallen(m, s, b)) {
@@ -63,6 +67,7 @@ const HistoryColumn kHistoryColumns[] = {
     {"damping_j", [](const F& f) -> V { return f.e.damping_j; }},
     {"friction_j", [](const F& f) -> V { return f.e.friction_j; }},
     {"bond_j", [](const F& f) -> V { return f.e.bond_j; }},
+    {"tie_yield_j", [](const F& f) -> V { return f.e.tie_yield_j; }},
     {"left_model_j", [](const F& f) -> V { return f.e.left_model_j; }},
     {"ground_work_j", [](const F& f) -> V { return f.e.prescribed_work_j; }},  // the prescribed blocks' work
     {"balance_error_j", [](const F& f) -> V { return f.e.balance_error_j(); }},
@@ -77,6 +82,8 @@ const HistoryColumn kHistoryColumns[] = {
        if (f.c.bond_utilisation < 0) return {};
        return f.c.bond_utilisation;
      }},
+    {"ties_yielded", [](const F& f) -> V { return (long long)f.c.ties_yielded; }},
+    {"largest_tie_tension_n", [](const F& f) -> V { return f.c.largest_tie_tension_n; }},
 };
 constexpr const char* kMonitorsAfter = "ground_dz_m";
 
@@ -115,6 +122,7 @@ RunRecorder::RunRecorder(std::filesystem::path out, const Model& model, std::vec
       blocks_(out_, "blocks"),
       contacts_(out_, "contacts", VtkSeriesWriter::Kind::contacts),
       reported_left_(model.block_count, 0) {
+  if (!model.ties.empty()) ties_.emplace(out_, "ties", VtkSeriesWriter::Kind::ties);
   history_ = history_header(monitors_);
   // The camera frames the bridge as built; the ground slab reaches far beyond it.
   view_.lower_m = Vec3::Constant(1e30);
@@ -170,6 +178,7 @@ RunCounts RunRecorder::record(const char* phase, const State& s, const Vec3& ga,
   // with no row in history.csv for a frame that is not on disk.
   blocks_.write(m, s, gd);
   contacts_.write(m, s, gd, &joints);
+  if (ties_) ties_->write(m, s, gd);
   history_ += history_row(frame);
   write_text_atomically(out_ / "history.csv", history_);
   // One colour scale for the whole run: the largest displacement of a stone still standing
@@ -216,6 +225,16 @@ void RunRecorder::write_summary(const RunDescription& run, const SeismicRunResul
   j["mortar_pa"] = run.mortar_pa;
   j["mortar_fracture_j_m2"] = {run.mortar_fracture_j_m2[0], run.mortar_fracture_j_m2[1]};
   j["mortar_parts"] = run.mortar_parts;
+  // The tie rods' demand: the largest tension any reached, and how many yielded.
+  double peak_tension = 0, plastic = 0;
+  int yielded = 0;
+  for (std::size_t t = 0; t < model_.ties.size(); ++t) {
+    peak_tension = std::max(peak_tension, s.tie_peak_tension_n[t]);
+    plastic = std::max(plastic, s.tie_plastic_m[t]);
+    yielded += s.tie_plastic_m[t] > 0;
+  }
+  j["ties"] = {{"count", model_.ties.size()}, {"yielded", yielded}, {"peak_tension_n", peak_tension},
+               {"largest_plastic_elongation_m", plastic}};
   j["threads"] = run.threads;
   j["mean_team_size"] = s.step > 0 ? double(s.profile.thread_steps) / s.step : 0.0;
   // Where the steps' time went (settling included): run --profile's table.

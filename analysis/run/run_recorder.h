@@ -5,6 +5,7 @@
 #pragma once
 #include <filesystem>
 #include <functional>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -27,6 +28,8 @@ struct RunCounts {
   int fallen = 0, fallen_ring = 0;
   int left_model = 0;  // blocks that fell past the ground and were frozen there
   double bond_utilisation = -1;  // largest_bond_utilisation (joints.h); -1: no bond left
+  int ties_yielded = 0;           // tie rods with a plastic elongation
+  double largest_tie_tension_n = 0;  // of the tie rods now
 };
 RunCounts count_damage(const Model& m, const State& s, const JointThresholds& thresholds, Joints& joints);
 
@@ -79,6 +82,11 @@ class RunRecorder {
     times = contacts_.frame_times();
     a.field(times);
     if constexpr (Archive::reading) contacts_.resume(times);
+    if (ties_) {  // the model's: the same on a resume
+      times = ties_->frame_times();
+      a.field(times);
+      if constexpr (Archive::reading) ties_->resume(times);
+    }
   }
   std::size_t block_count() const { return reported_left_.size(); }
   // After the first frame: throws InputError when `frames` more of its size (the smallest a
@@ -92,6 +100,7 @@ class RunRecorder {
   std::function<void(const std::string&)> on_warning_;
   JointThresholds thresholds_;  // 1 mm opening is a crack, 1 mm slip a slipped joint
   VtkSeriesWriter blocks_, contacts_;
+  std::optional<VtkSeriesWriter> ties_;  // a model with tie rods: ties.pvd
   ParaViewView view_;
   std::string history_;  // history.csv so far
   std::vector<std::uint8_t> reported_left_;  // (nb) warned that the block left the model

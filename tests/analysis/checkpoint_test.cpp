@@ -17,6 +17,9 @@
 #include <string>
 
 #include "analysis/model/fingerprint.h"
+#include "analysis/run/checkpoint.h"
+#include "engine/world.h"
+#include "geometry/shapes.h"
 #include "command_line.h"
 #include "io/run_settings.h"
 
@@ -34,10 +37,12 @@ std::string summary_field(const std::filesystem::path& out, const std::string& k
 }
 
 // Model A from 7.5 s of the Kobe record (the strongest pulses), 0.4 s of shaking.
-std::filesystem::path scenario(const std::string& name, double settle_max_s = 1.0, double duration_s = 0.4) {
+// `model`: another model file.
+std::filesystem::path scenario(const std::string& name, double settle_max_s = 1.0, double duration_s = 0.4,
+                               const std::filesystem::path& model = kRoot / "models/nishida_a.toml") {
   const auto f = tmp_dir() / name;
   const auto kobe = kRoot / "data/ground_motions/kobe_1995_jma";
-  std::ofstream(f) << "[model]\nfile = \"" << (kRoot / "models/nishida_a.toml").string() << "\"\n"
+  std::ofstream(f) << "[model]\nfile = \"" << model.string() << "\"\n"
                    << "[run]\nsettle_max_s = " << settle_max_s << "\nsettle_kinetic_j = 0.01\nduration_s = " << duration_s << "\n"
                    << "[ground_motion]\nstart_s = 7.5\n"
                    << "x = { file = \"" << (kobe / "RSN1106_KOBE_KJM090.AT2").string() << "\" }\n"
@@ -57,8 +62,9 @@ const std::string kRun = test::program() + " run --quiet --no-report ";  // a pi
 // ground moving, where the ground's work over the step across the checkpoint needs its
 // forces at the pose before.
 void expect_killed_run_resumes_bit_identical(const std::string& name, const std::string& options, double max_part,
-                                             bool while_shaking = false) {
-  const auto file = scenario(name + ".toml");
+                                             bool while_shaking = false,
+                                             const std::filesystem::path& model = kRoot / "models/nishida_a.toml") {
+  const auto file = scenario(name + ".toml", 1.0, 0.4, model);
   const auto whole = tmp_dir() / (name + "_whole"), killed = tmp_dir() / (name + "_killed");
   std::filesystem::remove_all(whole);
   std::filesystem::remove_all(killed);
@@ -92,10 +98,58 @@ void expect_killed_run_resumes_bit_identical(const std::string& name, const std:
   EXPECT_EQ(text_of(killed / "history.csv"), text_of(whole / "history.csv"));
   EXPECT_EQ(text_of(killed / "blocks.pvd"), text_of(whole / "blocks.pvd"));
   EXPECT_EQ(text_of(killed / "contacts.pvd"), text_of(whole / "contacts.pvd"));
+  if (std::filesystem::exists(whole / "ties.pvd")) {
+    EXPECT_EQ(text_of(killed / "ties.pvd"), text_of(whole / "ties.pvd"));
+    EXPECT_EQ(summary_field(killed, "largest_plastic_elongation_m"), summary_field(whole, "largest_plastic_elongation_m"));
+  }
 }
 
 TEST(Checkpoint, RunKilledAtARandomMomentResumesBitIdentical) {
   expect_killed_run_resumes_bit_identical("ishibashi_checkpoint", "", 0.4);
+}
+
+// A model with a tie rod: ties.pvd's frames resume with the others' (the rod's state:
+// Checkpoint.TieRodStateRoundTripsBitIdentical). A 4 mm rod across model A's crown, which
+// these pulses make yield.
+TEST(Checkpoint, RunWithATieRodResumesBitIdentical) {
+  const auto model = tmp_dir() / "ishibashi_checkpoint_tied_model.toml";
+  std::ofstream(model) << text_of(kRoot / "models/nishida_a.toml")
+                       << "\n[[tie]]\nfrom = [0, -1.5, 5.08]\nto = [0, 1.5, 5.08]\ndiameter_m = 0.004\n";
+  expect_killed_run_resumes_bit_identical("ishibashi_checkpoint_tied", "", 0.4, /*while_shaking=*/false, model);
+}
+
+// A yielded rod's state (plastic elongation, peak tension) and the work its yielding took,
+// written and read back into a fresh world, go on bit-identically: two stones in zero
+// gravity sent apart on a rod that yields.
+TEST(Checkpoint, TieRodStateRoundTripsBitIdentical) {
+  auto world = [] {
+    ModelBuilder b;
+    b.set_gravity(Vec3::Zero());
+    const int mat = b.add_material(Material{});
+    for (double x : {-1.5, 1.5}) {
+      const Polyhedron cube = make_box(Vec3(x, 0, 0), Vec3(1, 1, 1));
+      b.add_block(cube.vertices, cube.faces, mat);
+    }
+    b.add_tie(Vec3(-1.2, 0.2, 0), Vec3(1.2, 0.2, 0), 1e-4, 2e11, 5e7);  // yields at 5 kN
+    return std::make_unique<World>(b.build(), 1e-5);
+  };
+  auto whole = world();
+  whole->state().velocity[0] = Vec3(-0.05, 0, 0);
+  whole->state().velocity[1] = Vec3(0.05, 0.01, 0);
+  whole->run(1500);  // 15 ms: past the yield, rod still taut
+  ASSERT_GT(whole->state().tie_plastic_m[0], 0.0);
+  std::stringstream bytes;
+  CheckpointWriter out(bytes);
+  write_state(out, whole->state());
+  auto resumed = world();
+  CheckpointReader in(bytes);
+  read_state(in, resumed->state());
+  whole->run(1500);
+  resumed->run(1500);
+  EXPECT_EQ(resumed->state_hash(), whole->state_hash());
+  EXPECT_EQ(resumed->state().tie_plastic_m, whole->state().tie_plastic_m);
+  EXPECT_EQ(resumed->state().tie_peak_tension_n, whole->state().tie_peak_tension_n);
+  EXPECT_EQ(resumed->state().energy.tie_yield_j, whole->state().energy.tie_yield_j);
 }
 
 // The caps are part of the state, and the resumed run keeps --damping capped (and its

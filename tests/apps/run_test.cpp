@@ -478,6 +478,47 @@ TEST(Run, HeaderAndSummarySayWhereTheMortarLies) {
   std::filesystem::remove_all(dir);
 }
 
+// A model with tie rods: the header says what they are, ties.pvd holds a line per rod in
+// every frame with its tension, summary.json the rods' demand and history.csv their columns.
+TEST(Run, TieRodsAreDescribedDrawnAndSummed) {
+  const auto dir = test::tmp_dir() / "ishibashi_run_ties";
+  std::filesystem::create_directories(dir);
+  std::ofstream(dir / "still.txt") << "0\n0\n0\n0\n0\n";
+  // Model A's ring with a rod across its width through the crown voussoirs of the two face courses.
+  std::ofstream(dir / "tied.toml") << test::text_of(kRoot / "models/nishida_a.toml")
+                                   << "\n[[tie]]\nfrom = [0, -1.5, 5.08]\nto = [0, 1.5, 5.08]\ndiameter_m = 0.03\n";
+  std::ofstream(dir / "run.toml") << "[model]\nfile = \"tied.toml\"\n[run]\nsettle_max_s = 0.02\nduration_s = 0.02\n"
+                                  << "output_interval_s = 0.01\n[ground_motion]\n"
+                                  << "x = { file = \"still.txt\", format = \"columns\", dt_s = 0.01, unit = \"g\" }\n";
+  int status = 0;
+  const std::string run = test::run_command(test::program() + " run --quiet --no-report " + (dir / "run.toml").string() +
+                                                " --out " + (dir / "out").string(), &status);
+  ASSERT_EQ(status, 0) << run;
+  EXPECT_NE(run.find("  1 tie rod, d = 30 mm, f_y = 235 MPa, yield force 166 kN\n"), std::string::npos) << run;
+  const auto blocks = read_pvd(dir / "out" / "blocks.pvd"), ties = read_pvd(dir / "out" / "ties.pvd");
+  ASSERT_EQ(ties.size(), blocks.size());
+  vtkUnstructuredGrid* g = read_vtu(ties.back().file);
+  ASSERT_EQ(g->GetNumberOfCells(), 1);
+  EXPECT_EQ(g->GetCellType(0), VTK_LINE);
+  double a[3], b[3];
+  g->GetPoint(0, a), g->GetPoint(1, b);
+  EXPECT_NEAR(std::hypot(b[0] - a[0], b[1] - a[1], b[2] - a[2]), 3.0, 1e-3);  // its anchors, where they were put
+  for (const char* name : {"tie_id", "block_a", "block_b", "tension_n", "peak_tension_n", "plastic_elongation_m", "yielded"})
+    EXPECT_NE(g->GetCellData()->GetArray(name), nullptr) << name;
+  const double peak_in_file = g->GetCellData()->GetArray("peak_tension_n")->GetComponent(0, 0);
+  g->Delete();
+  const nlohmann::json summary = nlohmann::json::parse(test::text_of(dir / "out" / "summary.json"));
+  EXPECT_EQ(summary["ties"]["count"], 1);
+  EXPECT_EQ(summary["ties"]["yielded"], 0);
+  EXPECT_DOUBLE_EQ(summary["ties"]["peak_tension_n"].get<double>(), peak_in_file);
+  std::ifstream history(dir / "out" / "history.csv");
+  std::string header;
+  std::getline(history, header);
+  for (const char* column : {",tie_yield_j,", ",ties_yielded,", ",largest_tie_tension_n"})
+    EXPECT_NE(header.find(column), std::string::npos) << column;
+  std::filesystem::remove_all(dir);
+}
+
 // More threads than usable cores are warned of (they wait their turn at every step); as
 // many as there are, not.
 TEST(Run, MoreThreadsThanCoresAreWarnedOf) {

@@ -115,6 +115,32 @@ TEST(ModelFile, MortarPartsAreNamedPartsAndABadOneIsRefusedAtItsLine) {
   EXPECT_THAT(error_of("[bridge]\nmortar_parts = \"ring\"\n"), HasSubstr(":2: 'mortar_parts' must be an array"));
 }
 
+// [[tie]]: two anchor points and a diameter, steel's modulus and yield stress unless given;
+// a missing or malformed entry named at its line.
+TEST(ModelFile, TiesAreReadAndABadOneIsRefusedAtItsLine) {
+  const auto file = std::filesystem::temp_directory_path() / "ishibashi_model_test.toml";
+  std::ofstream(file) << "[[tie]]\nfrom = [0, -1.5, 5]\nto = [0, 1.5, 5]\ndiameter_m = 0.03\n\n"
+                      << "[[tie]]\nfrom = [1, -1.5, 5]\nto = [1, 1.5, 5.5]\ndiameter_m = 0.02\nyield_pa = 2e8\nyoung_pa = 1.9e11\n";
+  const ModelFile m = read_model_file(file);
+  ASSERT_EQ(m.ties.size(), 2u);
+  EXPECT_EQ(m.ties[0].from, Vec3(0, -1.5, 5));
+  EXPECT_EQ(m.ties[1].to, Vec3(1, 1.5, 5.5));
+  EXPECT_EQ(m.ties[0].young_pa, 2.0e11);
+  EXPECT_EQ(m.ties[0].yield_pa, 2.35e8);
+  EXPECT_EQ(m.ties[1].yield_pa, 2e8);
+  EXPECT_EQ(m.ties[1].line, 6);
+  EXPECT_NEAR(m.ties[0].area_m2(), 7.0686e-4, 1e-8);
+  EXPECT_EQ(ties_description(m.ties), "2 tie rods, d = 20-30 mm, f_y = 200-235 MPa, yield force 62.8-166 kN");
+  EXPECT_THAT(error_of("[[tie]]\nfrom = [0, 0, 0]\ndiameter_m = 0.03\n"), HasSubstr(":1: [[tie]] needs from = [x, y, z]"));
+  EXPECT_THAT(error_of("[[tie]]\nfrom = [0, 0, 0]\ndiameter_m = 0.03\n"), HasSubstr("'to' is missing"));
+  EXPECT_THAT(error_of("[[tie]]\nfrom = [0, 0]\nto = [0, 1, 0]\ndiameter_m = 0.03\n"),
+              HasSubstr(":2: 'from' must be a point [x, y, z] of three numbers, m"));
+  EXPECT_THAT(error_of("[[tie]]\nfrom = [0, 0, 0]\nto = [0, 1, 0]\ndiameter_m = -0.03\n"), HasSubstr(":4: 'diameter_m' is -0.03"));
+  EXPECT_THAT(error_of("[[tie]]\nfrom = [0, 0, 0]\nto = [0, 1, 0]\ndiameter_m = 0.03\npretension_n = 5\n"),
+              HasSubstr(":5: unknown key 'pretension_n' in [tie]"));
+  EXPECT_THAT(error_of("[tie]\nfrom = [0, 0, 0]\n"), HasSubstr(":1: ties are [[tie]] tables"));
+}
+
 TEST(ModelFile, NumbersOutOfRangeNameTheirLine) {
   EXPECT_THAT(error_of("[ring]\nrise_m = 3.0\nspan_m = -3.0\n"), HasSubstr(":3: 'span_m' is -3; it must be > 0"));
   EXPECT_THAT(error_of("[ring]\nvoussoirs = 0\n"), HasSubstr(":2: 'voussoirs' is 0; it must be at least 1"));
