@@ -1,6 +1,7 @@
 // `ishibashi build` of imported meshes: the units they are drawn in.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <fstream>
 #include <string>
 
@@ -49,6 +50,39 @@ TEST(Build, AMeshInMillimetresIsWarnedOfAndScaleReadsIt) {
   EXPECT_EQ(line_of(scaled, "mass of the free blocks"), line_of(metres, "mass of the free blocks")) << scaled << metres;
   EXPECT_NE(line_of(metres, "mass of the free blocks"), "");
   std::filesystem::remove_all(dir);
+}
+
+// The tied B that ships: build names the stones each rod is anchored in, and every one of
+// the 12 rods joins a stone of one spandrel wall to one of the other, 3.1 m apart (a tie
+// anchored in fill or ring would not restrain the walls); an anchor that misses a stone is
+// refused at its [[tie]]'s line.
+TEST(Build, TheTiedBridgesRodsJoinItsTwoSpandrelWalls) {
+  int status = 0;
+  const std::string out = test::run_command(test::program() + " build " + (kRoot / "models/nishida_b_tied.toml").string() +
+                                                " --out " + (test::tmp_dir() / "ishibashi_tied_build").string(), &status);
+  ASSERT_EQ(status, 0) << out;
+  EXPECT_NE(out.find("ties: 12 tie rods, d = 30 mm, f_y = 235 MPa, yield force 166 kN\n"), std::string::npos) << out;
+  int rods = 0;
+  for (std::size_t at = out.find("  tie "); at != std::string::npos; at = out.find("  tie ", at + 1), ++rods) {
+    const std::string line = out.substr(at, out.find('\n', at) - at);
+    const std::size_t to = line.find(" to ");
+    ASSERT_NE(to, std::string::npos) << line;
+    EXPECT_NE(line.substr(0, to).find("'wall-"), std::string::npos) << line;
+    EXPECT_NE(line.substr(to).find("'wall-"), std::string::npos) << line;
+    EXPECT_NE(line.find(", 3.10 m"), std::string::npos) << line;
+  }
+  EXPECT_EQ(rods, 12);
+  // Model A's lines, a blank one, then the [[tie]], its anchor above the ring.
+  const std::string model_a = test::text_of(kRoot / "models/nishida_a.toml");
+  const auto model = test::tmp_dir() / "ishibashi_tie_in_the_air.toml";
+  std::ofstream(model) << model_a << "\n[[tie]]\nfrom = [0, -1.5, 9]\nto = [0, 1.5, 5.08]\ndiameter_m = 0.03\n";
+  const int tie_line = static_cast<int>(std::count(model_a.begin(), model_a.end(), '\n')) + 2;
+  const std::string refused = test::run_command(test::program() + " build " + model.string() + " --out " +
+                                                    (test::tmp_dir() / "ishibashi_tied_build").string(), &status);
+  EXPECT_NE(status, 0);
+  EXPECT_NE(refused.find("ishibashi_tie_in_the_air.toml:" + std::to_string(tie_line) +
+                         ": tie 0: its anchor at (0, -1.5, 9) m lies in no block; anchor a tie inside a stone"),
+            std::string::npos) << refused;
 }
 
 }  // namespace
