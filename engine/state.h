@@ -156,6 +156,10 @@ struct Energy {
   double initial_total_j = 0.0;  // mechanical energy at the first step
 
   double mechanical_j() const { return kinetic_j + gravitational_j + elastic_j; }
+  // Energy that crossed the system's boundary: the work put in and every dissipation, J.
+  double exchanged_j() const {
+    return std::abs(prescribed_work_j) + std::abs(damping_j) + std::abs(friction_j) + std::abs(bond_j) + std::abs(tie_yield_j);
+  }
   // (mechanical + dissipated - work in) - initial; zero for an exact integrator.
   double balance_error_j() const {
     return mechanical_j() + damping_j + friction_j + bond_j + tie_yield_j + left_model_j - prescribed_work_j - initial_total_j;

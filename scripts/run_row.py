@@ -21,7 +21,7 @@ rows = read_rows(out + "/history.csv")
 
 
 def exchanged(r):
-    return sum(abs(float(r[k])) for k in ("ground_work_j", "damping_j", "friction_j", "bond_j"))
+    return sum(abs(float(r.get(k) or 0)) for k in ("ground_work_j", "damping_j", "friction_j", "bond_j", "tie_yield_j"))
 
 
 before = [r for r in rows if int(r["fallen_stones"]) == 0][-1]

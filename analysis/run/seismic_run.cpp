@@ -38,9 +38,7 @@ void stop_runs_on_interrupt() {
 }
 
 double relative_balance_error(const Energy& e) {
-  const double exchanged = std::abs(e.prescribed_work_j) + std::abs(e.damping_j) + std::abs(e.friction_j) + std::abs(e.bond_j) +
-                           std::abs(e.tie_yield_j);
-  return exchanged > 0 ? e.balance_error_j() / exchanged : 0.0;
+  return e.exchanged_j() > 0 ? e.balance_error_j() / e.exchanged_j() : 0.0;
 }
 
 SeismicRun::SeismicRun(const Scenario& scenario, SeismicRunOptions options)
