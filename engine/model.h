@@ -281,6 +281,10 @@ struct Model {
 
 // ties.cpp: Model::block_tie_begin and block_tie from Model::ties (ModelBuilder::build).
 void index_ties(Model& model);
+// ties.cpp: each tie's rest length set to its anchors' distance in the model's initial pose
+// (a model whose blocks were moved after it was built: an ensemble member's), its
+// stiffness E A / L kept.
+void make_ties_snug(Model& model);
 
 // Collects materials and blocks, validates each block and computes its mass properties.
 class ModelBuilder {

@@ -97,6 +97,14 @@ void index_ties(Model& m) {
   }
 }
 
+void make_ties_snug(Model& m) {
+  for (Tie& tie : m.ties) {
+    const Vec3 a = m.initial_position[tie.block_a] + m.initial_orientation[tie.block_a] * tie.anchor_a_local;
+    const Vec3 b = m.initial_position[tie.block_b] + m.initial_orientation[tie.block_b] * tie.anchor_b_local;
+    tie.rest_length_m = (b - a).norm();
+  }
+}
+
 double apply_ties(const Model& m, State& s) {
   double elastic_j = 0.0;
   for (std::size_t t = 0; t < m.ties.size(); ++t) {

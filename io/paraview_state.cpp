@@ -52,9 +52,9 @@ class StateXml {
 
 // Proxy ids; ParaView renumbers them when it loads the state.
 enum Id {
-  blocks_reader = 100, bridge_only, standing, fallen, contacts_reader, cracked,
+  blocks_reader = 100, bridge_only, standing, fallen, contacts_reader, cracked, ties_reader,
   displacement_colours = 110,
-  standing_look = 120, fallen_look, cracked_look, colour_bar,
+  standing_look = 120, fallen_look, cracked_look, colour_bar, ties_look,
   render_view = 130,
   time_keeper = 140, time_cue, animation,
   layout = 150,
@@ -82,6 +82,7 @@ void look(StateXml& x, int id, int input, const char* representation, const Vec3
   x.vec("DiffuseColor", colour);
   x.vec("AmbientColor", colour);
   x.value("PointSize", 4);
+  x.value("LineWidth", 3);
   x.end();
 }
 
@@ -106,6 +107,11 @@ void write_paraview_state(const std::filesystem::path& file, const ParaViewView&
   x.text("FileName", "contacts.pvd");
   x.end();
   threshold(x, cracked, contacts_reader, "joint_cracked", 1, 1, true);
+  if (v.ties) {
+    x.begin("sources", "PVDReader", ties_reader, 1);
+    x.text("FileName", "ties.pvd");
+    x.end();
+  }
 
   // Viridis from 0 to the run's largest displacement of a standing stone: one scale for
   // every frame, so colours compare across time (AutomaticRescaleRangeMode -1: never).
@@ -127,6 +133,7 @@ void write_paraview_state(const std::filesystem::path& file, const ParaViewView&
   look(x, standing_look, standing, "Surface With Edges", Vec3(1, 1, 1), true);
   look(x, fallen_look, fallen, "Surface With Edges", Vec3(0.85, 0.1, 0.1), false);
   look(x, cracked_look, cracked, "Points", Vec3(0.05, 0.05, 0.05), false);
+  if (v.ties) look(x, ties_look, ties_reader, "Wireframe", Vec3(0.1, 0.3, 0.9), false);
   x.begin("representations", "ScalarBarWidgetRepresentation", colour_bar, 21);
   x.proxies("LookupTable", {displacement_colours});
   x.text("Title", "displacement relative to the ground [m]");
@@ -144,7 +151,9 @@ void write_paraview_state(const std::filesystem::path& file, const ParaViewView&
   const double radius = std::max(0.5 * (v.upper_m - v.lower_m).norm(), 0.1);
   const Vec3 eye = centre + 3.0 * radius * Vec3(-0.45, -0.8, 0.4).normalized();
   x.begin("views", "RenderView", render_view, 21);
-  x.proxies("Representations", {standing_look, fallen_look, cracked_look, colour_bar});
+  std::vector<int> shown{standing_look, fallen_look, cracked_look, colour_bar}, timed{blocks_reader, contacts_reader};
+  if (v.ties) shown.push_back(ties_look), timed.push_back(ties_reader);
+  x.proxies("Representations", shown);
   x.vec("CameraPosition", eye);
   x.vec("CameraFocalPoint", centre);
   x.vec("CameraViewUp", Vec3(0, 0, 1));
@@ -155,7 +164,7 @@ void write_paraview_state(const std::filesystem::path& file, const ParaViewView&
   x.end();
 
   x.begin("misc", "TimeKeeper", time_keeper, 16);
-  x.proxies("TimeSources", {blocks_reader, contacts_reader});
+  x.proxies("TimeSources", timed);
   x.proxies("Views", {render_view});
   x.value("Time", v.first_time_s);
   x.end();
@@ -180,12 +189,15 @@ void write_paraview_state(const std::filesystem::path& file, const ParaViewView&
   collection(x, "animation", {{animation, "AnimationScene1"}, {time_cue, "TimeAnimationCue1"}});
   collection(x, "layouts", {{layout, "Layout #1"}});
   collection(x, "lookup_tables", {{displacement_colours, "displacement_relative_to_ground.PVLookupTable"}});
-  collection(x, "representations", {{standing_look, "standing stones"}, {fallen_look, "fallen stones"},
-                                    {cracked_look, "cracked joints"}, {colour_bar, "ScalarBarWidgetRepresentation1"}});
+  std::vector<std::pair<int, const char*>> looks{{standing_look, "standing stones"}, {fallen_look, "fallen stones"},
+                                                 {cracked_look, "cracked joints"}, {colour_bar, "ScalarBarWidgetRepresentation1"}};
+  std::vector<std::pair<int, const char*>> sources{{blocks_reader, "blocks.pvd"}, {bridge_only, "bridge (ground slab hidden)"},
+                                                   {standing, "standing stones"}, {fallen, "fallen stones"},
+                                                   {contacts_reader, "contacts.pvd"}, {cracked, "cracked joints"}};
+  if (v.ties) looks.push_back({ties_look, "tie rods"}), sources.push_back({ties_reader, "ties.pvd"});
+  collection(x, "representations", looks);
   collection(x, "scalar_bars", {{colour_bar, "ScalarBarWidgetRepresentation1"}});
-  collection(x, "sources", {{blocks_reader, "blocks.pvd"}, {bridge_only, "bridge (ground slab hidden)"},
-                            {standing, "standing stones"}, {fallen, "fallen stones"}, {contacts_reader, "contacts.pvd"},
-                            {cracked, "cracked joints"}});
+  collection(x, "sources", sources);
   collection(x, "timekeeper", {{time_keeper, "TimeKeeper1"}});
   collection(x, "views", {{render_view, "RenderView1"}});
   x.raw("  </ServerManagerState>\n</GenericParaViewApplication>\n");

@@ -1,4 +1,4 @@
-# Opens a run's blocks.pvd and contacts.pvd in ParaView (pvbatch), checks that every
+# Opens a run's blocks.pvd and contacts.pvd (and ties.pvd, where it has one) in ParaView (pvbatch), checks that every
 # frame loads with the cells, points and arrays the README promises, and renders the
 # last frame of each to a PNG. Exits non-zero on any failure.
 #   pvbatch paraview_render.py RUN_DIR PNG_DIR
@@ -14,6 +14,8 @@ expected = {
     "contacts": ("POINTS", ["state", "opening_m", "slip_m", "bond_damage", "bond_utilisation", "joint_opening_m", "joint_slip_m",
                             "joint_cracked"]),
 }
+if os.path.exists(os.path.join(run_dir, "ties.pvd")):  # a model with tie rods: a line each
+    expected["ties"] = ("CELLS", ["tension_n", "peak_tension_n", "plastic_elongation_m", "yielded", "tie_id"])
 view = GetActiveViewOrCreate("RenderView")
 view.ViewSize = [1280, 720]
 failures = []

@@ -13,7 +13,8 @@ state = os.path.join(run_dir, "view.pvsm")
 LoadState(state, data_directory=run_dir)
 failures = []
 names = sorted(name for name, _ in GetSources().keys())
-for wanted in ("blocks.pvd", "contacts.pvd", "standing stones", "fallen stones", "cracked joints"):
+tied = os.path.exists(os.path.join(run_dir, "ties.pvd"))
+for wanted in ("blocks.pvd", "contacts.pvd", "standing stones", "fallen stones", "cracked joints") + (("ties.pvd",) if tied else ()):
     if wanted not in names:
         failures.append("view.pvsm has no source '%s' (it has %s)" % (wanted, ", ".join(names)))
 scene = GetAnimationScene()
@@ -25,14 +26,15 @@ if abs(scene.AnimationTime - scene.StartTime) > 1e-9:
     failures.append("the state opens at %g s, not at the first frame" % scene.AnimationTime)
 scene.AnimationTime = scene.EndTime
 counts = {}
-for name in ("standing stones", "fallen stones", "cracked joints"):
+for name in ("standing stones", "fallen stones", "cracked joints") + (("ties.pvd",) if tied else ()):
     source = FindSource(name)
     if source:
         source.UpdatePipeline(scene.EndTime)
         counts[name] = source.GetDataInformation().GetNumberOfCells()
 # Every array the state thresholds or colours by, among those the run wrote.
 for reader, data, arrays in (("blocks.pvd", "CellData", ("part", "fallen", "displacement_relative_to_ground")),
-                             ("contacts.pvd", "PointData", ("joint_cracked",))):
+                             ("contacts.pvd", "PointData", ("joint_cracked",))) + (
+                                 (("ties.pvd", "CellData", ("tension_n",)),) if tied else ()):
     source = FindSource(reader)
     written = getattr(source, data).keys() if source else []
     for array in arrays:

@@ -33,9 +33,7 @@ std::uint64_t place_key(const Vec3& centroid) {
   return key;
 }
 
-}  // namespace
-
-void perturb_model(Model& m, const EnsembleSpec& spec, const MemberDraw& draw) {
+void place_stones(Model& m, const EnsembleSpec& spec, const MemberDraw& draw) {
   if (draw.friction_angle_deg > 0)
     for (PairLaw& law : m.pair_law) law.tan_friction = std::tan(draw.friction_angle_deg * M_PI / 180.0);
   const double t = spec.position_tolerance_m;
@@ -112,6 +110,13 @@ void perturb_model(Model& m, const EnsembleSpec& spec, const MemberDraw& draw) {
       if (overlaps[b] && share[b] > 0) share[b] = round < kHalvings ? 0.5 * share[b] : 0.0, changed = true;
     if (!any || !changed) return;  // none left, or only between blocks where the cut left them
   }
+}
+
+}  // namespace
+
+void perturb_model(Model& m, const EnsembleSpec& spec, const MemberDraw& draw) {
+  place_stones(m, spec, draw);
+  make_ties_snug(m);  // a rod is tightened on the bridge as it was built, each member's
 }
 
 }  // namespace ishibashi

@@ -54,7 +54,8 @@ MemberDraw draw_member(const EnsembleSpec& spec, int member);
 // Every joint's friction angle is set to the draw's when the spec varies it. Fixed and
 // driven blocks stay. The same (spec, member) gives the same model, bit for bit; t = 0
 // the scenario's own. A stone's draws are keyed by where it stands (its centroid), not by
-// its block number, so a model that lists its blocks in another order draws the same.
+// its block number, so a model that lists its blocks in another order draws the same. Tie
+// rods stay anchored where they were in their stones and are snug again (make_ties_snug).
 void perturb_model(Model& model, const EnsembleSpec& spec, const MemberDraw& draw);
 
 }  // namespace ishibashi

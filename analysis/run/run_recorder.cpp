@@ -123,6 +123,7 @@ RunRecorder::RunRecorder(std::filesystem::path out, const Model& model, std::vec
       contacts_(out_, "contacts", VtkSeriesWriter::Kind::contacts),
       reported_left_(model.block_count, 0) {
   if (!model.ties.empty()) ties_.emplace(out_, "ties", VtkSeriesWriter::Kind::ties);
+  view_.ties = ties_.has_value();
   history_ = history_header(monitors_);
   // The camera frames the bridge as built; the ground slab reaches far beyond it.
   view_.lower_m = Vec3::Constant(1e30);
@@ -234,7 +235,7 @@ void RunRecorder::write_summary(const RunDescription& run, const SeismicRunResul
     yielded += s.tie_plastic_m[t] > 0;
   }
   j["ties"] = {{"count", model_.ties.size()}, {"yielded", yielded}, {"peak_tension_n", peak_tension},
-               {"largest_plastic_elongation_m", plastic}};
+               {"largest_plastic_elongation_m", plastic}, {"peak_tension_by_rod_n", s.tie_peak_tension_n}};
   j["threads"] = run.threads;
   j["mean_team_size"] = s.step > 0 ? double(s.profile.thread_steps) / s.step : 0.0;
   // Where the steps' time went (settling included): run --profile's table.

@@ -118,6 +118,26 @@ TEST(Ensemble, MembersDrawReproduciblyWithinTheTolerance) {
   for (const PairLaw& law : rough.pair_law) EXPECT_DOUBLE_EQ(law.tan_friction, std::tan(draw.friction_angle_deg * M_PI / 180));
 }
 
+// A member's stones are moved after the model is built: a tie rod stays anchored where it was
+// in its stones and is snug again in the member's pose (tightened on the bridge as built),
+// not stretched or slack by the tolerance (a 30 mm rod over 3 m stretched by 0.1 mm: 4.6 kN).
+TEST(Ensemble, TieRodsAreSnugInEachMembersPose) {
+  ModelFile file = read_model_file(kRoot / "models" / "nishida_a.toml");
+  file.ties.push_back(TieSpec{Vec3(0, -1.5, 5.08), Vec3(0, 1.5, 5.08), 0.03});
+  const Model built = load_model(file, kRoot / "models" / "nishida_a.toml", ModelOptions{});
+  EnsembleSpec spec;
+  spec.seed = 7;
+  spec.position_tolerance_m = 1e-4;
+  Model m = built;
+  perturb_model(m, spec, draw_member(spec, 2));
+  const Tie& tie = m.ties.at(0);
+  const Vec3 a = m.initial_position[tie.block_a] + m.initial_orientation[tie.block_a] * tie.anchor_a_local;
+  const Vec3 b = m.initial_position[tie.block_b] + m.initial_orientation[tie.block_b] * tie.anchor_b_local;
+  EXPECT_NE(tie.rest_length_m, built.ties[0].rest_length_m);  // the member's stones did move
+  EXPECT_DOUBLE_EQ(tie.rest_length_m, (b - a).norm());
+  EXPECT_EQ(tie.stiffness_n_m, built.ties[0].stiffness_n_m);
+}
+
 // A stone's draws go with where it stands, not with its block number: model A numbered
 // backwards draws the same cut, shift and turn for every stone of member 3.
 TEST(Ensemble, MembersDrawTheSameStonesWhateverTheNumbering) {

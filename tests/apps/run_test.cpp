@@ -511,11 +511,16 @@ TEST(Run, TieRodsAreDescribedDrawnAndSummed) {
   EXPECT_EQ(summary["ties"]["count"], 1);
   EXPECT_EQ(summary["ties"]["yielded"], 0);
   EXPECT_DOUBLE_EQ(summary["ties"]["peak_tension_n"].get<double>(), peak_in_file);
+  EXPECT_EQ(summary["ties"]["peak_tension_by_rod_n"], nlohmann::json::array({peak_in_file}));
   std::ifstream history(dir / "out" / "history.csv");
   std::string header;
   std::getline(history, header);
   for (const char* column : {",tie_yield_j,", ",ties_yielded,", ",largest_tie_tension_n"})
     EXPECT_NE(header.find(column), std::string::npos) << column;
+  // view.pvsm draws the rods from ties.pvd, and plays its frames with the others.
+  const std::string pvsm = test::text_of(dir / "out" / "view.pvsm");
+  EXPECT_NE(pvsm.find("value=\"ties.pvd\""), std::string::npos);
+  EXPECT_NE(pvsm.find("name=\"tie rods\""), std::string::npos);
   std::filesystem::remove_all(dir);
 }
 
