@@ -108,6 +108,13 @@ jobs=(
   "c_mortar2|fd2dc55|out/ensembles/c_mortar_explicit_3_5|scenarios/nishida_c_kobe_mortar.toml --members 5 --member-range 3:5 --seed 1 --jobs 1 --threads 1"
   "c_dry|fd2dc55|out/ensembles/c_dry_explicit|scenarios/nishida_c_kobe_dry.toml --members 5 --member-range 0:3 --seed 1 --jobs 1 --threads 1"
   "c_dry2|fd2dc55|out/ensembles/c_dry_explicit_3_5|scenarios/nishida_c_kobe_dry.toml --members 5 --member-range 3:5 --seed 1 --jobs 1 --threads 1"
+  # Do tie rods keep B's walls up (session 66; scenarios/results/README.md, "Tie rods")? B
+  # dry tied and B dry on one program, the first with rods (dcb7acf: each member's rods made
+  # snug in its own pose), the seed of the other ensembles: B dry's own (be8e1f2) predates
+  # three changes of the contact geometry. Hours of a core a member (B dry's took 7.4 on
+  # be8e1f2's program, whose narrowphase was slower); queued after C.
+  "b_tied|dcb7acf|out/ensembles/b_dry_tied_explicit|scenarios/nishida_b_kobe_dry_tied.toml --members 5 --seed 1 --jobs 1 --threads 1"
+  "b_dry_ref|dcb7acf|out/ensembles/b_dry_explicit_dcb7acf|scenarios/nishida_b_kobe_dry.toml --members 5 --seed 1 --jobs 1 --threads 1"
 )
 
 # A run's summary says so; an ensemble's ensemble.json and a probe's probe.json count the
