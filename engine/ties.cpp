@@ -12,15 +12,16 @@
 namespace ishibashi {
 namespace {
 
-// The anchors of tie t at the current pose (State::rotation, from this step's pose), m.
+// The anchors of a tie with its blocks turned by rotation_a and rotation_b (principal frame
+// to world), m.
 struct TieAnchors {
   Vec3 lever_a, lever_b;  // from each block's centroid
   Vec3 a, b;              // world
 };
-TieAnchors anchors(const State& s, const Tie& tie) {
+TieAnchors anchors(const State& s, const Tie& tie, const Mat3& rotation_a, const Mat3& rotation_b) {
   TieAnchors p;
-  p.lever_a = s.rotation[tie.block_a] * tie.anchor_a_local;
-  p.lever_b = s.rotation[tie.block_b] * tie.anchor_b_local;
+  p.lever_a = rotation_a * tie.anchor_a_local;
+  p.lever_b = rotation_b * tie.anchor_b_local;
   p.a = s.position[tie.block_a] + p.lever_a;
   p.b = s.position[tie.block_b] + p.lever_b;
   return p;
@@ -109,7 +110,7 @@ double apply_ties(const Model& m, State& s) {
   double elastic_j = 0.0;
   for (std::size_t t = 0; t < m.ties.size(); ++t) {
     const Tie& tie = m.ties[t];
-    const TieAnchors p = anchors(s, tie);
+    const TieAnchors p = anchors(s, tie, s.rotation[tie.block_a], s.rotation[tie.block_b]);  // this step's pose
     const Vec3 span = p.b - p.a;
     const double length = span.norm();
     const double stretch = length - tie.rest_length_m - s.tie_plastic_m[t];
@@ -135,11 +136,10 @@ double apply_ties(const Model& m, State& s) {
 void add_tie_stiffness(const Model& m, const State& s, std::vector<Vec6>& stiffness) {
   for (const Tie& tie : m.ties) {
     const Mat3 rotation[2] = {s.orientation[tie.block_a].toRotationMatrix(), s.orientation[tie.block_b].toRotationMatrix()};
-    const Vec3 a = s.position[tie.block_a] + rotation[0] * tie.anchor_a_local;
-    const Vec3 b = s.position[tie.block_b] + rotation[1] * tie.anchor_b_local;
-    if ((b - a).norm() <= 0) continue;
-    const Vec3 dir = (b - a).normalized();
-    const Vec3 lever[2] = {rotation[0] * tie.anchor_a_local, rotation[1] * tie.anchor_b_local};
+    const TieAnchors p = anchors(s, tie, rotation[0], rotation[1]);
+    if ((p.b - p.a).norm() <= 0) continue;
+    const Vec3 dir = (p.b - p.a).normalized();
+    const Vec3 lever[2] = {p.lever_a, p.lever_b};
     const int block[2] = {tie.block_a, tie.block_b};
     for (int side = 0; side < 2; ++side) {
       Vec6 j;

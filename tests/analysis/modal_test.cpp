@@ -92,6 +92,27 @@ TEST(Modal, BlockOnBaseFrequenciesFollowEachJointRulesSecondMoment) {
   }
 }
 
+// Two free cubes in zero gravity, touching nothing, joined by a rod along the line of their
+// centroids: one mode of the rod, omega^2 = k / (m / 2) with k = E A / L; the other eleven are
+// rigid-body modes (0 Hz), the rod having no lever about either centroid.
+TEST(Modal, TwoStonesOnATieRodSwingAtTheRodsFrequency) {
+  ModelBuilder b;
+  b.set_gravity(Vec3::Zero());
+  const int mat = b.add_material(test::stone(0.0));
+  for (double x : {-1.5, 1.5}) {
+    const Polyhedron cube = make_box(Vec3(x, 0, 0), Vec3(1, 1, 1));
+    b.add_block(cube.vertices, cube.faces, mat);
+  }
+  const double area = 1e-3, young = 2e11, k = young * area / 2.4;
+  b.add_tie(Vec3(-1.2, 0, 0), Vec3(1.2, 0, 0), area, young, 2.35e8);
+  World w(b.build(), 1e-5);
+  const ModalResult r = modal_analysis(w.model(), w.state(), 12);
+  ASSERT_EQ(r.frequency_hz.size(), 12u);
+  const double expected = std::sqrt(k / (0.5 * kRho)) / (2 * kPi);  // each cube 1 m^3
+  EXPECT_NEAR(r.frequency_hz.back(), expected, 1e-6 * expected);
+  EXPECT_LT(r.frequency_hz[10], 1e-3 * expected);
+}
+
 TEST(Modal, TwoStackedBlocksMatchTheTwoDofClosedForm) {
   // Vertical modes of two equal blocks: K = k [[2, -1], [-1, 1]], M = m I gives
   // omega^2 = k / m (3 -+ sqrt 5) / 2.
