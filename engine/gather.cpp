@@ -25,6 +25,21 @@ void carry_prescribed_forces(State& s) {
   s.prescribed_entry_moment_before.assign(s.prescribed_entry.size(), Vec3::Zero());
 }
 
+// Adds to f and t a block's sides [begin, end) of `sides`: side 2 i, the block is item i's
+// first (a pair's a, a tie's block_a), 2 i + 1 its second; forces[i] is item i's force on
+// its second block, moments[side] its moment about the block's centroid.
+inline void add_sides(const std::vector<int>& sides, int begin, int end, const std::vector<Vec3>& forces,
+                      const std::vector<Vec3>& moments, Vec3& f, Vec3& t) {
+  for (int q = begin; q < end; ++q) {
+    const int side = sides[q];
+    if (side & 1)
+      f += forces[side >> 1];
+    else
+      f -= forces[side >> 1];
+    t += moments[side];
+  }
+}
+
 }  // namespace
 
 void update_pair_index(const Model& m, State& s) {
@@ -82,23 +97,8 @@ void gather_block(const Model& m, State& s, std::ptrdiff_t b) {
     return;
   }
   Vec3 f = Vec3::Zero(), t = Vec3::Zero();
-  for (int q = s.block_pair_begin[b]; q < s.block_pair_begin[b + 1]; ++q) {
-    const int entry = s.block_pair[q];  // 2p: b is the pair's a, 2p + 1: its b
-    if (entry & 1)
-      f += s.pair_force_n[entry >> 1];
-    else
-      f -= s.pair_force_n[entry >> 1];
-    t += s.pair_moment_nm[entry];
-  }
-  if (!m.ties.empty())
-    for (int q = m.block_tie_begin[b]; q < m.block_tie_begin[b + 1]; ++q) {
-      const int side = m.block_tie[q];  // 2 t: b is the tie's block_a, 2 t + 1: its block_b
-      if (side & 1)
-        f += s.tie_force_n[side >> 1];
-      else
-        f -= s.tie_force_n[side >> 1];
-      t += s.tie_moment_nm[side];
-    }
+  add_sides(s.block_pair, s.block_pair_begin[b], s.block_pair_begin[b + 1], s.pair_force_n, s.pair_moment_nm, f, t);
+  if (!m.ties.empty()) add_sides(m.block_tie, m.block_tie_begin[b], m.block_tie_begin[b + 1], s.tie_force_n, s.tie_moment_nm, f, t);
   s.force[b] = f + s.applied_force[b];
   s.torque[b] = t + s.applied_torque[b];
 }

@@ -202,9 +202,10 @@ struct ModelOptions {
 struct Tie {
   int block_a = -1, block_b = -1;
   Vec3 anchor_a_local = Vec3::Zero(), anchor_b_local = Vec3::Zero();  // the anchor points in each block's principal frame, m
-  double rest_length_m = 0.0;           // the anchors' distance as built: snug, no pretension
+  double rest_length_m = 0.0;           // the anchors' distance as built, less pretension / stiffness
   double stiffness_n_m = 0.0;           // E A / L
   double yield_force_n = 0.0;           // f_y A
+  double pretension_n = 0.0;            // its tension as built (a post-tensioned rod), N
 };
 
 struct Model {
@@ -281,9 +282,9 @@ struct Model {
 
 // ties.cpp: Model::block_tie_begin and block_tie from Model::ties (ModelBuilder::build).
 void index_ties(Model& model);
-// ties.cpp: each tie's rest length set to its anchors' distance in the model's initial pose
-// (a model whose blocks were moved after it was built: an ensemble member's), its
-// stiffness E A / L kept.
+// ties.cpp: each tie's rest length set so that it carries its pretension in the model's
+// initial pose (a model whose blocks were moved after it was built: an ensemble member's),
+// its stiffness E A / L kept.
 void make_ties_snug(Model& model);
 
 // Collects materials and blocks, validates each block and computes its mass properties.
@@ -299,9 +300,10 @@ class ModelBuilder {
 
   // A tie rod between two points (world frame, m), each strictly inside one free block (an
   // anchor plate on a wall's outer face: a point just inside it), of cross-section area_m2,
-  // Young's modulus young_pa and yield stress yield_pa. Throws ModelError saying which
-  // point lies in no block, or on a joint between two, or in a block that cannot move.
-  int add_tie(const Vec3& from, const Vec3& to, double area_m2, double young_pa, double yield_pa);
+  // Young's modulus young_pa and yield stress yield_pa, tightened to pretension_n as built
+  // (0: snug). Throws ModelError saying which point lies in no block, or on a joint between
+  // two, or in a block that cannot move, or that the pretension is not below the yield force.
+  int add_tie(const Vec3& from, const Vec3& to, double area_m2, double young_pa, double yield_pa, double pretension_n = 0);
 
   void set_gravity(const Vec3& g) { gravity_ = g; }
   ContactSettings& contact_settings() { return contact_; }

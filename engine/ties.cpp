@@ -53,7 +53,8 @@ std::string point_text(const Vec3& p) {
 
 }  // namespace
 
-int ModelBuilder::add_tie(const Vec3& from, const Vec3& to, double area_m2, double young_pa, double yield_pa) {
+int ModelBuilder::add_tie(const Vec3& from, const Vec3& to, double area_m2, double young_pa, double yield_pa,
+                          double pretension_n) {
   Model& m = model_;
   const int t = static_cast<int>(m.ties.size());
   const std::string label = "tie " + std::to_string(t);
@@ -79,9 +80,16 @@ int ModelBuilder::add_tie(const Vec3& from, const Vec3& to, double area_m2, doub
   }
   if (tie.block_a == tie.block_b)
     throw ModelError(label + ": both anchors lie in " + m.block_label(tie.block_a) + "; a tie joins two stones");
-  tie.rest_length_m = (to - from).norm();
-  tie.stiffness_n_m = young_pa * area_m2 / tie.rest_length_m;
+  const double length = (to - from).norm();
+  tie.stiffness_n_m = young_pa * area_m2 / length;
   tie.yield_force_n = yield_pa * area_m2;
+  if (!(pretension_n >= 0 && pretension_n < tie.yield_force_n)) {
+    std::ostringstream msg;
+    msg << label << ": its pretension " << pretension_n << " N must be >= 0 and below its yield force " << tie.yield_force_n << " N";
+    throw ModelError(msg.str());
+  }
+  tie.pretension_n = pretension_n;
+  tie.rest_length_m = length - pretension_n / tie.stiffness_n_m;
   m.ties.push_back(tie);
   return t;
 }
@@ -102,7 +110,7 @@ void make_ties_snug(Model& m) {
   for (Tie& tie : m.ties) {
     const Vec3 a = m.initial_position[tie.block_a] + m.initial_orientation[tie.block_a] * tie.anchor_a_local;
     const Vec3 b = m.initial_position[tie.block_b] + m.initial_orientation[tie.block_b] * tie.anchor_b_local;
-    tie.rest_length_m = (b - a).norm();
+    tie.rest_length_m = (b - a).norm() - tie.pretension_n / tie.stiffness_n_m;
   }
 }
 

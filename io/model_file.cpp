@@ -28,11 +28,12 @@ void read_mortar_parts(TableReader& table, std::vector<Part>& parts) {
 
 std::string ties_description(const std::vector<TieSpec>& ties) {
   if (ties.empty()) return "";
-  double d[2] = {INFINITY, 0}, fy[2] = {INFINITY, 0}, force[2] = {INFINITY, 0};
+  double d[2] = {INFINITY, 0}, fy[2] = {INFINITY, 0}, force[2] = {INFINITY, 0}, pre[2] = {INFINITY, 0};
   for (const TieSpec& t : ties) {
     d[0] = std::min(d[0], t.diameter_m), d[1] = std::max(d[1], t.diameter_m);
     fy[0] = std::min(fy[0], t.yield_pa), fy[1] = std::max(fy[1], t.yield_pa);
     force[0] = std::min(force[0], t.yield_pa * t.area_m2()), force[1] = std::max(force[1], t.yield_pa * t.area_m2());
+    pre[0] = std::min(pre[0], t.pretension_n), pre[1] = std::max(pre[1], t.pretension_n);
   }
   const auto range = [](const double (&r)[2], double scale) {
     std::ostringstream s;
@@ -41,7 +42,8 @@ std::string ties_description(const std::vector<TieSpec>& ties) {
     return s.str();
   };
   return std::to_string(ties.size()) + (ties.size() == 1 ? " tie rod" : " tie rods") + ", d = " + range(d, 1e3) +
-         " mm, f_y = " + range(fy, 1e-6) + " MPa, yield force " + range(force, 1e-3) + " kN";
+         " mm, f_y = " + range(fy, 1e-6) + " MPa, yield force " + range(force, 1e-3) + " kN" +
+         (pre[1] > 0 ? ", pretension " + range(pre, 1e-3) + " kN" : "");
 }
 
 namespace {
@@ -67,6 +69,7 @@ void read_ties(const std::filesystem::path& file, const toml::table& root, std::
     reader.positive("diameter_m", tie.diameter_m);
     reader.positive("young_pa", tie.young_pa);
     reader.positive("yield_pa", tie.yield_pa);
+    reader.non_negative("pretension_n", tie.pretension_n);
     reader.finish();
     ties.push_back(tie);
   }

@@ -19,6 +19,7 @@ struct TieSpec {
   double diameter_m = 0.0;
   double young_pa = 2.0e11;  // steel
   double yield_pa = 2.35e8;  // mild steel (S235); wrought iron of old ties: about 2e8
+  double pretension_n = 0;   // tension as built (post-tensioned); 0: snug
   int line = 0;              // of its [[tie]] in the model file, for messages
   double area_m2() const { return 0.25 * 3.14159265358979323846 * diameter_m * diameter_m; }
 };

@@ -89,7 +89,7 @@ ModelOptions frequency_options(RunSettings settings, const RunOverrides& overrid
 
 void add_ties(ModelBuilder& builder, const std::vector<TieSpec>& ties, const std::filesystem::path& path) {
   for (const TieSpec& tie : ties) try {
-      builder.add_tie(tie.from, tie.to, tie.area_m2(), tie.young_pa, tie.yield_pa);
+      builder.add_tie(tie.from, tie.to, tie.area_m2(), tie.young_pa, tie.yield_pa, tie.pretension_n);
     } catch (const ModelError& e) {
       throw InputError(path.string() + ":" + std::to_string(tie.line) + ": " + e.what());
     }

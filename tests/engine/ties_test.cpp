@@ -94,6 +94,30 @@ TEST(Ties, AYieldingRodKeepsTheWorkOfItsPlasticElongation) {
   EXPECT_LT(std::abs(s.energy.balance_error_j()), 1e-3 * relative);
 }
 
+TEST(Ties, APretensionedRodPressesItsJointTillTheJointAndTheRodShareIt) {
+  // Two cubes face to face (centroids at x = -0.5 and 0.5), zero gravity, a rod through
+  // both pretensioned to T0: the joint (K_n = S / (l/E + l/E) = E for S = 1 m^2, l = 0.5 m)
+  // closes by d and the rod (k = E_s A / L) loses k d of its stretch, so at rest
+  // K d = T0 - k d: the rod keeps T = T0 K / (K + k).
+  ModelBuilder b;
+  b.set_gravity(Vec3::Zero());
+  const Material stone = test::stone(1.0);
+  const int mat = b.add_material(stone);
+  for (double x : {-0.5, 0.5}) {
+    const Polyhedron cube = make_box(Vec3(x, 0, 0), Vec3(1, 1, 1));
+    b.add_block(cube.vertices, cube.faces, mat);
+  }
+  const double area = 1e-2, length = 1.6, pretension = 5e4;  // a 113 mm bar: as stiff as the joint, nearly
+  b.add_tie(Vec3(-0.8, 0, 0), Vec3(0.8, 0, 0), area, kSteel, 2.35e8, pretension);
+  const Model model = b.build();
+  World w(model, 0.5 * World(model, 1e-9).critical_time_step_s());
+  w.run(static_cast<long>(0.05 / w.dt_s()));  // 0.05 s: tens of the joint's periods
+  const double joint = stone.young_pa, rod = kSteel * area / length;
+  const double expected = pretension * joint / (joint + rod);
+  EXPECT_NEAR(w.state().tie_tension_n[0], expected, 1e-4 * expected);
+  EXPECT_LT(expected, 0.95 * pretension);  // the joint took a share worth telling apart
+}
+
 TEST(Ties, AnOffCentreRodTurnsTheStonesAndConservesMomentum) {
   // Anchors 0.3 m off the axis: the rod's moments turn both stones; total linear and
   // angular momentum (about the origin) stay zero, as the rod's forces are internal.
@@ -127,22 +151,24 @@ TEST(Ties, TheRodSetsTheStableStep) {
   EXPECT_THROW(World(model, 1.1 * limit), ModelError);
 }
 
-std::string tie_error(const Vec3& from, const Vec3& to) {
+std::string tie_error(const Vec3& from, const Vec3& to, double pretension_n = 0) {
   ModelBuilder b = two_stones();
   try {
-    b.add_tie(from, to, kRodArea, kSteel, 2.35e8);
+    b.add_tie(from, to, kRodArea, kSteel, 2.35e8, pretension_n);
   } catch (const ModelError& e) {
     return e.what();
   }
   return "";
 }
 
-TEST(Ties, AnAnchorOutsideOneFreeStoneIsAnError) {
+TEST(Ties, AnAnchorOutsideOneFreeStoneOrAPretensionPastYieldIsAnError) {
   EXPECT_THAT(tie_error(Vec3(0, 0, 0), Vec3(1.2, 0, 0)), HasSubstr("(0, 0, 0) m lies in no block"));
   EXPECT_THAT(tie_error(Vec3(-1.2, 0, 0), Vec3(1.0, 0, 0)), HasSubstr("lies on a face of block 1 'right'"));
   EXPECT_THAT(tie_error(Vec3(-1.2, 0, 0), Vec3(0, 0, -10)), HasSubstr("block 2 'slab', which does not move"));
   EXPECT_THAT(tie_error(Vec3(-1.2, 0, 0), Vec3(-1.8, 0, 0)), HasSubstr("both anchors lie in block 0 'left'"));
   EXPECT_EQ(tie_error(Vec3(-1.2, 0, 0), Vec3(1.2, 0, 0)), "");
+  EXPECT_EQ(tie_error(Vec3(-1.2, 0, 0), Vec3(1.2, 0, 0), 3e5),  // 40 mm S235: yields at 295 kN
+            "tie 0: its pretension 300000 N must be >= 0 and below its yield force 295310 N");
 }
 
 }  // namespace

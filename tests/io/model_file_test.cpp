@@ -120,7 +120,8 @@ TEST(ModelFile, MortarPartsAreNamedPartsAndABadOneIsRefusedAtItsLine) {
 TEST(ModelFile, TiesAreReadAndABadOneIsRefusedAtItsLine) {
   const auto file = std::filesystem::temp_directory_path() / "ishibashi_model_test.toml";
   std::ofstream(file) << "[[tie]]\nfrom = [0, -1.5, 5]\nto = [0, 1.5, 5]\ndiameter_m = 0.03\n\n"
-                      << "[[tie]]\nfrom = [1, -1.5, 5]\nto = [1, 1.5, 5.5]\ndiameter_m = 0.02\nyield_pa = 2e8\nyoung_pa = 1.9e11\n";
+                      << "[[tie]]\nfrom = [1, -1.5, 5]\nto = [1, 1.5, 5.5]\ndiameter_m = 0.02\nyield_pa = 2e8\nyoung_pa = 1.9e11\n"
+                      << "pretension_n = 2e4\n";
   const ModelFile m = read_model_file(file);
   ASSERT_EQ(m.ties.size(), 2u);
   EXPECT_EQ(m.ties[0].from, Vec3(0, -1.5, 5));
@@ -130,14 +131,18 @@ TEST(ModelFile, TiesAreReadAndABadOneIsRefusedAtItsLine) {
   EXPECT_EQ(m.ties[1].yield_pa, 2e8);
   EXPECT_EQ(m.ties[1].line, 6);
   EXPECT_NEAR(m.ties[0].area_m2(), 7.0686e-4, 1e-8);
-  EXPECT_EQ(ties_description(m.ties), "2 tie rods, d = 20-30 mm, f_y = 200-235 MPa, yield force 62.8-166 kN");
+  EXPECT_EQ(m.ties[0].pretension_n, 0.0);
+  EXPECT_EQ(m.ties[1].pretension_n, 2e4);
+  EXPECT_EQ(ties_description(m.ties), "2 tie rods, d = 20-30 mm, f_y = 200-235 MPa, yield force 62.8-166 kN, pretension 0-20 kN");
   EXPECT_THAT(error_of("[[tie]]\nfrom = [0, 0, 0]\ndiameter_m = 0.03\n"), HasSubstr(":1: [[tie]] needs from = [x, y, z]"));
   EXPECT_THAT(error_of("[[tie]]\nfrom = [0, 0, 0]\ndiameter_m = 0.03\n"), HasSubstr("'to' is missing"));
   EXPECT_THAT(error_of("[[tie]]\nfrom = [0, 0]\nto = [0, 1, 0]\ndiameter_m = 0.03\n"),
               HasSubstr(":2: 'from' must be a point [x, y, z] of three numbers, m"));
   EXPECT_THAT(error_of("[[tie]]\nfrom = [0, 0, 0]\nto = [0, 1, 0]\ndiameter_m = -0.03\n"), HasSubstr(":4: 'diameter_m' is -0.03"));
-  EXPECT_THAT(error_of("[[tie]]\nfrom = [0, 0, 0]\nto = [0, 1, 0]\ndiameter_m = 0.03\npretension_n = 5\n"),
-              HasSubstr(":5: unknown key 'pretension_n' in [tie]"));
+  EXPECT_THAT(error_of("[[tie]]\nfrom = [0, 0, 0]\nto = [0, 1, 0]\ndiameter_m = 0.03\nprestress = 5\n"),
+              HasSubstr(":5: unknown key 'prestress' in [tie]"));
+  EXPECT_THAT(error_of("[[tie]]\nfrom = [0, 0, 0]\nto = [0, 1, 0]\ndiameter_m = 0.03\npretension_n = -5\n"),
+              HasSubstr(":5: 'pretension_n' is -5; it must be >= 0"));
   EXPECT_THAT(error_of("[tie]\nfrom = [0, 0, 0]\n"), HasSubstr(":1: ties are [[tie]] tables"));
 }
 
