@@ -58,9 +58,9 @@ int run_build(const BuildOptions& o) {
   for (const auto& [part, count] : by_part) std::printf("  %-10s %5d free %5d fixed\n", part.c_str(), count.first, count.second);
   std::printf("mass of the free blocks: %.1f t\n", mass / 1000.0);
   if (file.bridge.mortar_pa > 0) std::printf("mortar: %s\n", mortar_description(file.bridge).c_str());
-  if (!file.ties.empty()) std::printf("ties: %s\n", ties_description(file.ties).c_str());
+  if (!compiled.ties.empty()) std::printf("ties: %s\n", ties_description(file).c_str());
   for (std::size_t t = 0; t < model.ties.size(); ++t)  // where each rod is anchored, to check against the drawing
-    std::printf("  tie %zu (line %d): %s to %s, %.2f m\n", t, file.ties[t].line, model.block_label(model.ties[t].block_a).c_str(),
+    std::printf("  tie %zu (line %d): %s to %s, %.2f m\n", t, compiled.ties[t].line, model.block_label(model.ties[t].block_a).c_str(),
                 model.block_label(model.ties[t].block_b).c_str(), model.ties[t].rest_length_m);
   std::printf("bounding box: x %.3f .. %.3f, y %.3f .. %.3f, z %.3f .. %.3f m\n", lo.x(), hi.x(), lo.y(), hi.y(), lo.z(), hi.z());
   std::printf("volume: %.4f m^3, design %.4f m^3 (difference %.2e)\n", built, design, volume_error);

@@ -254,7 +254,7 @@ int run_scenario(const RunOptions& o) {
   if (sc.model.bridge.mortar_pa > 0)
     std::printf("  mortar %s, %s\n", mortar_description(sc.model.bridge).c_str(),
                 sc.settings.mortar_bonds == MortarBonds::settled ? "set once the bridge has settled" : "set from the first step");
-  if (!sc.model.ties.empty()) std::printf("  %s\n", ties_description(sc.model.ties).c_str());
+  if (!m.ties.empty()) std::printf("  %s\n", ties_description(sc.model).c_str());
   if (sc.settings.duration_s > run.ground_motion().duration_s() + run.dt_s())
     std::printf("  the record ends %.2f s after start_s: the run shakes for that long, not the %.2f s asked\n",
                 run.ground_motion().duration_s(), sc.settings.duration_s);

@@ -26,7 +26,9 @@ void read_mortar_parts(TableReader& table, std::vector<Part>& parts) {
   for (const std::string& name : names) parts.push_back(parse_mortar_part(name));
 }
 
-std::string ties_description(const std::vector<TieSpec>& ties) {
+std::string ties_description(const ModelFile& model) {
+  std::vector<TieSpec> ties = model.ties;
+  for (const TieRowSpec& row : model.tie_rows) ties.insert(ties.end(), row.x_m.size(), row.rod);
   if (ties.empty()) return "";
   double d[2] = {INFINITY, 0}, fy[2] = {INFINITY, 0}, force[2] = {INFINITY, 0}, pre[2] = {INFINITY, 0};
   for (const TieSpec& t : ties) {
@@ -48,31 +50,57 @@ std::string ties_description(const std::vector<TieSpec>& ties) {
 
 namespace {
 
-void read_ties(const std::filesystem::path& file, const toml::table& root, std::vector<TieSpec>& ties) {
-  const toml::node* node = root.get("tie");
+// Each table of the array of tables `name` ([[tie]], [[tie_row]]), with its line.
+template <class ReadTable>
+void each_table(const std::filesystem::path& file, const toml::table& root, const char* name, const char* keys,
+                ReadTable read_table) {
+  const toml::node* node = root.get(name);
   if (!node) return;
   const toml::array* list = node->as_array();
   const auto at = [&](const toml::node& n) { return file.string() + ":" + std::to_string(n.source().begin.line) + ": "; };
-  if (!list) throw InputError(at(*node) + "ties are [[tie]] tables (each: from, to, diameter_m)");
+  if (!list) throw InputError(at(*node) + "'" + name + "' must be [[" + name + "]] tables (each: " + keys + ")");
   for (const toml::node& entry : *list) {
     const toml::table* table = entry.as_table();
-    if (!table) throw InputError(at(entry) + "[[tie]] must be a table");
-    TableReader reader(file, table, "tie");
-    TieSpec tie;
-    tie.line = static_cast<int>(entry.source().begin.line);
+    if (!table) throw InputError(at(entry) + "[[" + name + "]] must be a table");
+    TableReader reader(file, table, name);
+    read_table(*table, reader, static_cast<int>(entry.source().begin.line), at(entry));
+    reader.finish();
+  }
+}
+
+void read_rod(TableReader& reader, int line, TieSpec& rod) {
+  rod.line = line;
+  reader.positive("diameter_m", rod.diameter_m);
+  reader.positive("young_pa", rod.young_pa);
+  reader.positive("yield_pa", rod.yield_pa);
+  reader.non_negative("pretension_n", rod.pretension_n);
+}
+
+void read_ties(const std::filesystem::path& file, const toml::table& root, ModelFile& m) {
+  each_table(file, root, "tie", "from, to, diameter_m", [&](const toml::table& table, TableReader& reader, int line, const std::string& at) {
     for (const char* key : {"from", "to", "diameter_m"})
-      if (!table->contains(key))
-        throw InputError(at(entry) + "[[tie]] needs from = [x, y, z], to = [x, y, z] (anchor points inside two stones, m) "
+      if (!table.contains(key))
+        throw InputError(at + "[[tie]] needs from = [x, y, z], to = [x, y, z] (anchor points inside two stones, m) "
                          "and diameter_m; '" + key + "' is missing");
+    TieSpec tie;
     reader.point("from", tie.from);
     reader.point("to", tie.to);
-    reader.positive("diameter_m", tie.diameter_m);
-    reader.positive("young_pa", tie.young_pa);
-    reader.positive("yield_pa", tie.yield_pa);
-    reader.non_negative("pretension_n", tie.pretension_n);
-    reader.finish();
-    ties.push_back(tie);
-  }
+    read_rod(reader, line, tie);
+    m.ties.push_back(tie);
+  });
+  each_table(file, root, "tie_row", "x_m, z_m, diameter_m", [&](const toml::table& table, TableReader& reader, int line, const std::string& at) {
+    for (const char* key : {"x_m", "z_m", "diameter_m"})
+      if (!table.contains(key))
+        throw InputError(at + "[[tie_row]] needs x_m = [x, ...] (where the rods cross the bridge, m), z_m (their "
+                         "height, m) and diameter_m; '" + key + "' is missing");
+    TieRowSpec row;
+    reader.finite_numbers("x_m", row.x_m);
+    if (row.x_m.empty()) throw InputError(at + "[[tie_row]] x_m is empty: give where each rod crosses the bridge, m");
+    reader.number("z_m", row.z_m);
+    reader.positive("inset_m", row.inset_m);
+    read_rod(reader, line, row.rod);
+    m.tie_rows.push_back(row);
+  });
 }
 
 }  // namespace
@@ -134,7 +162,7 @@ ModelFile read_model_file(const std::filesystem::path& file) {
   if (import.present() && (ring.present() || bridge.present()))
     throw InputError(file.string() + ": [import] and [ring]/[bridge] exclude each other: a model is either imported or generated");
 
-  read_ties(file, root, m.ties);
+  read_ties(file, root, m);
 
   TableReader stone(file, root, "stone");
   stone.material(b.stone);

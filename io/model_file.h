@@ -24,9 +24,15 @@ struct TieSpec {
   double area_m2() const { return 0.25 * 3.14159265358979323846 * diameter_m * diameter_m; }
 };
 
-// "4 tie rods, d = 30 mm, f_y = 235 MPa, yield force 166 kN" (ranges where they differ),
-// or "" when there are none: for the build and run commands.
-std::string ties_description(const std::vector<TieSpec>& ties);
+// A [[tie_row]] table: rods across the bridge's width (along y), one at each of x_m, at
+// height z_m, each anchored inset_m inside the outer faces of the free stones its line passes
+// through: compile_model places them (tie_row_rods) once the blocks are made.
+struct TieRowSpec {
+  std::vector<double> x_m;  // along the bridge, m
+  double z_m = 0;           // height, m
+  double inset_m = 0.05;    // an anchor plate's bearing point inside the wall's outer face, m
+  TieSpec rod;              // each rod's steel, pretension and the table's line (its from and to unused)
+};
 
 struct ModelFile {
   std::string name;        // [model] name, or the file's stem
@@ -37,10 +43,15 @@ struct ModelFile {
   std::vector<std::filesystem::path> fixed_files;   // fixed blocks (ground, abutments)
   double import_scale = 1;  // metres per unit of the mesh files (0.001: drawn in millimetres)
   std::vector<TieSpec> ties;  // [[tie]]: tie rods, a retrofit (generated or imported blocks)
+  std::vector<TieRowSpec> tie_rows;  // [[tie_row]]: rows of rods across the width
   bool imported() const { return !import_files.empty() || !fixed_files.empty(); }
 };
 
 ModelFile read_model_file(const std::filesystem::path& file);
+
+// "4 tie rods, d = 30 mm, f_y = 235 MPa, yield force 166 kN" (ranges where they differ) of
+// the [[tie]] and [[tie_row]] rods, or "" when there are none: for the build and run commands.
+std::string ties_description(const ModelFile& model);
 
 // The mortar's two fracture energies go together (both 0: brittle; both > 0: softening):
 // an InputError naming `file` and `table` otherwise.

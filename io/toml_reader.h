@@ -140,13 +140,18 @@ class TableReader {
   }
   // An array of numbers >= 0 (e.g. times in seconds); replaces `out` when present.
   void non_negative_numbers(const char* key, std::vector<double>& out) {
+    numbers_at_least(key, out, 0, "finite numbers >= 0");
+  }
+  // An array of finite numbers (e.g. positions in m); replaces `out` when present.
+  void finite_numbers(const char* key, std::vector<double>& out) { numbers_at_least(key, out, -INFINITY, "finite numbers"); }
+  void numbers_at_least(const char* key, std::vector<double>& out, double min, const char* what) {
     if (const toml::node* n = find(key)) {
       const toml::array* a = n->as_array();
       if (!a) fail(*n, std::string("'") + key + "' must be an array of numbers, e.g. [1.0, 2.5]");
       out.clear();
       for (const toml::node& e : *a) {
         auto v = e.value<double>();
-        if (!v || !(*v >= 0 && std::isfinite(*v))) fail(e, std::string("'") + key + "' must hold finite numbers >= 0");
+        if (!v || !(*v >= min && std::isfinite(*v))) fail(e, std::string("'") + key + "' must hold " + what);
         out.push_back(*v);
       }
     }
@@ -248,7 +253,7 @@ struct InputFileKind {
   const char* name;  // for messages
   std::vector<std::string_view> tables;
 };
-inline const InputFileKind kModelFile{"a model file (models/)", {"model", "ring", "bridge", "stone", "soil", "import", "tie"}};
+inline const InputFileKind kModelFile{"a model file (models/)", {"model", "ring", "bridge", "stone", "soil", "import", "tie", "tie_row"}};
 inline const InputFileKind kScenarioFile{"a scenario file (scenarios/)", {"model", "run", "ground_motion", "monitor", "ensemble"}};
 inline const InputFileKind kSweepFile{"a sweep file (scenarios/*_sweep.toml)", {"sweep", "failure", "record"}};
 inline const InputFileKind kStudyFile{"a study file (scenarios/nishida_study.toml)", {"study", "frequencies", "quick", "reference"}};

@@ -3,8 +3,10 @@
 #include <algorithm>
 #include <cstdio>
 #include <mutex>
+#include <sstream>
 
 #include "geometry/block_files.h"
+#include "geometry/line_through_blocks.h"
 
 namespace ishibashi {
 namespace {
@@ -97,6 +99,31 @@ void add_ties(ModelBuilder& builder, const std::vector<TieSpec>& ties, const std
 
 }  // namespace
 
+std::vector<TieSpec> tie_row_rods(const TieRowSpec& row, const std::vector<BridgeBlock>& blocks, const std::filesystem::path& path) {
+  std::vector<TieSpec> rods;
+  for (const double x : row.x_m) {
+    const auto where = [&] {
+      std::ostringstream s;
+      s << path.string() << ":" << row.rod.line << ": [[tie_row]] rod at x = " << x << " m, z = " << row.z_m << " m: ";
+      return s.str();
+    };
+    const auto extent = free_blocks_along_line(blocks, Vec3(x, 0, row.z_m), Vec3::UnitY());
+    if (!extent) throw InputError(where() + "its line across the width meets no free stone");
+    const auto [y0, y1] = *extent;
+    if (y1 - y0 <= 2 * row.inset_m) {
+      std::ostringstream s;
+      s << where() << "the masonry it crosses is " << y1 - y0 << " m wide, not more than two insets (inset_m = "
+        << row.inset_m << ")";
+      throw InputError(s.str());
+    }
+    TieSpec rod = row.rod;
+    rod.from = Vec3(x, y0 + row.inset_m, row.z_m);
+    rod.to = Vec3(x, y1 - row.inset_m, row.z_m);
+    rods.push_back(rod);
+  }
+  return rods;
+}
+
 CompiledModel compile_model(const ModelFile& file, const std::filesystem::path& path, const ModelOptions& options) {
   CompiledModel c;
   c.blocks = model_blocks(file, path);
@@ -111,7 +138,10 @@ CompiledModel compile_model(const ModelFile& file, const std::filesystem::path& 
   } catch (const ModelError& e) {
     throw InputError(path.string() + ": " + e.what());
   }
-  add_ties(c.builder, file.ties, path);
+  c.ties = file.ties;
+  for (const TieRowSpec& row : file.tie_rows)
+    for (const TieSpec& rod : tie_row_rods(row, c.blocks, path)) c.ties.push_back(rod);
+  add_ties(c.builder, c.ties, path);
   c.model = build_model(c.builder, options, path);
   return c;
 }

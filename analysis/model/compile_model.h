@@ -20,6 +20,7 @@ namespace ishibashi {
 struct CompiledModel {
   std::vector<BridgeBlock> blocks;  // imported ones with coplanar triangles merged once shown convex
   ValidationReport validation;
+  std::vector<TieSpec> ties;        // [[tie]] then each [[tie_row]]'s rods, placed
   ModelBuilder builder;             // empty when validation failed
   Model model;                      // empty when validation failed
 };
@@ -27,6 +28,12 @@ struct CompiledModel {
 // Throws InputError naming the file for blocks that cannot be made or an option out of
 // range; blocks that fail validation are in the result (validation.ok() false).
 CompiledModel compile_model(const ModelFile& file, const std::filesystem::path& path, const ModelOptions& options);
+
+// A [[tie_row]]'s rods: the anchors of the one at x lie row.inset_m inside the outermost
+// faces of the free blocks met by the line across the width (along y) at x and row.z_m.
+// Throws InputError naming `path`, the row's line and the rod for a line that meets no free
+// block or whose stretch in the masonry is not longer than two insets.
+std::vector<TieSpec> tie_row_rods(const TieRowSpec& row, const std::vector<BridgeBlock>& blocks, const std::filesystem::path& path);
 
 // compile_model's Model; prints the validation errors and throws InputError when there are any.
 Model load_model(const ModelFile& file, const std::filesystem::path& path, const ModelOptions& options);

@@ -85,5 +85,23 @@ TEST(Build, TheTiedBridgesRodsJoinItsTwoSpandrelWalls) {
             std::string::npos) << refused;
 }
 
+// Model B with two [[tie_row]] tables instead of twelve [[tie]] tables: build places and
+// describes the same rods, each named with its row's line.
+TEST(Build, TieRowsPlaceRodsAcrossTheWidth) {
+  const std::string model_b = test::text_of(kRoot / "models/nishida_b.toml");
+  const auto model = test::tmp_dir() / "ishibashi_tie_rows.toml";
+  std::ofstream(model) << model_b << "\n[[tie_row]]\nx_m = [-10.5, -7.5, -4.5, -1.5, 1.5, 4.5, 7.5, 10.5]\nz_m = 5.44\n"
+                       << "diameter_m = 0.03\n\n[[tie_row]]\nx_m = [-10.5, -7.5, 7.5, 10.5]\nz_m = 3.52\ndiameter_m = 0.03\n";
+  const int first_row = static_cast<int>(std::count(model_b.begin(), model_b.end(), '\n')) + 2, second_row = first_row + 5;
+  int status = 0;
+  const std::string out = test::run_command(test::program() + " build " + model.string() + " --out " +
+                                                (test::tmp_dir() / "ishibashi_tie_rows_build").string(), &status);
+  ASSERT_EQ(status, 0) << out;
+  EXPECT_NE(out.find("ties: 12 tie rods, d = 30 mm, f_y = 235 MPa, yield force 166 kN\n"), std::string::npos) << out;
+  EXPECT_NE(out.find("  tie 7 (line " + std::to_string(first_row) + "): "), std::string::npos) << out;
+  EXPECT_NE(out.find("  tie 8 (line " + std::to_string(second_row) + "): "), std::string::npos) << out;
+  EXPECT_NE(out.find("  tie 11 (line " + std::to_string(second_row) + "): "), std::string::npos) << out;
+}
+
 }  // namespace
 }  // namespace ishibashi

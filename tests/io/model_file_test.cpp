@@ -133,7 +133,7 @@ TEST(ModelFile, TiesAreReadAndABadOneIsRefusedAtItsLine) {
   EXPECT_NEAR(m.ties[0].area_m2(), 7.0686e-4, 1e-8);
   EXPECT_EQ(m.ties[0].pretension_n, 0.0);
   EXPECT_EQ(m.ties[1].pretension_n, 2e4);
-  EXPECT_EQ(ties_description(m.ties), "2 tie rods, d = 20-30 mm, f_y = 200-235 MPa, yield force 62.8-166 kN, pretension 0-20 kN");
+  EXPECT_EQ(ties_description(m), "2 tie rods, d = 20-30 mm, f_y = 200-235 MPa, yield force 62.8-166 kN, pretension 0-20 kN");
   EXPECT_THAT(error_of("[[tie]]\nfrom = [0, 0, 0]\ndiameter_m = 0.03\n"), HasSubstr(":1: [[tie]] needs from = [x, y, z]"));
   EXPECT_THAT(error_of("[[tie]]\nfrom = [0, 0, 0]\ndiameter_m = 0.03\n"), HasSubstr("'to' is missing"));
   EXPECT_THAT(error_of("[[tie]]\nfrom = [0, 0]\nto = [0, 1, 0]\ndiameter_m = 0.03\n"),
@@ -143,7 +143,35 @@ TEST(ModelFile, TiesAreReadAndABadOneIsRefusedAtItsLine) {
               HasSubstr(":5: unknown key 'prestress' in [tie]"));
   EXPECT_THAT(error_of("[[tie]]\nfrom = [0, 0, 0]\nto = [0, 1, 0]\ndiameter_m = 0.03\npretension_n = -5\n"),
               HasSubstr(":5: 'pretension_n' is -5; it must be >= 0"));
-  EXPECT_THAT(error_of("[tie]\nfrom = [0, 0, 0]\n"), HasSubstr(":1: ties are [[tie]] tables"));
+  EXPECT_THAT(error_of("[tie]\nfrom = [0, 0, 0]\n"), HasSubstr(":1: 'tie' must be [[tie]] tables"));
+}
+
+// [[tie_row]]: where the rods cross (x_m, any sign), their height and diameter; the inset
+// and the steel's properties have defaults; each rod carries the row's line.
+TEST(ModelFile, TieRowsAreReadAndABadOneIsRefusedAtItsLine) {
+  const auto file = std::filesystem::temp_directory_path() / "ishibashi_model_test.toml";
+  std::ofstream(file) << "[[tie]]\nfrom = [0, -1.5, 5]\nto = [0, 1.5, 5]\ndiameter_m = 0.03\n\n"
+                      << "[[tie_row]]\nx_m = [-3, 0, 4.5]\nz_m = 5.44\ndiameter_m = 0.02\n\n"
+                      << "[[tie_row]]\nx_m = [1]\nz_m = -1\ndiameter_m = 0.03\ninset_m = 0.1\npretension_n = 1e4\n";
+  const ModelFile m = read_model_file(file);
+  ASSERT_EQ(m.tie_rows.size(), 2u);
+  EXPECT_EQ(m.tie_rows[0].x_m, (std::vector<double>{-3, 0, 4.5}));
+  EXPECT_EQ(m.tie_rows[0].z_m, 5.44);
+  EXPECT_EQ(m.tie_rows[0].inset_m, 0.05);
+  EXPECT_EQ(m.tie_rows[0].rod.diameter_m, 0.02);
+  EXPECT_EQ(m.tie_rows[0].rod.yield_pa, 2.35e8);
+  EXPECT_EQ(m.tie_rows[0].rod.line, 6);
+  EXPECT_EQ(m.tie_rows[1].z_m, -1.0);
+  EXPECT_EQ(m.tie_rows[1].inset_m, 0.1);
+  EXPECT_EQ(m.tie_rows[1].rod.pretension_n, 1e4);
+  EXPECT_EQ(ties_description(m), "5 tie rods, d = 20-30 mm, f_y = 235 MPa, yield force 73.8-166 kN, pretension 0-10 kN");
+  EXPECT_THAT(error_of("[[tie_row]]\nx_m = [0]\ndiameter_m = 0.03\n"), HasSubstr(":1: [[tie_row]] needs x_m"));
+  EXPECT_THAT(error_of("[[tie_row]]\nx_m = [0]\ndiameter_m = 0.03\n"), HasSubstr("'z_m' is missing"));
+  EXPECT_THAT(error_of("[[tie_row]]\nx_m = []\nz_m = 5\ndiameter_m = 0.03\n"), HasSubstr(":1: [[tie_row]] x_m is empty"));
+  EXPECT_THAT(error_of("[[tie_row]]\nx_m = [0, \"a\"]\nz_m = 5\ndiameter_m = 0.03\n"), HasSubstr(":2: 'x_m' must hold finite numbers"));
+  EXPECT_THAT(error_of("[[tie_row]]\nx_m = [0]\nz_m = 5\ndiameter_m = 0.03\ninset_m = 0\n"), HasSubstr(":5: 'inset_m' is 0; it must be > 0"));
+  EXPECT_THAT(error_of("[[tie_row]]\nx_m = [0]\nz_m = 5\ndiameter_m = 0.03\ny_m = 1\n"), HasSubstr(":5: unknown key 'y_m' in [tie_row]"));
+  EXPECT_THAT(error_of("[tie_row]\nx_m = [0]\n"), HasSubstr(":1: 'tie_row' must be [[tie_row]] tables"));
 }
 
 TEST(ModelFile, NumbersOutOfRangeNameTheirLine) {
