@@ -50,20 +50,24 @@ std::string ties_description(const ModelFile& model) {
 
 namespace {
 
-// Each table of the array of tables `name` ([[tie]], [[tie_row]]), with its line.
+// Each table of the array of tables `name` ([[tie]], [[tie_row]]) with its line, once it is
+// shown to hold the `required` keys (`needs` says what they are).
 template <class ReadTable>
-void each_table(const std::filesystem::path& file, const toml::table& root, const char* name, const char* keys,
-                ReadTable read_table) {
+void each_table(const std::filesystem::path& file, const toml::table& root, const char* name,
+                std::initializer_list<const char*> required, const char* needs, ReadTable read_table) {
   const toml::node* node = root.get(name);
   if (!node) return;
   const toml::array* list = node->as_array();
   const auto at = [&](const toml::node& n) { return file.string() + ":" + std::to_string(n.source().begin.line) + ": "; };
-  if (!list) throw InputError(at(*node) + "'" + name + "' must be [[" + name + "]] tables (each: " + keys + ")");
+  if (!list) throw InputError(at(*node) + "'" + name + "' must be [[" + name + "]] tables (each: " + needs + ")");
   for (const toml::node& entry : *list) {
     const toml::table* table = entry.as_table();
     if (!table) throw InputError(at(entry) + "[[" + name + "]] must be a table");
+    for (const char* key : required)
+      if (!table->contains(key))
+        throw InputError(at(entry) + "[[" + name + "]] needs " + needs + "; '" + key + "' is missing");
     TableReader reader(file, table, name);
-    read_table(*table, reader, static_cast<int>(entry.source().begin.line), at(entry));
+    read_table(reader, static_cast<int>(entry.source().begin.line), at(entry));
     reader.finish();
   }
 }
@@ -77,30 +81,26 @@ void read_rod(TableReader& reader, int line, TieSpec& rod) {
 }
 
 void read_ties(const std::filesystem::path& file, const toml::table& root, ModelFile& m) {
-  each_table(file, root, "tie", "from, to, diameter_m", [&](const toml::table& table, TableReader& reader, int line, const std::string& at) {
-    for (const char* key : {"from", "to", "diameter_m"})
-      if (!table.contains(key))
-        throw InputError(at + "[[tie]] needs from = [x, y, z], to = [x, y, z] (anchor points inside two stones, m) "
-                         "and diameter_m; '" + key + "' is missing");
-    TieSpec tie;
-    reader.point("from", tie.from);
-    reader.point("to", tie.to);
-    read_rod(reader, line, tie);
-    m.ties.push_back(tie);
-  });
-  each_table(file, root, "tie_row", "x_m, z_m, diameter_m", [&](const toml::table& table, TableReader& reader, int line, const std::string& at) {
-    for (const char* key : {"x_m", "z_m", "diameter_m"})
-      if (!table.contains(key))
-        throw InputError(at + "[[tie_row]] needs x_m = [x, ...] (where the rods cross the bridge, m), z_m (their "
-                         "height, m) and diameter_m; '" + key + "' is missing");
-    TieRowSpec row;
-    reader.finite_numbers("x_m", row.x_m);
-    if (row.x_m.empty()) throw InputError(at + "[[tie_row]] x_m is empty: give where each rod crosses the bridge, m");
-    reader.number("z_m", row.z_m);
-    reader.positive("inset_m", row.inset_m);
-    read_rod(reader, line, row.rod);
-    m.tie_rows.push_back(row);
-  });
+  each_table(file, root, "tie", {"from", "to", "diameter_m"},
+             "from = [x, y, z], to = [x, y, z] (anchor points inside two stones, m) and diameter_m",
+             [&](TableReader& reader, int line, const std::string&) {
+               TieSpec tie;
+               reader.point("from", tie.from);
+               reader.point("to", tie.to);
+               read_rod(reader, line, tie);
+               m.ties.push_back(tie);
+             });
+  each_table(file, root, "tie_row", {"x_m", "z_m", "diameter_m"},
+             "x_m = [x, ...] (where the rods cross the bridge, m), z_m (their height, m) and diameter_m",
+             [&](TableReader& reader, int line, const std::string& at) {
+               TieRowSpec row;
+               reader.finite_numbers("x_m", row.x_m);
+               if (row.x_m.empty()) throw InputError(at + "[[tie_row]] x_m is empty: give where each rod crosses the bridge, m");
+               reader.number("z_m", row.z_m);
+               reader.positive("inset_m", row.inset_m);
+               read_rod(reader, line, row.rod);
+               m.tie_rows.push_back(row);
+             });
 }
 
 }  // namespace

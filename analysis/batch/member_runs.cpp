@@ -98,7 +98,8 @@ std::string summary_csv_values(const nlohmann::json& summary) {
   std::ostringstream csv;
   bool first = true;
   for (const ResultColumn& c : result_columns()) {
-    const nlohmann::json& v = summary[c.name];
+    // A member's summary from an older program may lack a newer column: left empty.
+    const nlohmann::json v = summary.contains(c.name) ? summary[c.name] : nlohmann::json();
     if (!first) csv << ',';
     first = false;
     if (v.is_boolean()) csv << (v.get<bool>() ? "yes" : "no");

@@ -69,7 +69,8 @@ namespace {
 //     (Pair::apart_until_clock_m); the clock is not kept: a restored run's first pose does
 //     not know its step turns, so its narrowphase visits every pair and schedules them anew.
 // 22: the tie rods' plastic elongations, tensions and peak tensions; Energy::tie_yield_j.
-constexpr char kCheckpointMagic[] = "ishibashi checkpoint 22\n";
+// 23: the run's result holds the rods' count, how many yielded and their peak tension.
+constexpr char kCheckpointMagic[] = "ishibashi checkpoint 23\n";
 
 template <class Archive, class H>
 void visit_header(Archive& a, H& h) {

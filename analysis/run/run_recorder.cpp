@@ -14,6 +14,17 @@
 
 namespace ishibashi {
 
+void take_counts(const Model& m, const RunCounts& c, SeismicRunResult& r) {
+  r.joint_counts = c.joints;
+  r.fallen_stones = c.fallen;
+  r.fallen_ring_stones = c.fallen_ring;
+  r.blocks_left_model = c.left_model;
+  r.collapse = c.fallen_ring > 0 || c.fallen > 0.05 * m.block_count;
+  r.tie_rods = static_cast<int>(m.ties.size());
+  r.ties_yielded = c.ties_yielded;
+  r.peak_tie_tension_n = c.peak_tie_tension_n;
+}
+
 RunCounts count_damage(const Model& m, const State& s, const JointThresholds& thresholds, Joints& joints) {
   RunCounts c;
   c.joints = measure_joints(s, thresholds, joints);
@@ -21,6 +32,7 @@ RunCounts count_damage(const Model& m, const State& s, const JointThresholds& th
   for (std::size_t t = 0; t < m.ties.size(); ++t) {
     c.ties_yielded += s.tie_plastic_m[t] > 0;
     c.largest_tie_tension_n = std::max(c.largest_tie_tension_n, s.tie_tension_n[t]);
+    c.peak_tie_tension_n = std::max(c.peak_tie_tension_n, s.tie_peak_tension_n[t]);
   }
   for (int b = 0; b < m.block_count; ++b) {
     c.left_model += s.left_model[b];
@@ -226,16 +238,10 @@ void RunRecorder::write_summary(const RunDescription& run, const SeismicRunResul
   j["mortar_pa"] = run.mortar_pa;
   j["mortar_fracture_j_m2"] = {run.mortar_fracture_j_m2[0], run.mortar_fracture_j_m2[1]};
   j["mortar_parts"] = run.mortar_parts;
-  // The tie rods' demand: the largest tension any reached, and how many yielded.
-  double peak_tension = 0, plastic = 0;
-  int yielded = 0;
-  for (std::size_t t = 0; t < model_.ties.size(); ++t) {
-    peak_tension = std::max(peak_tension, s.tie_peak_tension_n[t]);
-    plastic = std::max(plastic, s.tie_plastic_m[t]);
-    yielded += s.tie_plastic_m[t] > 0;
-  }
-  j["ties"] = {{"count", model_.ties.size()}, {"yielded", yielded}, {"peak_tension_n", peak_tension},
-               {"largest_plastic_elongation_m", plastic}, {"peak_tension_by_rod_n", s.tie_peak_tension_n}};
+  // Each tie rod's demand (the result's columns give their count, how many yielded and the
+  // largest tension any reached).
+  const double plastic = s.tie_plastic_m.empty() ? 0 : *std::max_element(s.tie_plastic_m.begin(), s.tie_plastic_m.end());
+  j["ties"] = {{"largest_plastic_elongation_m", plastic}, {"peak_tension_by_rod_n", s.tie_peak_tension_n}};
   j["threads"] = run.threads;
   j["mean_team_size"] = s.step > 0 ? double(s.profile.thread_steps) / s.step : 0.0;
   // Where the steps' time went (settling included): run --profile's table.

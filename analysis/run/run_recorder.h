@@ -30,8 +30,11 @@ struct RunCounts {
   double bond_utilisation = -1;  // largest_bond_utilisation (joints.h); -1: no bond left
   int ties_yielded = 0;           // tie rods with a plastic elongation
   double largest_tie_tension_n = 0;  // of the tie rods now
+  double peak_tie_tension_n = 0;     // the largest any reached so far
 };
 RunCounts count_damage(const Model& m, const State& s, const JointThresholds& thresholds, Joints& joints);
+// A frame's counts into the run's result: joints, fallen stones, collapse, the rods' demand.
+void take_counts(const Model& m, const RunCounts& c, SeismicRunResult& r);
 
 // What summary.json says beyond the result: the run's settings.
 struct RunDescription {

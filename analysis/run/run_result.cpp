@@ -31,6 +31,15 @@ const std::vector<ResultColumn>& result_columns() {
       {"fallen_stones", [](const R& r) -> OutputValue { return (long long)r.fallen_stones; }},
       {"fallen_ring_stones", [](const R& r) -> OutputValue { return (long long)r.fallen_ring_stones; }},
       {"blocks_left_model", [](const R& r) -> OutputValue { return (long long)r.blocks_left_model; }},
+      {"tie_rods", [](const R& r) -> OutputValue { return (long long)r.tie_rods; }},
+      {"ties_yielded", [](const R& r) -> OutputValue {
+         if (r.tie_rods == 0) return {};
+         return (long long)r.ties_yielded;
+       }},
+      {"peak_tie_tension_n", [](const R& r) -> OutputValue {
+         if (r.tie_rods == 0) return {};
+         return r.peak_tie_tension_n;
+       }},
       {"joints", [](const R& r) -> OutputValue { return (long long)r.joints; }},
       {"joints_cracked", [](const R& r) -> OutputValue { return (long long)r.joint_counts.cracked; }},
       {"joints_open_at_end", [](const R& r) -> OutputValue { return (long long)r.joint_counts.open; }},

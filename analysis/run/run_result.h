@@ -24,6 +24,9 @@ namespace ishibashi {
   X(int, fallen_ring_stones, 0)                                                                            \
   X(int, blocks_left_model, 0)                                                                             \
   X(bool, collapse, false)             /* a ring stone fell, or more than 5 % of the blocks */             \
+  X(int, tie_rods, 0)                                                                                      \
+  X(int, ties_yielded, 0)              /* rods with a plastic elongation */                                \
+  X(double, peak_tie_tension_n, 0)     /* the largest tension any rod reached */                           \
   X(int, joints, 0)                                                                                        \
   X(int, bonds_broken_settling, 0)                                                                         \
   X(JointCounts, joint_counts, {})     /* at the end */                                                    \

@@ -153,11 +153,7 @@ struct SeismicRun::Progress {
     const RunCounts c = recorder.record(phase, s, ground_accel, ground_displacement, joints, utilisation_since_frame);
     utilisation_since_frame = -1;
     result.output_wall_s += std::chrono::duration<double>(Clock::now() - start).count();
-    result.joint_counts = c.joints;
-    result.fallen_stones = c.fallen;
-    result.fallen_ring_stones = c.fallen_ring;
-    result.blocks_left_model = c.left_model;
-    result.collapse = c.fallen_ring > 0 || c.fallen > 0.05 * m.block_count;
+    take_counts(m, c, result);
   }
 };
 

@@ -18,6 +18,7 @@
 
 #include "analysis/model/fingerprint.h"
 #include "analysis/run/checkpoint.h"
+#include "analysis/run/run_recorder.h"
 #include "engine/world.h"
 #include "geometry/shapes.h"
 #include "command_line.h"
@@ -150,6 +151,13 @@ TEST(Checkpoint, TieRodStateRoundTripsBitIdentical) {
   EXPECT_EQ(resumed->state().tie_plastic_m, whole->state().tie_plastic_m);
   EXPECT_EQ(resumed->state().tie_peak_tension_n, whole->state().tie_peak_tension_n);
   EXPECT_EQ(resumed->state().energy.tie_yield_j, whole->state().energy.tie_yield_j);
+  // The run's result counts the rod as yielded, its peak tension its yield force f_y A.
+  Joints joints = find_original_joints(whole->state());
+  SeismicRunResult result;
+  take_counts(whole->model(), count_damage(whole->model(), whole->state(), JointThresholds{}, joints), result);
+  EXPECT_EQ(result.tie_rods, 1);
+  EXPECT_EQ(result.ties_yielded, 1);
+  EXPECT_NEAR(result.peak_tie_tension_n, 1e-4 * 5e7, 1e-9);
 }
 
 // The caps are part of the state, and the resumed run keeps --damping capped (and its
