@@ -3,7 +3,8 @@
 at the end (coloured by displacement relative to the ground, fallen stones red), then
 through the shaking the ground's acceleration as applied, the monitored units'
 displacement relative to the ground, the joints open, cracked and slipped and the stones
-fallen, and the energy terms, under a title with the verdict. One PNG in the run's folder:
+fallen, the energy terms and, where the model has tie rods, their largest tension against
+their yield force, under a title with the verdict. One PNG in the run's folder:
 
     /usr/bin/python3 analysis/report/run_report.py FOLDER [TITLE]   (FOLDER: history.csv, summary.json)
 
@@ -32,10 +33,24 @@ def verdict(summary):
     """The run's outcome in a line: collapse or not, stones fallen, first opening, balance."""
     state = "interrupted" if summary.get("interrupted") else "collapse" if summary.get("collapse") else "stands"
     opening = summary.get("first_opening_s")
+    rods = summary.get("tie_rods") or 0  # older runs: no such key
     return (f"{state} after {summary.get('shaking_time_s', 0):.2f} s of shaking: {summary.get('fallen_stones', 0)} stones "
             f"fallen, {summary.get('joints_cracked', 0)} of {summary.get('joints', 0)} joints cracked, first opening "
             + ("none" if opening is None else f"{opening:.3f} s")
+            + (f"; {summary['ties_yielded']} of {rods} tie rods yielded, peak tension "
+               f"{summary['peak_tie_tension_n'] / 1000:.3g} kN" if rods else "")
             + f"; energy balance {100 * summary.get('energy_balance_error_relative', 0):.3f} %")
+
+
+def tie_rods(a, t, shake, summary):
+    """The largest tension of any rod through the shaking against the smallest yield force."""
+    a.plot(t, [number(r["largest_tie_tension_n"]) / 1000 for r in shake], lw=0.9, label="largest rod tension (at the frames)")
+    forces = summary.get("ties", {}).get("yield_force_by_rod_n") or []
+    if forces:
+        a.axhline(min(forces) / 1000, color="C3", ls="--", lw=0.9, label="smallest yield force f_y A")
+    a.set_ylabel("tension [kN]")
+    a.set_title(f"tie rods: {summary['ties_yielded']} of {summary['tie_rods']} yielded, peak tension "
+                f"{summary['peak_tie_tension_n'] / 1000:.3g} kN (between frames too)", fontsize=9)
 
 
 def bridge_at_the_end(axes, folder, shaken_s):
@@ -70,11 +85,15 @@ def draw(folder, title):
         t0 = number(settled[-1]["time_s"]) if settled else 0.0
         shake = settled[-1:] + shake  # from the settled state, time 0 of the shaking: a short run's one frame draws too
     t = [number(r["time_s"]) - t0 for r in shake]
-    fig = plt.figure(figsize=(10, 15))
-    grid = fig.add_gridspec(5, 1, height_ratios=(1.6, 1, 1, 1, 1))
+    rods = bool(summary.get("tie_rods")) and "largest_tie_tension_n" in shake[0]
+    panels = 5 + rods
+    fig = plt.figure(figsize=(10, 3 * panels))
+    grid = fig.add_gridspec(panels, 1, height_ratios=(1.6,) + (1,) * (panels - 1))
     bridge_at_the_end(fig.add_subplot(grid[0], projection="3d"), folder, t[-1])
     axes = [fig.add_subplot(grid[1])]
-    axes += [fig.add_subplot(grid[k], sharex=axes[0]) for k in (2, 3, 4)]
+    axes += [fig.add_subplot(grid[k], sharex=axes[0]) for k in range(2, panels)]
+    if rods:
+        tie_rods(axes[4], t, shake, summary)
 
     a = axes[0]
     for axis in "xyz":
@@ -109,7 +128,7 @@ def draw(folder, title):
     a.set_ylabel("energy [kJ]")
     a.set_title("energy (dissipated and ground work since the start; balance error: what the terms leave unexplained)",
                 fontsize=9)
-    a.set_xlabel("time of shaking [s]" if settled and shake is not rows else "time [s]")
+    axes[-1].set_xlabel("time of shaking [s]" if settled and shake is not rows else "time [s]")
 
     for a in axes:
         a.grid(alpha=0.3)

@@ -241,7 +241,10 @@ void RunRecorder::write_summary(const RunDescription& run, const SeismicRunResul
   // Each tie rod's demand (the result's columns give their count, how many yielded and the
   // largest tension any reached).
   const double plastic = s.tie_plastic_m.empty() ? 0 : *std::max_element(s.tie_plastic_m.begin(), s.tie_plastic_m.end());
-  j["ties"] = {{"largest_plastic_elongation_m", plastic}, {"peak_tension_by_rod_n", s.tie_peak_tension_n}};
+  std::vector<double> yield_force;
+  for (const Tie& tie : model_.ties) yield_force.push_back(tie.yield_force_n);
+  j["ties"] = {{"largest_plastic_elongation_m", plastic}, {"peak_tension_by_rod_n", s.tie_peak_tension_n},
+               {"yield_force_by_rod_n", yield_force}};
   j["threads"] = run.threads;
   j["mean_team_size"] = s.step > 0 ? double(s.profile.thread_steps) / s.step : 0.0;
   // Where the steps' time went (settling included): run --profile's table.

@@ -512,6 +512,7 @@ TEST(Run, TieRodsAreDescribedDrawnAndSummed) {
   EXPECT_EQ(summary["ties_yielded"], 0);
   EXPECT_DOUBLE_EQ(summary["peak_tie_tension_n"].get<double>(), peak_in_file);
   EXPECT_EQ(summary["ties"]["peak_tension_by_rod_n"], nlohmann::json::array({peak_in_file}));
+  EXPECT_NEAR(summary["ties"]["yield_force_by_rod_n"][0].get<double>(), 2.35e8 * M_PI / 4 * 0.03 * 0.03, 1e-6);  // f_y A
   std::ifstream history(dir / "out" / "history.csv");
   std::string header;
   std::getline(history, header);

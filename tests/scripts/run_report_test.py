@@ -1,0 +1,39 @@
+#!/usr/bin/python3
+"""analysis/report/run_report.py: the verdict names the tie rods' demand where the run has
+rods and not where it has none (or comes from a program before the rods' columns), and a
+run with rods gets a panel of their tension: drawn from a history of two frames, the figure
+is taller by that panel."""
+import json
+import sys
+import tempfile
+from pathlib import Path
+
+ROOT = Path(__file__).resolve().parents[2]
+sys.path.insert(0, str(ROOT / "analysis" / "report"))
+import run_report as r  # noqa: E402
+
+plain = {"shaking_time_s": 3.0, "fallen_stones": 0, "joints_cracked": 2, "joints": 9, "first_opening_s": 0.5,
+         "energy_balance_error_relative": 1e-4}
+assert "tie rods" not in r.verdict(plain), r.verdict(plain)
+assert "tie rods" not in r.verdict(dict(plain, tie_rods=0, ties_yielded=None, peak_tie_tension_n=None))
+tied = dict(plain, tie_rods=12, ties_yielded=2, peak_tie_tension_n=166250.0,
+            ties={"yield_force_by_rod_n": [166104.0] * 12, "peak_tension_by_rod_n": [1.0] * 12})
+assert "; 2 of 12 tie rods yielded, peak tension 166 kN;" in r.verdict(tied), r.verdict(tied)
+
+columns = ["time_s", "phase", "gravitational_j", "largest_tie_tension_n"] + list(r.ENERGY_TERMS) + [k for k, _ in r.COUNTS]
+columns += [f"ground_a{axis}_m_s2" for axis in "xyz"]
+heights = []
+with tempfile.TemporaryDirectory() as tmp:
+    for summary in (plain, tied):
+        folder = Path(tmp) / str(len(heights))
+        folder.mkdir()
+        (folder / "summary.json").write_text(json.dumps(summary))
+        rows = [",".join(columns)]
+        for time, phase, tension in ((0.0, "settle", 0.0), (0.1, "shake", 9e4), (0.2, "shake", 1.2e5)):
+            values = {"time_s": time, "phase": phase, "largest_tie_tension_n": tension}
+            rows.append(",".join(str(values.get(c, 0)) for c in columns))
+        (folder / "history.csv").write_text("\n".join(rows) + "\n")
+        png = r.draw(folder, "test")
+        heights.append(int.from_bytes(png.read_bytes()[20:24], "big"))  # the PNG's IHDR height
+assert heights[1] > heights[0] * 1.1, heights
+print("run_report: verdicts and the rods' panel as expected", heights)
