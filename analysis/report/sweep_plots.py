@@ -2,7 +2,9 @@
 """Figures of a sweep made by `ishibashi sweep`: ida.png (per scenario and record, the
 crown drop against the PGA the record was scaled to; failures marked) and fragility.png
 (per scenario, the fraction of runs that failed at each level and the fitted lognormal
-curve; several scenarios, e.g. dry and with mortar, on one figure).
+curve; several scenarios, e.g. dry and with mortar, on one figure) and, where scenarios
+have tie rods, ties.png (per run, the largest tension any rod reached against the PGA; red
+rings: a rod yielded).
 
     /usr/bin/python3 analysis/report/sweep_plots.py OUT     (OUT: the sweep's output folder)
 """
@@ -30,6 +32,32 @@ def median_text(fit):
             "between": f"step: median between {g('highest_survival_g')} and {g('lowest_failure_g')}",
             "at": f"step: median at {g('median_g')}, where failures and survivals mix",
             "none": "no run yet"}.get(kind, f"median {g('median_g')} (degenerate)")
+
+
+def tie_demand(out, runs, scenarios):
+    """ties.png for the scenarios with tie rods (sweep.csv's tie_rods; tables from before the
+    rods' columns have none): None when no scenario has rods."""
+    tied = [r for r in runs if (r.get("tie_rods") or "0") != "0"]
+    if not tied:
+        return None
+    fig, ax = plt.subplots(figsize=(7, 4.5))
+    for k, scenario in enumerate(scenarios):
+        points = sorted((float(r["pga_g"]), float(r["peak_tie_tension_n"]) / 1000, int(r["ties_yielded"]) > 0)
+                        for r in tied if r["scenario"] == scenario)
+        if not points:
+            continue
+        yielded = [p for p in points if p[2]]
+        ax.plot([p[0] for p in points], [p[1] for p in points], "o", color=f"C{k}",
+                label=f"{scenario}: a rod yielded in {len(yielded)} of {len(points)} runs")
+        ax.plot([p[0] for p in yielded], [p[1] for p in yielded], "o", mfc="none", mec="red", ms=11, mew=1.5)
+    ax.set_xlabel("PGA, larger horizontal component [g]")
+    ax.set_ylabel("largest tension any rod reached [kN]")
+    ax.set_title("Tie rods' demand (red rings: a rod yielded)")
+    ax.grid(alpha=0.3)
+    ax.legend(fontsize=8)
+    path = save_figure(fig, out / "ties.png")
+    plt.close(fig)
+    return path
 
 
 def main():
@@ -93,7 +121,8 @@ def main():
     ax.legend(fontsize=8, loc="upper center", bbox_to_anchor=(0.5, -0.13))  # below the axes: long names, no curve hidden
     save_figure(fig, out / "fragility.png")
     plt.close(fig)
-    print(f"sweep plots: {out / 'ida.png'}, {out / 'fragility.png'}")
+    ties = tie_demand(out, runs, scenarios)
+    print(f"sweep plots: {out / 'ida.png'}, {out / 'fragility.png'}" + (f", {ties}" if ties else ""))
 
 
 if __name__ == "__main__":
