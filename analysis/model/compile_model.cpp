@@ -102,19 +102,14 @@ void add_ties(ModelBuilder& builder, const std::vector<TieSpec>& ties, const std
 std::vector<TieSpec> tie_row_rods(const TieRowSpec& row, const std::vector<BridgeBlock>& blocks, const std::filesystem::path& path) {
   std::vector<TieSpec> rods;
   for (const double x : row.x_m) {
-    const auto where = [&] {
-      std::ostringstream s;
-      s << path.string() << ":" << row.rod.line << ": [[tie_row]] rod at x = " << x << " m, z = " << row.z_m << " m: ";
-      return s.str();
-    };
+    std::ostringstream where;
+    where << path.string() << ":" << row.rod.line << ": [[tie_row]] rod at x = " << x << " m, z = " << row.z_m << " m: ";
     const auto extent = free_blocks_along_line(blocks, Vec3(x, 0, row.z_m), Vec3::UnitY());
-    if (!extent) throw InputError(where() + "its line across the width meets no free stone");
+    if (!extent) throw InputError(where.str() + "its line across the width meets no free stone");
     const auto [y0, y1] = *extent;
     if (y1 - y0 <= 2 * row.inset_m) {
-      std::ostringstream s;
-      s << where() << "the masonry it crosses is " << y1 - y0 << " m wide, not more than two insets (inset_m = "
-        << row.inset_m << ")";
-      throw InputError(s.str());
+      where << "the masonry it crosses is " << y1 - y0 << " m wide, not more than two insets (inset_m = " << row.inset_m << ")";
+      throw InputError(where.str());
     }
     TieSpec rod = row.rod;
     rod.from = Vec3(x, y0 + row.inset_m, row.z_m);
