@@ -494,6 +494,15 @@ def ensemble_columns(r, study_outcome):
     return [r.get("members", "1"), probability(r, "collapse"), probability(r, "stones_fall"), fallen, of_study]
 
 
+def tie_rods_cell(r):
+    """A run's tie rods as the runs' table gives them: how many yielded and the largest
+    tension any reached; "-" for a run without rods (or from a program before their columns)."""
+    rods = r.get("tie_rods") or "0"
+    if rods == "0":
+        return "-"
+    return f"{r['ties_yielded']} of {rods} yielded, {number(r['peak_tie_tension_n']) / 1000:.3g} kN"
+
+
 def run_sections(out, study, figures):
     """The seismic runs' table and figures, their snapshots and animations."""
     runs = study["runs"]
@@ -507,9 +516,10 @@ def run_sections(out, study, figures):
                  fmt(r["wall_s"], 0), study["study_says"].get(r["scenario"], "")]
                 for r in runs]
     ensembles = any(members_of(out, r) for r in runs)
-    if ensembles:
-        for row, r in zip(run_rows, runs):
-            row[-1:-1] = ensemble_columns(r, study["study_outcome"].get(r["scenario"], ""))
+    tied = any(tie_rods_cell(r) != "-" for r in runs)
+    for row, r in zip(run_rows, runs):
+        row[-1:-1] = (ensemble_columns(r, study["study_outcome"].get(r["scenario"], "")) if ensembles else []) + \
+            ([tie_rods_cell(r)] if tied else [])
     sections = [("Seismic runs",
                  "Settled under gravity, then shaken. First opening: seconds of shaking until a joint first "
                  "opened by more than 1 mm (or lost its bond). Mortar used: until then, the largest share of "
@@ -523,11 +533,13 @@ def run_sections(out, study, figures):
                     "tolerance, README: Ensembles): its columns up to wall time are its most common outcome's member "
                     "(of the verdict most members share, the median number of fallen stones), then the "
                     "probabilities with their 95 % Wilson intervals, and that of the study's own verdict." if ensembles
-                    else ""),
+                    else "")
+                 + (" Tie rods: how many of the run's rods yielded, and the largest tension any reached." if tied else ""),
                  (["scenario", "settled", "shaking [s]", "first opening [s]", "mortar used", "crown drop [mm]",
                    "stones fallen", "collapse", "joints cracked", "energy balance [%]", "wall [s]"]
                   + (["members", "p collapse [95 %]", "p a stone falls [95 %]", "stones fallen (range)",
-                      "p of the study's outcome here"] if ensembles else []) + ["study says"],
+                      "p of the study's outcome here"] if ensembles else [])
+                  + (["tie rods"] if tied else []) + ["study says"],
                   run_rows),
                  [ground_motion_figure(out, runs, figures), crown_figure(out, runs, figures),
                   bond_utilisation_figure(out, runs, figures), energy_figure(out, runs, figures)])]

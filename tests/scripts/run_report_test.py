@@ -2,7 +2,7 @@
 """analysis/report/run_report.py: the verdict names the tie rods' demand where the run has
 rods and not where it has none (or comes from a program before the rods' columns), and a
 run with rods gets a panel of their tension: drawn from a history of two frames, the figure
-is taller by that panel."""
+is taller by that panel. report.py's runs table gives a run's rods in a cell of their own."""
 import json
 import sys
 import tempfile
@@ -37,3 +37,11 @@ with tempfile.TemporaryDirectory() as tmp:
         heights.append(int.from_bytes(png.read_bytes()[20:24], "big"))  # the PNG's IHDR height
 assert heights[1] > heights[0] * 1.1, heights
 print("run_report: verdicts and the rods' panel as expected", heights)
+
+# The study report's runs table: a run with rods, one without, one from before the columns.
+import report  # noqa: E402
+
+assert report.tie_rods_cell({"tie_rods": "12", "ties_yielded": "2", "peak_tie_tension_n": "166250"}) == "2 of 12 yielded, 166 kN"
+assert report.tie_rods_cell({"tie_rods": "0", "ties_yielded": "", "peak_tie_tension_n": ""}) == "-"
+assert report.tie_rods_cell({"fallen_stones": "3"}) == "-"
+print("report: the runs table's tie rods cell as expected")
