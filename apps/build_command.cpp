@@ -59,9 +59,12 @@ int run_build(const BuildOptions& o) {
   std::printf("mass of the free blocks: %.1f t\n", mass / 1000.0);
   if (file.bridge.mortar_pa > 0) std::printf("mortar: %s\n", mortar_description(file.bridge).c_str());
   if (!compiled.ties.empty()) std::printf("ties: %s\n", ties_description(file).c_str());
-  for (std::size_t t = 0; t < model.ties.size(); ++t)  // where each rod is anchored, to check against the drawing
-    std::printf("  tie %zu (line %d): %s to %s, %.2f m\n", t, compiled.ties[t].line, model.block_label(model.ties[t].block_a).c_str(),
-                model.block_label(model.ties[t].block_b).c_str(), model.ties[t].rest_length_m);
+  for (std::size_t t = 0; t < model.ties.size(); ++t) {  // where each rod is anchored, to check against the drawing
+    const Vec3 &from = compiled.ties[t].from, &to = compiled.ties[t].to;
+    std::printf("  tie %zu (line %d): %s at (%.3f, %.3f, %.3f) to %s at (%.3f, %.3f, %.3f), %.2f m\n", t, compiled.ties[t].line,
+                model.block_label(model.ties[t].block_a).c_str(), from.x(), from.y(), from.z(),
+                model.block_label(model.ties[t].block_b).c_str(), to.x(), to.y(), to.z(), model.ties[t].rest_length_m);
+  }
   std::printf("bounding box: x %.3f .. %.3f, y %.3f .. %.3f, z %.3f .. %.3f m\n", lo.x(), hi.x(), lo.y(), hi.y(), lo.z(), hi.z());
   std::printf("volume: %.4f m^3, design %.4f m^3 (difference %.2e)\n", built, design, volume_error);
   std::printf("validation: %d pairs meet on shared faces, %d overlapping pairs, %zu errors\n", report.shared_faces,

@@ -101,6 +101,8 @@ TEST(Build, TieRowsPlaceRodsAcrossTheWidth) {
   EXPECT_NE(out.find("  tie 7 (line " + std::to_string(first_row) + "): "), std::string::npos) << out;
   EXPECT_NE(out.find("  tie 8 (line " + std::to_string(second_row) + "): "), std::string::npos) << out;
   EXPECT_NE(out.find("  tie 11 (line " + std::to_string(second_row) + "): "), std::string::npos) << out;
+  EXPECT_NE(out.find(" at (10.500, -1.550, 3.520) to "), std::string::npos) << out;  // tie 11's anchors, 5 cm inside the walls
+  EXPECT_NE(out.find(" at (10.500, 1.550, 3.520), 3.10 m\n"), std::string::npos) << out;
 }
 
 }  // namespace
