@@ -19,6 +19,11 @@ Fisher's for the yes/no outcomes, the permutation distribution of the rank sum
 p a rank test can give is 0.008; a large p says the members cannot tell the two apart,
 not that they agree.
 
+Where either ensemble's members have tie rods, two more rows give the rods' demand: how
+many members had a rod yield (of those with rods) and each member's largest rod tension.
+A side without rods says so, so that B tied against B dry reads as one bridge with a
+retrofit against the same bridge without.
+
 `--figure PNG` draws every member's crown unit (vertical, relative to the ground) and
 stones fallen against the time of shaking, each ensemble in its colour, its members thin
 and their median at each frame bold (member folders with histories only).
@@ -41,6 +46,20 @@ YES_NO = [("collapse", "collapse", lambda s: bool(s["collapse"])),
           ("ring_stones_fall", "a ring stone falls", lambda s: s["fallen_ring_stones"] > 0)]
 
 
+def with_ties_columns(summary):
+    """The summary with the rods' demand as the result's columns name it (tie_rods,
+    ties_yielded, peak_tie_tension_n) and in kN; a summary from a program before those
+    columns (dcb7acf, the B tied lane's) holds them in its "ties" object, and a run
+    without rods has none: 0 rods."""
+    old = summary.get("ties")
+    if summary.get("tie_rods") is None and isinstance(old, dict) and "count" in old:
+        summary.update(tie_rods=old["count"], ties_yielded=old["yielded"], peak_tie_tension_n=old["peak_tension_n"])
+    summary["tie_rods"] = int(summary.get("tie_rods") or 0)
+    if summary["tie_rods"]:
+        summary["peak_tie_tension_kn"] = summary["peak_tie_tension_n"] / 1000
+    return summary
+
+
 def csv_value(text):
     """An ensemble.csv field as summary.json has it: yes/no as booleans, empty as None."""
     if text in ("yes", "no"):
@@ -55,7 +74,7 @@ def csv_value(text):
 
 def members(spec):
     """The finished members' summaries, each with its first fall, of every share in SPEC."""
-    return [s for share in spec.split("+") for s in share_members(Path(share))]
+    return [with_ties_columns(s) for share in spec.split("+") for s in share_members(Path(share))]
 
 
 def share_members(ensemble):
@@ -110,6 +129,19 @@ def spread(values, form):
     return f"{form.format(median(values))} ({form.format(min(values))} to {form.format(max(values))})"
 
 
+def print_ties_rows(tied):
+    """The rods' rows, over each side's members with rods ("no rods" for a side without)."""
+    both = all(tied)
+    yes = [sum(s["ties_yielded"] > 0 for s in r) for r in tied]
+    cells = [f"{y} of {len(r)}" if r else "no rods" for y, r in zip(yes, tied)]
+    p = f"{fisher_p(yes[0], len(tied[0]), yes[1], len(tied[1])):.3f} (Fisher)" if both else "(a side has no rods)"
+    print(f"| a tie rod yields | {cells[0]} | {cells[1]} | {p} |")
+    peaks = [[s["peak_tie_tension_kn"] for s in r] for r in tied]
+    cells = [spread(v, "{:.0f}") if v else "no rods" for v in peaks]
+    p = f"{rank_sum_p(*peaks):.3f} (rank sum)" if both else "(a side has no rods)"
+    print(f"| largest rod tension [kN] | {cells[0]} | {cells[1]} | {p} |")
+
+
 def main():
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     parser.add_argument("ensembles", nargs=2, help="a folder or ensemble.csv, or shares joined by '+'")
@@ -136,6 +168,9 @@ def main():
         values = [[s[key] for s in r if s.get(key) is not None] for r in runs]
         p = f"{rank_sum_p(*values):.3f} (rank sum)" if all(values) else "(a side has none)"
         print(f"| {name} | {spread(values[0], form)} | {spread(values[1], form)} | {p} |")
+    tied = [[s for s in r if s["tie_rods"] > 0] for r in runs]
+    if any(tied):
+        print_ties_rows(tied)
     if o.figure:
         draw(list(zip(labels, runs)), o.figure)
 

@@ -87,4 +87,32 @@ with tempfile.TemporaryDirectory() as tmp:
                              f"{tmp / 'b'}+{tmp / 'b2'}", "--labels", "A", "B"], check=True, capture_output=True,
                             text=True).stdout
     assert shares == table, shares + "\n" + table
-print("compare_ensembles: exact tests, table and median curve as computed by hand; the figure written")
+    assert "tie rod" not in table, table  # neither side has rods: no rods' rows
+
+    # Tied members: T's summaries as the B tied lane's program (dcb7acf) writes them (the
+    # rods' demand in "ties"), U's as an ensemble.csv of today's columns (one without rods'
+    # columns filled: a member of a scenario without rods). T: rods yield in 2 of 3, peaks
+    # 120, 150, 180 kN; U: 0 of 2, peaks 90 and 100 kN: the rank sum puts U's two lowest, 2 of
+    # C(5, 2) = 10 splits as far from the mean; Fisher, 2 of 3 against 0 of 2: T holds 0, 1 or 2
+    # of the two yeses with probability 1/10, 6/10, 3/10, and 2 and 0 are as unlikely: 0.4.
+    for m, (yielded, peak) in enumerate([(0, 120e3), (1, 150e3), (2, 180e3)]):
+        folder = tmp / "t" / f"member_{m:03d}"
+        write_member(folder, 0, 0, 1.0, 99)
+        summary = json.loads((folder / "summary.json").read_text())
+        summary["ties"] = {"count": 12, "yielded": yielded, "peak_tension_n": peak}
+        (folder / "summary.json").write_text(json.dumps(summary))
+    columns = ["member", "interrupted", "settle_time_s", "first_opening_s", "collapse", "fallen_stones",
+               "fallen_ring_stones", "joints_cracked", "largest_crown_drop_m", "first_fall_s", "tie_rods",
+               "ties_yielded", "peak_tie_tension_n"]
+    (tmp / "u.csv").write_text("\n".join([",".join(columns), "0,no,0.5,1,no,0,0,100,0,,12,0,90000",
+                                          "1,no,0.5,1,no,0,0,100,0,,12,0,100000", "2,no,0.5,1,no,0,0,100,0,,,,"]) + "\n")
+    tied = subprocess.run([sys.executable, str(ROOT / "scripts" / "compare_ensembles.py"), str(tmp / "t"),
+                           str(tmp / "u.csv"), "--labels", "T", "U"], check=True, capture_output=True,
+                          text=True).stdout
+    assert "| a tie rod yields | 2 of 3 | 0 of 2 | 0.400 (Fisher) |" in tied, tied
+    assert "| largest rod tension [kN] | 150 (120 to 180) | 95 (90 to 100) | 0.200 (rank sum) |" in tied, tied
+    untied = subprocess.run([sys.executable, str(ROOT / "scripts" / "compare_ensembles.py"), str(tmp / "t"),
+                             str(tmp / "a"), "--labels", "T", "A"], check=True, capture_output=True, text=True).stdout
+    assert "| a tie rod yields | 2 of 3 | no rods | (a side has no rods) |" in untied, untied
+    assert "| largest rod tension [kN] | 150 (120 to 180) | no rods | (a side has no rods) |" in untied, untied
+print("compare_ensembles: exact tests, table and median curve as computed by hand, the rods' rows; the figure written")
