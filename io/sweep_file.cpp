@@ -66,6 +66,7 @@ SweepFile read_sweep(const std::filesystem::path& file) {
   failure.boolean("collapse", s.failure.collapse);
   failure.positive("crown_drop_m", s.failure.crown_drop_m);
   failure.integer_at_least("fallen_stones", s.failure.fallen_stones, 1);
+  failure.boolean("stop_at_failure", s.failure.stop_at_failure);
   failure.finish();
   if (!s.failure.collapse && s.failure.crown_drop_m < 0 && s.failure.fallen_stones < 0)
     throw InputError(file.string() + ": [failure] names no failure, so every run would count as a survival: keep collapse = "

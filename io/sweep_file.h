@@ -15,6 +15,7 @@
 //   collapse = true            # a ring stone fell, or more than 5 % of the blocks
 //   crown_drop_m = 0.05        # the crown unit dropped by more than this
 //   fallen_stones = 10         # at least this many stones fell
+//   stop_at_failure = true     # each run ends at its first frame that has failed (default false)
 //   [[record]]
 //   name = "kobe_jma"
 //   start_s = 4.0
@@ -39,6 +40,11 @@ struct FailureCriteria {
   bool collapse = true;
   double crown_drop_m = -1;  // < 0: not a criterion
   int fallen_stones = -1;    // < 0: not a criterion
+  // End a run at its first output frame that meets a criterion: its verdict cannot change
+  // after (a fallen stone does not climb back, the crown drop is the largest so far), and a
+  // collapse's debris, the rest of such a run, is its costliest part. The IDA curves then
+  // show a failed run's crown drop where it stopped.
+  bool stop_at_failure = false;
 };
 
 struct SweepFile {

@@ -54,7 +54,8 @@ std::string case_key(const SweepFile& sweep, const Case& c) {
   in.precision(17);
   in << "sweep case " << scenario_fingerprint(sweep.scenarios[c.scenario]) << " level " << sweep.levels[c.level]
      << (sweep.scale_to_pga ? " pga" : " factor") << " duration " << sweep.duration_s << " start " << record.motion.start_s
-     << " failure " << f.collapse << " " << f.crown_drop_m << " " << f.fallen_stones;  // baseline: the scenario's
+     << " failure " << f.collapse << " " << f.crown_drop_m << " " << f.fallen_stones  // baseline: the scenario's
+     << (f.stop_at_failure ? " stop" : "");
   if (sweep.members > 1) in << " member " << c.member << " of " << sweep.members;  // the draws: the scenario's [ensemble]
   for (const auto& component : record.motion.component)
     if (component)
@@ -62,6 +63,11 @@ std::string case_key(const SweepFile& sweep, const Case& c) {
          << " " << component->layout.dt_s << " " << component->layout.column << " " << component->layout.header_lines << " "
          << component->scale;
   return inputs_key(in.str());
+}
+
+bool has_failed(const FailureCriteria& f, const SeismicRunResult& r) {
+  return (f.collapse && r.collapse) || (f.crown_drop_m >= 0 && r.largest_crown_drop_m > f.crown_drop_m) ||
+         (f.fallen_stones >= 0 && r.fallen_stones >= f.fallen_stones);
 }
 
 // One run of the sweep; returns its row (with the newline).
@@ -86,13 +92,13 @@ std::string run_case(const SweepFile& sweep, const Case& c, int threads, const f
   SeismicRunOptions options;
   options.out = case_folder(sweep, c, out);
   if (sweep.members > 1) options.member = c.member;
+  if (sweep.failure.stop_at_failure)
+    options.stop_when = [&](const SeismicRunResult& so_far) { return has_failed(sweep.failure, so_far); };
   fs::remove_all(options.out);  // a run that died half-way starts again
   SeismicRun run(sc, options);
   const SeismicRunResult r = run.run();
   if (r.interrupted) throw std::runtime_error("interrupted");
-  const FailureCriteria& f = sweep.failure;
-  const bool failed = (f.collapse && r.collapse) || (f.crown_drop_m >= 0 && r.largest_crown_drop_m > f.crown_drop_m) ||
-                      (f.fallen_stones >= 0 && r.fallen_stones >= f.fallen_stones);
+  const bool failed = has_failed(sweep.failure, r);
   std::ostringstream row;
   row.precision(9);
   row << c.key << "," << factor << "," << record_pga_g * factor << "," << (failed ? 1 : 0) << "," << result_csv_values(r) << ","

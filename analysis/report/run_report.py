@@ -30,8 +30,11 @@ COUNTS = (("joints_open", "joints open"), ("joints_cracked", "joints cracked"), 
 
 
 def verdict(summary):
-    """The run's outcome in a line: collapse or not, stones fallen, first opening, balance."""
+    """The run's outcome in a line: collapse or not (or failed, where a sweep stopped it),
+    stones fallen, first opening, balance."""
     state = "interrupted" if summary.get("interrupted") else "collapse" if summary.get("collapse") else "stands"
+    if summary.get("stopped_early"):  # a sweep's run, ended where its failure criteria were met
+        state = ("collapse" if summary.get("collapse") else "failed (the sweep's criteria)") + ", stopped there,"
     opening = summary.get("first_opening_s")
     rods = summary.get("tie_rods") or 0  # older runs: no such key
     return (f"{state} after {summary.get('shaking_time_s', 0):.2f} s of shaking: {summary.get('fallen_stones', 0)} stones "

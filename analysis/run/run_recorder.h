@@ -52,6 +52,7 @@ struct RunDescription {
     MemberDraw draw;
     EnsembleSpec spec;
   } member;
+  bool stopped_early = false;                       // ended before the record by SeismicRunOptions::stop_when
 };
 
 // The shaking (s) that the summary.json in `out` reports of a run that finished; -1 where

@@ -127,6 +127,7 @@ struct SeismicRun::Progress {
   SeismicRunResult result;
   bool shaking = false;  // settled: the ground moves
   bool branched = false;  // stopped at options.branch_at_shake_s
+  bool stopped_early = false;  // ended where options.stop_when said so
   long shake_step = 0;   // the next step of the ground motion
   Vec3 settled_crown = Vec3::Zero();
   Vec3 ground_accel = Vec3::Zero(), ground_displacement = Vec3::Zero();  // at the last step
@@ -171,7 +172,7 @@ void SeismicRun::write_summary(Progress& p, bool finished) {
   const BridgeSpec& bridge = scenario_.model.bridge;
   RunDescription run{scenario_.model.name, monitored_block(), dt_, world_->thread_tuner().max_threads(), bridge.mortar_pa,
                      {bridge.mortar_tension_fracture_j_m2, bridge.mortar_shear_fracture_j_m2}, mortar_part_names(bridge),
-                     scenario_.settings, peaks_, {}};
+                     scenario_.settings, peaks_, {}, p.stopped_early};
   if (options_.member >= 0) run.member = {options_.member, draw_member(scenario_.ensemble, options_.member), scenario_.ensemble};
   p.recorder.write_summary(run, r, s, p.joints, finished);
 }
@@ -302,6 +303,10 @@ void SeismicRun::shake(Progress& p) {
       if (k + 1 < n && options_.branch_at_shake_s >= 0 && s.time_s - r.settle_time_s >= options_.branch_at_shake_s - 0.5 * dt_) {
         write_checkpoint(p);  // the branch point, where the chaos probe's members go on from
         p.branched = true;
+        return;
+      }
+      if (k + 1 < n && options_.stop_when && options_.stop_when(r)) {
+        p.stopped_early = true;
         return;
       }
       if (k + 1 < n) maybe_checkpoint(p);

@@ -55,6 +55,10 @@ struct SeismicRunOptions {
   // Called with the state read from a checkpoint, before the run goes on from it (the
   // chaos probe perturbs its members there).
   std::function<void(const Model&, State&)> on_resume;
+  // Called after every output frame of the shaking with the result so far: true ends the
+  // run there, finished, its summary saying so ("stopped_early"): a sweep's failure
+  // criteria once its verdict is decided ([failure] stop_at_failure).
+  std::function<bool(const SeismicRunResult&)> stop_when;
   // Called after every output frame of the shaking with the state and the fraction done (0..1).
   std::function<void(const State&, double fraction_done)> on_frame;
   // Called after every output frame of the settling (minutes of a large bridge before the

@@ -187,6 +187,56 @@ TEST(Sweep, MembersAreMoreSamplesPerLevel) {
   EXPECT_NE(text_of(out / "fragility_fit.csv").find(",8,"), std::string::npos) << text_of(out / "fragility_fit.csv");
 }
 
+// [failure] stop_at_failure: each failed run ends at its first frame that failed, the same
+// run as without it up to there (its history a prefix of the whole run's, row for row), and
+// every case keeps its verdict; a run that stands goes on to the record's end, unchanged.
+TEST(Sweep, StopAtFailureEndsFailedRunsWhereTheyFailed) {
+  std::string text = text_of(sweep_file());
+  text.replace(text.find("scale = [0.5, 1.0]"), 18, "scale = [0.05, 1.0]\nduration_s = 0.3");
+  const auto whole = tmp_dir() / "ishibashi_sweep_whole.toml", stop = tmp_dir() / "ishibashi_sweep_stop.toml";
+  std::ofstream(whole) << text;
+  text.replace(text.find("crown_drop_m = 1e-5"), 19, "crown_drop_m = 1e-5\nstop_at_failure = true");
+  std::ofstream(stop) << text;
+  std::map<std::string, std::vector<std::string>> row;  // folder -> its row of sweep.csv
+  for (const auto& file : {whole, stop}) {
+    const auto out = tmp_dir() / file.stem();
+    std::filesystem::remove_all(out);
+    int status = 0;
+    const std::string log = run_command(kSweep + file.string() + " --jobs 2 --threads-per-job 1 --out " + out.string(), &status);
+    ASSERT_EQ(status, 0) << log;
+    for (const std::string& line : rows(out)) {
+      std::vector<std::string> f;
+      std::stringstream cells(line);
+      for (std::string cell; std::getline(cells, cell, ',');) f.push_back(cell);
+      row[(out / "runs/ishibashi_sweep_dry" / (f[1] + "_" + f[2])).string()] = f;
+    }
+  }
+  const int failed = sweep_column("failed"), shaken = sweep_column("shaking_time_s");
+  int stopped = 0, stood = 0;
+  for (const std::string case_name : {"kobe_ew_ns_0.05", "kobe_ew_ns_1", "kobe_ns_ew_0.05", "kobe_ns_ew_1"}) {
+    const auto a = tmp_dir() / "ishibashi_sweep_whole/runs/ishibashi_sweep_dry" / case_name,
+               b = tmp_dir() / "ishibashi_sweep_stop/runs/ishibashi_sweep_dry" / case_name;
+    const auto& full = row.at(a.string());
+    const auto& cut = row.at(b.string());
+    EXPECT_EQ(cut[failed], full[failed]) << case_name << ": the verdict moved";
+    EXPECT_NEAR(std::stod(full[shaken]), 0.3, 1e-3) << case_name;  // within a step
+    const std::string history = text_of(b / "history.csv"), summary = text_of(b / "summary.json");
+    EXPECT_EQ(text_of(a / "history.csv").substr(0, history.size()), history) << case_name;
+    if (cut[failed] == "1") {
+      ++stopped;
+      EXPECT_LT(std::stod(cut[shaken]), 0.3 - 0.01) << case_name;  // a frame (0.05 s) or more short
+      EXPECT_NE(summary.find("\"stopped_early\": true"), std::string::npos) << summary;
+      EXPECT_NE(summary.find("\"finished\": true"), std::string::npos) << summary;
+    } else {
+      ++stood;
+      EXPECT_EQ(cut, full) << case_name;
+      EXPECT_NE(summary.find("\"stopped_early\": false"), std::string::npos) << summary;
+    }
+  }
+  EXPECT_GE(stopped, 1) << "no run failed: the test shows nothing";
+  EXPECT_GE(stood, 1) << "every run failed: the test shows nothing";
+}
+
 // A sweep file with both `scenario` and `scenarios`, two variants of one name, a name with
 // a comma or two levels of one label (names are run folders and fields of the rows) is
 // refused with what is wrong, and so are the inputs that would make a whole sweep run for nothing.

@@ -1,6 +1,7 @@
 #!/usr/bin/python3
 """analysis/report/run_report.py: the verdict names the tie rods' demand where the run has
-rods and not where it has none (or comes from a program before the rods' columns), and a
+rods and not where it has none (or comes from a program before the rods' columns), and says
+when a sweep stopped the run at failure; a
 run with rods gets a panel of their tension: drawn from a history of two frames, the figure
 is taller by that panel. report.py's runs table gives a run's rods in a cell of their own."""
 import json
@@ -19,6 +20,12 @@ assert "tie rods" not in r.verdict(dict(plain, tie_rods=0, ties_yielded=None, pe
 tied = dict(plain, tie_rods=12, ties_yielded=2, peak_tie_tension_n=166250.0,
             ties={"yield_force_by_rod_n": [166104.0] * 12, "peak_tension_by_rod_n": [1.0] * 12})
 assert "; 2 of 12 tie rods yielded, peak tension 166 kN;" in r.verdict(tied), r.verdict(tied)
+# A sweep's run stopped at failure: on its crown drop alone it has not collapsed, and must not
+# read "stands".
+assert r.verdict(plain).startswith("stands after 3.00 s"), r.verdict(plain)
+stopped = dict(plain, stopped_early=True)
+assert r.verdict(stopped).startswith("failed (the sweep's criteria), stopped there, after 3.00 s"), r.verdict(stopped)
+assert r.verdict(dict(stopped, collapse=True)).startswith("collapse, stopped there, after"), r.verdict(stopped)
 
 columns = ["time_s", "phase", "gravitational_j", "largest_tie_tension_n"] + list(r.ENERGY_TERMS) + [k for k, _ in r.COUNTS]
 columns += [f"ground_a{axis}_m_s2" for axis in "xyz"]
