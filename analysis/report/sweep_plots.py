@@ -89,7 +89,8 @@ def main():
     ax.set_xlabel("PGA, larger horizontal component [g]")
     ax.set_ylabel("largest crown drop [mm]")
     ax.set_yscale("symlog", linthresh=10)  # millimetres of sagging and metres of collapse on one axis
-    ax.set_title("Incremental dynamic analysis (red x: failure)")
+    # A sweep with [failure] stop_at_failure ends a failed run there: its point is the drop at the stop.
+    ax.set_title("Incremental dynamic analysis (red x: failure; a run stopped at failure: its drop there)", fontsize=10)
     ax.grid(alpha=0.3)
     ax.legend(fontsize=8)
     save_figure(fig, out / "ida.png")
