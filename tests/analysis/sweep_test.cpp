@@ -211,7 +211,7 @@ TEST(Sweep, StopAtFailureEndsFailedRunsWhereTheyFailed) {
       row[(out / "runs/ishibashi_sweep_dry" / (f[1] + "_" + f[2])).string()] = f;
     }
   }
-  const int failed = sweep_column("failed"), shaken = sweep_column("shaking_time_s");
+  const std::size_t failed = sweep_column("failed"), shaken = sweep_column("shaking_time_s");
   int stopped = 0, stood = 0;
   for (const std::string case_name : {"kobe_ew_ns_0.05", "kobe_ew_ns_1", "kobe_ns_ew_0.05", "kobe_ns_ew_1"}) {
     const auto a = tmp_dir() / "ishibashi_sweep_whole/runs/ishibashi_sweep_dry" / case_name,
