@@ -108,6 +108,13 @@ jobs=(
   "c_mortar2|fd2dc55|out/ensembles/c_mortar_explicit_3_5|scenarios/nishida_c_kobe_mortar.toml --members 5 --member-range 3:5 --seed 1 --jobs 1 --threads 1"
   "c_dry|fd2dc55|out/ensembles/c_dry_explicit|scenarios/nishida_c_kobe_dry.toml --members 5 --member-range 0:3 --seed 1 --jobs 1 --threads 1"
   "c_dry2|fd2dc55|out/ensembles/c_dry_explicit_3_5|scenarios/nishida_c_kobe_dry.toml --members 5 --member-range 3:5 --seed 1 --jobs 1 --threads 1"
+  # C dry as built (session 68): its single run stood on 5acb07b's program, while the first
+  # three members of its ensemble on fd2dc55's collapse (scenarios/results/README.md, "Model C
+  # as ensembles"). The scenario's own geometry on fd2dc55's program says whether the program
+  # or the construction tolerance moved the verdict: an ensemble of one member with no
+  # tolerance (scenarios/results/c_dry_as_built.toml: the plain run bit for bit), so that
+  # `park` can keep it between sessions; about 5 hours of a core. Before b_tied in its lane.
+  "c_dry_as_built|fd2dc55|out/ensembles/c_dry_as_built|scenarios/results/c_dry_as_built.toml --members 1 --seed 1 --jobs 1 --threads 1"
   # Do tie rods keep B's walls up (session 66; scenarios/results/README.md, "Tie rods")? B
   # dry tied and B dry on one program, the first with rods (dcb7acf: each member's rods made
   # snug in its own pose), the seed of the other ensembles: B dry's own (be8e1f2) predates
