@@ -173,6 +173,9 @@ CLI::App* add_sweep_command(CLI::App& app, ishibashi::SweepCommandOptions& sweep
       ->check(ishibashi::number_in(1, 256));
   sweep_cmd->add_option("--threads-per-job", sweep.threads_per_job, "threads of each run (default: the node's cores shared)")
       ->check(ishibashi::number_in(0, ishibashi::kMaxThreads));
+  sweep_cmd->add_option("--checkpoint-wall", sweep.checkpoint_wall_s,
+                        "each run's checkpoint every this many wall-clock seconds (0: none): a killed sweep's runs go on from them")
+      ->check(ishibashi::number_in(0));
   return sweep_cmd;
 }
 

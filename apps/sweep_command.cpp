@@ -14,6 +14,7 @@ int run_sweep_command(const SweepCommandOptions& o) {
   options.out = o.out.empty() ? std::filesystem::path("out") / o.file.stem() : o.out;
   options.jobs = o.jobs;
   options.threads_per_job = o.threads_per_job;
+  options.checkpoint_wall_s = o.checkpoint_wall_s;
   options.on_event = [](const std::string& text) {
     std::printf("%s\n", text.c_str());
     std::fflush(stdout);

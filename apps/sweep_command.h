@@ -10,6 +10,7 @@ struct SweepCommandOptions {
   std::filesystem::path out;  // empty: out/<sweep file name>
   int jobs = 1;               // runs at once on one machine (under mpirun: one per rank)
   int threads_per_job = 0;
+  double checkpoint_wall_s = 300;  // each run's checkpoint (SweepOptions)
 };
 
 // 0 when every run is done and the curves written; 1 otherwise.

@@ -139,7 +139,8 @@ fs::path member_folder(const fs::path& out, int member) {
 }
 
 MemberStatus run_in_folder(const fs::path& folder, const std::string& key, const std::string& name, SeismicRunOptions options,
-                           int threads, const StartRun& start, const std::function<void(const std::string&)>& event) {
+                           int threads, const StartRun& start, const std::function<void(const std::string&)>& event,
+                           const Scenario* started_as, SeismicRunResult* result) {
   if (outputs_current(folder, key)) {
     event(name + ": current, kept");
     return MemberStatus::current;
@@ -156,7 +157,7 @@ MemberStatus run_in_folder(const fs::path& folder, const std::string& key, const
     std::getline(std::ifstream(folder / "started.key"), started);
     if (started == key && fs::exists(folder / "checkpoint.bin")) {
       options.on_resume = nullptr;  // what `start` would have done is in the checkpoint
-      run = SeismicRun::resume(options, overrides);
+      run = SeismicRun::resume(options, overrides, {}, started_as);
       event(name + ": goes on from its checkpoint");
     }
     if (!run) {
@@ -167,6 +168,7 @@ MemberStatus run_in_folder(const fs::path& folder, const std::string& key, const
       event(name + ": started");
     }
     const SeismicRunResult r = run->run();
+    if (result) *result = r;
     if (r.interrupted && stop_requested()) {
       event(name + ": interrupted (its checkpoint is kept: it goes on from it)");
       return MemberStatus::interrupted;

@@ -6,12 +6,14 @@
 #include <cmath>
 #include <fstream>
 #include <map>
+#include <memory>
 #include <mutex>
 #include <set>
 #include <sstream>
 #include <vector>
 
 #include "analysis/batch/job_queue.h"
+#include "analysis/batch/member_runs.h"
 #include "analysis/batch/mpi_ranks.h"
 #include "analysis/batch/sweep_table.h"
 #include "analysis/model/fingerprint.h"
@@ -70,8 +72,12 @@ bool has_failed(const FailureCriteria& f, const SeismicRunResult& r) {
          (f.fallen_stones >= 0 && r.fallen_stones >= f.fallen_stones);
 }
 
-// One run of the sweep; returns its row (with the newline).
-std::string run_case(const SweepFile& sweep, const Case& c, int threads, const fs::path& out) {
+// One run of the sweep, in its folder: it goes on from the checkpoint a killed or interrupted
+// sweep left there for the same case (a case is hours of a large bridge, a cluster job's wall
+// time may end any time), else starts; returns its row (with the newline). `event` gets its
+// progress.
+std::string run_case(const SweepFile& sweep, const Case& c, int threads, const fs::path& out, double checkpoint_wall_s,
+                     const std::function<void(const std::string&)>& event) {
   const SweepRecord& record = sweep.records[c.record];
   const double level = sweep.levels[c.level];
   Scenario sc = read_scenario(sweep.scenarios[c.scenario]);
@@ -90,20 +96,29 @@ std::string run_case(const SweepFile& sweep, const Case& c, int threads, const f
     if (component) component->scale *= factor;
 
   SeismicRunOptions options;
-  options.out = case_folder(sweep, c, out);
   if (sweep.members > 1) options.member = c.member;
+  options.checkpoint_wall_s = checkpoint_wall_s;
   if (sweep.failure.stop_at_failure)
     options.stop_when = [&](const SeismicRunResult& so_far) { return has_failed(sweep.failure, so_far); };
-  fs::remove_all(options.out);  // a run that died half-way starts again
-  SeismicRun run(sc, options);
-  const SeismicRunResult r = run.run();
-  if (r.interrupted) throw std::runtime_error("interrupted");
+  const fs::path folder = case_folder(sweep, c, out);
+  // Outputs stamped but without their row (killed between the two) run again: the row
+  // needs the run's result.
+  fs::remove(folder / "inputs.key");
+  std::string failure;  // what went wrong, from run_in_folder's lines
+  auto lines = [&](const std::string& line) {
+    if (line.find(": FAILED: ") != std::string::npos) failure = line.substr(line.find(": FAILED: ") + 10);
+    event(line);
+  };
+  auto start = [&](const SeismicRunOptions& o) { return std::make_unique<SeismicRun>(sc, o); };
+  SeismicRunResult r;
+  const MemberStatus status = run_in_folder(folder, case_key(sweep, c), c.key, options, threads, start, lines, &sc, &r);
+  if (status == MemberStatus::interrupted) throw std::runtime_error("interrupted (the same command goes on from its checkpoint)");
+  if (status != MemberStatus::ran) throw std::runtime_error(failure);
   const bool failed = has_failed(sweep.failure, r);
   std::ostringstream row;
   row.precision(9);
   row << c.key << "," << factor << "," << record_pga_g * factor << "," << (failed ? 1 : 0) << "," << result_csv_values(r) << ","
       << host_name() << "\n";
-  stamp_outputs(options.out, case_key(sweep, c));  // last: its outputs are complete
   return row.str();
 }
 
@@ -164,7 +179,7 @@ SweepOutcome run_sweep(const SweepFile& sweep, const SweepOptions& o, const MpiS
   // A case's answer for rank 0: its row, or "!" and what went wrong.
   auto row_of = [&](int i) {
     try {
-      return run_case(sweep, cases[i], threads, o.out);
+      return run_case(sweep, cases[i], threads, o.out, o.checkpoint_wall_s, event);
     } catch (const std::exception& e) {
       return "!" + cases[i].key + ": " + e.what();
     }
@@ -219,8 +234,7 @@ SweepOutcome run_sweep(const SweepFile& sweep, const SweepOptions& o, const MpiS
   };
   run_jobs(
       pending, runs_here, &mpi,
-      [&](int i) {
-        event(cases[i].key + ": started");
+      [&](int i) {  // run_in_folder says whether it started or went on from a checkpoint
         const std::string row = row_of(i);
         finish(row, 0);
         return row;

@@ -2,7 +2,8 @@
 // on one machine (several runs at once) or across machines with MPI (one run per rank at
 // a time, dynamic assignment: a rank that finishes takes the next run). Each finished run
 // is a row of sweep.csv, appended as it finishes by one writer (rank 0), so a sweep that
-// dies resumes where it stopped: runs with a row are never redone.
+// dies resumes where it stopped: runs with a row are never redone, and a run under way goes
+// on from its last checkpoint.
 //
 // Outputs in the sweep's folder:
 //   runs/<scenario>/<record>_<level>/  each run's series, history and summary
@@ -31,6 +32,7 @@ struct SweepOptions {
   std::filesystem::path out;
   int jobs = 1;             // runs at once on this machine (per MPI rank: 1)
   int threads_per_job = 0;  // 0: this node's cores shared among its runs
+  double checkpoint_wall_s = 300;  // each run's checkpoint, so that a killed or interrupted sweep goes on from it
   std::function<void(const std::string&)> on_event;
 };
 

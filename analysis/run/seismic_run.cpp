@@ -87,7 +87,7 @@ SeismicRun::SeismicRun(const Scenario& scenario, SeismicRunOptions options)
 SeismicRun::~SeismicRun() = default;
 
 std::unique_ptr<SeismicRun> SeismicRun::resume(SeismicRunOptions options, const RunOverrides& overrides,
-                                               const std::filesystem::path& checkpoint) {
+                                               const std::filesystem::path& checkpoint, const Scenario* started_as) {
   const std::filesystem::path file = checkpoint.empty() ? options.out / "checkpoint.bin" : checkpoint;
   std::string body;
   const CheckpointHeader h = read_checkpoint_file(file, &body);
@@ -100,7 +100,7 @@ std::unique_ptr<SeismicRun> SeismicRun::resume(SeismicRunOptions options, const 
   if (h.inputs != scenario_fingerprint(h.scenario_file))
     throw InputError(file.string() + ": the scenario " + h.scenario_file +
                      ", its model file or its records changed since the checkpoint was written; start the run again");
-  Scenario sc = read_scenario(h.scenario_file);
+  Scenario sc = started_as ? *started_as : read_scenario(h.scenario_file);
   sc.settings = h.settings;
   apply_overrides(sc.settings, overrides);
   options.dt_factor = 1;  // h.dt_s is the step the run used

@@ -88,9 +88,12 @@ class SeismicRun {
   // written by another build of the program or for other input files.
   // `overrides` may change how it runs, not what (the command line allows threads alone).
   // `checkpoint`: another run's checkpoint to go on from instead (the chaos probe's
-  // members from its branch), into options.out.
+  // members from its branch), into options.out. `started_as`: the scenario as its caller
+  // built the run from the file (a sweep's case: its record, scaled), instead of the file as
+  // written; the checkpoint's settings replace its own.
   static std::unique_ptr<SeismicRun> resume(SeismicRunOptions options, const RunOverrides& overrides = {},
-                                            const std::filesystem::path& checkpoint = {});
+                                            const std::filesystem::path& checkpoint = {},
+                                            const Scenario* started_as = nullptr);
 
   const Scenario& scenario() const { return scenario_; }
   const World& world() const { return *world_; }

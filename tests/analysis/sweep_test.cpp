@@ -119,6 +119,35 @@ TEST(Sweep, KilledSweepResumesWithoutRedoingFinishedRuns) {
   EXPECT_EQ(rows(out).size(), 4u);
 }
 
+// A sweep killed while a run is under way goes on from that run's checkpoint (a cluster job's
+// wall time may end in the middle of an hours-long run), and its row is the unbroken sweep's.
+TEST(Sweep, KilledSweepsRunGoesOnFromItsCheckpoint) {
+  std::string text = text_of(sweep_file());
+  text.replace(text.find("scale = [0.5, 1.0]"), 18, "scale = [1.0]\nduration_s = 0.5");
+  text.erase(text.find("[[record]]\nname = \"kobe_ns_ew\""));  // one case
+  const auto file = tmp_dir() / "ishibashi_sweep_one.toml";
+  std::ofstream(file) << text;
+  const auto whole = tmp_dir() / "ishibashi_sweep_unbroken", killed = tmp_dir() / "ishibashi_sweep_killed_run";
+  std::filesystem::remove_all(whole);
+  std::filesystem::remove_all(killed);
+  int status = 0;
+  const std::string unbroken = run_command(kSweep + file.string() + " --threads-per-job 1 --out " + whole.string(), &status);
+  ASSERT_EQ(status, 0) << unbroken;
+  // SIGKILL as soon as the run has written a checkpoint.
+  const std::string sweep = kSweep + file.string() + " --threads-per-job 1 --checkpoint-wall 0.1 --out " + killed.string();
+  const std::string checkpoint = (killed / "runs/ishibashi_sweep_dry/kobe_ew_ns_1/checkpoint.bin").string();
+  run_command("bash -c '" + sweep + " & pid=$!; until [ -f " + checkpoint + " ] || ! kill -0 $pid 2>/dev/null; do sleep 0.02; done; " +
+                  "kill -KILL $pid'",
+              &status);
+  ASSERT_TRUE(rows(killed).empty()) << "the run finished before it was killed";
+  const std::string resumed = run_command(sweep, &status);
+  ASSERT_EQ(status, 0) << resumed;
+  EXPECT_NE(resumed.find("kobe_ew_ns,1,0: goes on from its checkpoint"), std::string::npos) << resumed;
+  ASSERT_EQ(rows(killed).size(), 1u);
+  EXPECT_EQ(rows(killed), rows(whole));  // the state hash among them
+  EXPECT_FALSE(std::filesystem::exists(checkpoint));  // a finished run's checkpoint goes
+}
+
 // Dry and with mortar on the same records and levels: eight runs, a fragility fit per
 // variant, and comparison.csv whose case counts add up to the four (record, level) pairs
 // and agree with the variants' rows of sweep.csv. A table of other columns is refused.
