@@ -160,7 +160,9 @@ std::vector<int> cases_to_run(const SweepFile& sweep, const fs::path& out, const
 // function: both share the lock, the open table and the counts.
 SweepOutcome run_sweep(const SweepFile& sweep, const SweepOptions& o, const MpiSession& mpi) {
   const bool root = mpi.rank() == 0;
+  std::mutex event_lock;  // the runs' progress lines come from several worker threads
   auto event = [&](const std::string& text) {
+    const std::lock_guard<std::mutex> guard(event_lock);
     if (o.on_event) o.on_event(text);
   };
   // The variants of one (record, level, member) next to each other: a sweep stopped part
