@@ -138,45 +138,51 @@ fs::path member_folder(const fs::path& out, int member) {
   return out / name;
 }
 
-MemberStatus run_in_folder(const fs::path& folder, const std::string& key, const std::string& name, SeismicRunOptions options,
-                           int threads, const StartRun& start, const std::function<void(const std::string&)>& event,
-                           const Scenario* started_as, SeismicRunResult* result) {
+MemberStatus run_in_folder_or_throw(const fs::path& folder, const std::string& key, const std::string& name,
+                                    SeismicRunOptions options, int threads, const StartRun& start,
+                                    const std::function<void(const std::string&)>& event, const Scenario* started_as,
+                                    SeismicRunResult* result) {
   if (outputs_current(folder, key)) {
     event(name + ": current, kept");
     return MemberStatus::current;
   }
+  use_threads(threads);
+  options.out = folder;
+  options.on_frame = with_progress_lines(std::move(options.on_frame), name, event);
+  if (!options.on_settle_frame) options.on_settle_frame = settling_lines(name, event);
+  RunOverrides overrides;
+  overrides.set(&RunSettings::threads, threads);
+  std::unique_ptr<SeismicRun> run;
+  std::string started;  // the key of the run the folder's checkpoint belongs to
+  std::getline(std::ifstream(folder / "started.key"), started);
+  if (started == key && fs::exists(folder / "checkpoint.bin")) {
+    options.on_resume = nullptr;  // what `start` would have done is in the checkpoint
+    run = SeismicRun::resume(options, overrides, {}, started_as);
+    event(name + ": goes on from its checkpoint");
+  }
+  if (!run) {
+    fs::remove_all(folder);  // no frames of an older run left behind
+    fs::create_directories(folder);
+    write_text_atomically(folder / "started.key", key + "\n");
+    run = start(options);
+    event(name + ": started");
+  }
+  const SeismicRunResult r = run->run();
+  if (result) *result = r;
+  if (r.interrupted && stop_requested()) {
+    event(name + ": interrupted (its checkpoint is kept: it goes on from it)");
+    return MemberStatus::interrupted;
+  }
+  if (!r.interrupted) fs::remove(folder / "checkpoint.bin");
+  stamp_outputs(folder, key);  // last: the outputs are complete
+  event(name + ": done, " + std::to_string(r.fallen_stones) + " fallen stones" + (r.collapse ? ", collapse" : ""));
+  return MemberStatus::ran;
+}
+
+MemberStatus run_in_folder(const fs::path& folder, const std::string& key, const std::string& name, SeismicRunOptions options,
+                           int threads, const StartRun& start, const std::function<void(const std::string&)>& event) {
   try {
-    use_threads(threads);
-    options.out = folder;
-    options.on_frame = with_progress_lines(std::move(options.on_frame), name, event);
-    if (!options.on_settle_frame) options.on_settle_frame = settling_lines(name, event);
-    RunOverrides overrides;
-    overrides.set(&RunSettings::threads, threads);
-    std::unique_ptr<SeismicRun> run;
-    std::string started;  // the key of the run the folder's checkpoint belongs to
-    std::getline(std::ifstream(folder / "started.key"), started);
-    if (started == key && fs::exists(folder / "checkpoint.bin")) {
-      options.on_resume = nullptr;  // what `start` would have done is in the checkpoint
-      run = SeismicRun::resume(options, overrides, {}, started_as);
-      event(name + ": goes on from its checkpoint");
-    }
-    if (!run) {
-      fs::remove_all(folder);  // no frames of an older run left behind
-      fs::create_directories(folder);
-      write_text_atomically(folder / "started.key", key + "\n");
-      run = start(options);
-      event(name + ": started");
-    }
-    const SeismicRunResult r = run->run();
-    if (result) *result = r;
-    if (r.interrupted && stop_requested()) {
-      event(name + ": interrupted (its checkpoint is kept: it goes on from it)");
-      return MemberStatus::interrupted;
-    }
-    if (!r.interrupted) fs::remove(folder / "checkpoint.bin");
-    stamp_outputs(folder, key);  // last: the outputs are complete
-    event(name + ": done, " + std::to_string(r.fallen_stones) + " fallen stones" + (r.collapse ? ", collapse" : ""));
-    return MemberStatus::ran;
+    return run_in_folder_or_throw(folder, key, name, std::move(options), threads, start, event);
   } catch (const std::exception& e) {
     event(name + ": FAILED: " + e.what());
     return MemberStatus::failed;

@@ -33,14 +33,20 @@ enum class MemberStatus { current, ran, interrupted, failed };
 // (the folder emptied and marked started with `key` first, so that `start` may put files
 // in it). A finished run's checkpoint is removed and its outputs stamped with `key`,
 // unless it stopped before its end without a stop request (a chaos probe's branch run:
-// its checkpoint is the branch point). `event` gets a line for each change. `started_as`:
-// the scenario `start` runs where it is not the file as written (SeismicRun::resume);
-// `result`, where given, gets the run's result when it ran.
+// its checkpoint is the branch point). `event` gets a line for each change; a failure is
+// one more line ("NAME: FAILED: why") and MemberStatus::failed.
 using StartRun = std::function<std::unique_ptr<SeismicRun>(const SeismicRunOptions& options)>;
 MemberStatus run_in_folder(const std::filesystem::path& folder, const std::string& key, const std::string& name,
                            SeismicRunOptions options, int threads, const StartRun& start,
-                           const std::function<void(const std::string&)>& event, const Scenario* started_as = nullptr,
-                           SeismicRunResult* result = nullptr);
+                           const std::function<void(const std::string&)>& event);
+
+// The same, a failure thrown to the caller (a sweep reports it in its own words). `started_as`:
+// the scenario `start` runs where it is not the file as written (SeismicRun::resume);
+// `result`, where given, gets the run's result when it ran.
+MemberStatus run_in_folder_or_throw(const std::filesystem::path& folder, const std::string& key, const std::string& name,
+                                    SeismicRunOptions options, int threads, const StartRun& start,
+                                    const std::function<void(const std::string&)>& event,
+                                    const Scenario* started_as = nullptr, SeismicRunResult* result = nullptr);
 
 // Members' outcomes, each from its folder's summary.json and history.csv.
 struct OutcomeTable {

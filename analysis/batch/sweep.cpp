@@ -104,16 +104,10 @@ std::string run_case(const SweepFile& sweep, const Case& c, int threads, const f
   // Outputs stamped but without their row (killed between the two) run again: the row
   // needs the run's result.
   fs::remove(folder / "inputs.key");
-  std::string failure;  // what went wrong, from run_in_folder's lines
-  auto lines = [&](const std::string& line) {
-    if (line.find(": FAILED: ") != std::string::npos) failure = line.substr(line.find(": FAILED: ") + 10);
-    event(line);
-  };
   auto start = [&](const SeismicRunOptions& o) { return std::make_unique<SeismicRun>(sc, o); };
   SeismicRunResult r;
-  const MemberStatus status = run_in_folder(folder, case_key(sweep, c), c.key, options, threads, start, lines, &sc, &r);
+  const MemberStatus status = run_in_folder_or_throw(folder, case_key(sweep, c), c.key, options, threads, start, event, &sc, &r);
   if (status == MemberStatus::interrupted) throw std::runtime_error("interrupted (the same command goes on from its checkpoint)");
-  if (status != MemberStatus::ran) throw std::runtime_error(failure);
   const bool failed = has_failed(sweep.failure, r);
   std::ostringstream row;
   row.precision(9);

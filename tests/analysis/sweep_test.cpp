@@ -266,6 +266,24 @@ TEST(Sweep, StopAtFailureEndsFailedRunsWhereTheyFailed) {
   EXPECT_GE(stood, 1) << "every run failed: the test shows nothing";
 }
 
+// A case whose run fails (here the scenario monitors a block the model lacks, which only
+// the built model can tell) says why once, the sweep goes on with the others and exits
+// with an error, and sweep.csv gets no row for it.
+TEST(Sweep, FailedCaseSaysWhyOnceAndGetsNoRow) {
+  const auto scenario = scenario_file("ishibashi_sweep_bad_monitor", 0);
+  std::ofstream(scenario, std::ios::app) << "[monitor]\nblocks = [100000]\n";
+  const auto out = tmp_dir() / "ishibashi_sweep_failed";
+  std::filesystem::remove_all(out);
+  int status = 0;
+  const std::string said = run_command(kSweep + sweep_file("scenario = \"" + scenario.string() + "\"").string() +
+                                           " --jobs 2 --threads-per-job 1 --out " + out.string(),
+                                       &status);
+  EXPECT_NE(status, 0) << said;
+  EXPECT_EQ(count_of(said, "[monitor] block 100000 does not exist"), 4) << said;
+  EXPECT_NE(said.find("0 runs done now, 0 done before, 4 failed"), std::string::npos) << said;
+  EXPECT_TRUE(rows(out).empty());
+}
+
 // A sweep file with both `scenario` and `scenarios`, two variants of one name, a name with
 // a comma or two levels of one label (names are run folders and fields of the rows) is
 // refused with what is wrong, and so are the inputs that would make a whole sweep run for nothing.
