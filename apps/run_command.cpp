@@ -119,6 +119,9 @@ int run_ensemble_of(const RunOptions& o, Scenario sc) {
   };
   std::printf("  collapse: %s\n  any stone fell: %s\n  a ring stone fell: %s\n", share(r.collapses).c_str(),
               share(r.stones_fell).c_str(), share(r.ring_stones_fell).c_str());
+  if (sc.settings.stop_at == StopAt::collapse)
+    std::printf("  (stop_at = \"collapse\": each collapsing member ended at its collapse, so its fallen stones and crown drop "
+                "are those at that frame, and a ring stone that would have fallen later is not counted)\n");
   const std::string not_drawn = o.no_report || r.finished == 0
                                     ? ""
                                     : run_report_script("ensemble_figure.py", options.out,

@@ -1,6 +1,7 @@
 #include "io/run_settings.h"
 
 #include <climits>
+#include <sstream>
 
 #include "io/toml_reader.h"
 
@@ -29,6 +30,15 @@ void read_run_settings(TableReader& reader, const std::string& table, RunSetting
     else
       reader.number_in(info.key, value, info.min, info.max, info.open_min);
   });
+}
+
+std::string settings_key_text(const RunSettings& settings) {
+  std::ostringstream text;
+  text.precision(17);
+  for_each_run_setting([&](const SettingInfo& info, auto m) {
+    if (std::string(info.key) != "threads") text << ' ' << info.key << '=' << setting_value(settings.*m);
+  });
+  return text.str();
 }
 
 void apply_overrides(RunSettings& settings, const RunOverrides& overrides) {

@@ -22,6 +22,15 @@ enum class MortarBonds : std::uint8_t { initial, settled };
 inline constexpr std::array<const char*, 2> kMortarBondsNames{"initial", "settled"};
 inline const auto& choice_names(MortarBonds) { return kMortarBondsNames; }
 
+// Where a seismic run ends: at the record's end (its duration), or at its first output
+// frame that finds it collapsed (SeismicRunResult::collapse). A collapse cannot be undone
+// (a fallen stone does not climb back) and its debris is the costliest part of a run, so an
+// ensemble that asks only how likely a collapse is stops each collapsing member there; what
+// it counts of such a member (fallen stones, crown drop) is then at the collapse.
+enum class StopAt : std::uint8_t { end, collapse };
+inline constexpr std::array<const char*, 2> kStopAtNames{"end", "collapse"};
+inline const auto& choice_names(StopAt) { return kStopAtNames; }
+
 struct RunSettings {
   double dt_s = 0.0;                // 0: a share of the stability limit (kStudyDtShare ... in seismic_run.h)
   double settle_max_s = 1.0;        // longest gravity settling
@@ -36,6 +45,7 @@ struct RunSettings {
   Damping damping = Damping::study;
   double solve_tolerance = kDampingSolveTolerance;  // Damping::implicit (ModelOptions)
   MortarBonds mortar_bonds = MortarBonds::settled;
+  StopAt stop_at = StopAt::end;
 };
 
 // Where a setting lives in a scenario file, its command-line flag (nullptr: none), what it
@@ -84,7 +94,15 @@ void for_each_run_setting(Fn&& fn) {
   fn(SettingInfo{"model", "mortar_bonds", "--mortar-bonds",
                  "mortar sets \"settled\" (in the settled pose) or \"initial\" (from the first step)"},
      &S::mortar_bonds);
+  fn(SettingInfo{"run", "stop_at", "--stop-at",
+                 "where the run ends: \"end\" (the record's end) or \"collapse\" (its first frame that finds it collapsed, "
+                 "where a collapse is known: the rest is debris; the counts are then those at the collapse)"},
+     &S::stop_at);
 }
+
+// The settings as the inputs key of a run's outputs gives them (" key=value" each), the
+// thread count left out: a run gives the same bits on any.
+std::string settings_key_text(const RunSettings& settings);
 
 // The model a run's settings ask for (with the ModelOptions defaults for the rest).
 ModelOptions model_options(const RunSettings& settings);

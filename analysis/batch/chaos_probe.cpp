@@ -33,11 +33,7 @@ constexpr PartingLevel kPartingLevels[] = {{1e-4, "parted_0.1_mm_s"}, {1e-3, "pa
 std::string probe_key(const Scenario& sc, double branch_s, const ChaosProbeOptions& o, int member) {
   std::ostringstream in;
   in.precision(17);
-  in << "chaos probe of " << scenario_fingerprint(sc);
-  for_each_run_setting([&](const SettingInfo& info, auto m) {
-    if (std::string(info.key) != "threads") in << ' ' << info.key << '=' << setting_value(sc.settings.*m);
-  });
-  in << " branch at " << branch_s;
+  in << "chaos probe of " << scenario_fingerprint(sc) << settings_key_text(sc.settings) << " branch at " << branch_s;
   if (member >= 0) in << " member " << member << " perturbation " << o.perturbation_m << " seed " << o.seed;
   return inputs_key(in.str());
 }

@@ -25,10 +25,7 @@ namespace {
 std::string member_key(const Scenario& sc, int member) {
   std::ostringstream in;
   in.precision(17);
-  in << "ensemble member " << member << " of " << scenario_fingerprint(sc);
-  for_each_run_setting([&](const SettingInfo& info, auto m) {
-    if (std::string(info.key) != "threads") in << ' ' << info.key << '=' << setting_value(sc.settings.*m);
-  });
+  in << "ensemble member " << member << " of " << scenario_fingerprint(sc) << settings_key_text(sc.settings);
   const EnsembleSpec& e = sc.ensemble;
   in << " seed " << e.seed << " tolerance " << e.position_tolerance_m << " friction " << e.friction_angle_deg[0] << ' '
      << e.friction_angle_deg[1] << " amplitude " << e.amplitude[0] << ' ' << e.amplitude[1];

@@ -139,8 +139,10 @@ def probabilities(ensemble):
     def share(key, name):
         o = j[key]  # its "members": those in which it happened, of the finished ones
         return f"{name} {o['members']} of {j['finished']} [{o['lo']:.2f}-{o['hi']:.2f}]"
-    return ", ".join([share("collapse", "collapse"), share("stones_fall", "a stone falls"),
-                      share("ring_stones_fall", "a ring stone falls")]) + " (95 % intervals)"
+    stopped = j.get("settings", {}).get("stop_at") == "collapse"  # older ensembles: no such key
+    return (", ".join([share("collapse", "collapse"), share("stones_fall", "a stone falls"),
+                       share("ring_stones_fall", "a ring stone falls")]) + " (95 % intervals)"
+            + ("; each collapse stopped there" if stopped else ""))
 
 
 def main():

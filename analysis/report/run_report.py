@@ -33,7 +33,7 @@ def verdict(summary):
     """The run's outcome in a line: collapse or not (or failed, where a sweep stopped it),
     stones fallen, first opening, balance."""
     state = "interrupted" if summary.get("interrupted") else "collapse" if summary.get("collapse") else "stands"
-    if summary.get("stopped_early"):  # a sweep's run, ended where its failure criteria were met
+    if summary.get("stopped_early"):  # ended at its collapse, or where a sweep's criteria were met
         state = ("collapse" if summary.get("collapse") else "failed (the sweep's criteria)") + ", stopped there,"
     opening = summary.get("first_opening_s")
     rods = summary.get("tie_rods") or 0  # older runs: no such key

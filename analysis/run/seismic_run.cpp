@@ -127,7 +127,7 @@ struct SeismicRun::Progress {
   SeismicRunResult result;
   bool shaking = false;  // settled: the ground moves
   bool branched = false;  // stopped at options.branch_at_shake_s
-  bool stopped_early = false;  // ended where options.stop_when said so
+  bool stopped_early = false;  // ended where options.stop_when or [run] stop_at said so
   long shake_step = 0;   // the next step of the ground motion
   Vec3 settled_crown = Vec3::Zero();
   Vec3 ground_accel = Vec3::Zero(), ground_displacement = Vec3::Zero();  // at the last step
@@ -305,7 +305,9 @@ void SeismicRun::shake(Progress& p) {
         p.branched = true;
         return;
       }
-      if (k + 1 < n && options_.stop_when && options_.stop_when(r)) {
+      const bool stop = (options_.stop_when && options_.stop_when(r)) ||
+                        (scenario_.settings.stop_at == StopAt::collapse && r.collapse);
+      if (k + 1 < n && stop) {
         p.stopped_early = true;
         return;
       }

@@ -57,7 +57,8 @@ struct SeismicRunOptions {
   std::function<void(const Model&, State&)> on_resume;
   // Called after every output frame of the shaking with the result so far: true ends the
   // run there, finished, its summary saying so ("stopped_early"): a sweep's failure
-  // criteria once its verdict is decided ([failure] stop_at_failure).
+  // criteria once its verdict is decided ([failure] stop_at_failure). A scenario's
+  // [run] stop_at = "collapse" does the same at its collapse.
   std::function<bool(const SeismicRunResult&)> stop_when;
   // Called after every output frame of the shaking with the state and the fraction done (0..1).
   std::function<void(const State&, double fraction_done)> on_frame;

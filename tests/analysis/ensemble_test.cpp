@@ -275,6 +275,45 @@ TEST(Ensemble, MembersSettlingComesAsLines) {
   EXPECT_NE(log.find("(settled below 1e-12 J)"), std::string::npos) << log;
 }
 
+// [run] stop_at = "collapse" (--stop-at collapse): a member that collapses ends at its
+// first frame that finds it collapsed, the same run as without the option up to there (its
+// history a prefix of the whole run's, row for row), with the same verdict; a run that
+// stands goes on to the record's end, its state the whole run's bit for bit.
+TEST(Ensemble, StopAtCollapseEndsCollapsingMembersThere) {
+  auto run = [](const std::string& scenario, const std::string& name, const std::string& options) {
+    const auto out = tmp_dir() / name;
+    std::filesystem::remove_all(out);
+    int status = 0;
+    const std::string log = run_command(test::program() + " run " + (kRoot / "scenarios/examples" / scenario).string() +
+                                            " --threads 1 --no-report " + options + " --out " + out.string(),
+                                        &status);
+    EXPECT_EQ(status, 0) << log;
+    return out;
+  };
+  // The tied stack topples whole within its 3 s (scenarios/results, tie rods).
+  const auto whole = run("stack_of_three_tied_kobe.toml", "stop_at_whole", "--members 2 --jobs 2");
+  const auto stop = run("stack_of_three_tied_kobe.toml", "stop_at_collapse", "--members 2 --jobs 2 --stop-at collapse");
+  EXPECT_NE(text_of(stop / "ensemble.json").find("\"stop_at\": \"collapse\""), std::string::npos);
+  for (const char* member : {"member_000", "member_001"}) {
+    const auto a = nlohmann::json::parse(text_of(whole / member / "summary.json"));
+    const auto b = nlohmann::json::parse(text_of(stop / member / "summary.json"));
+    ASSERT_TRUE(a["collapse"].get<bool>()) << member << ": no collapse, the test shows nothing";
+    EXPECT_TRUE(b["collapse"].get<bool>()) << member;
+    EXPECT_TRUE(b["stopped_early"].get<bool>()) << member;
+    EXPECT_FALSE(a["stopped_early"].get<bool>()) << member;
+    EXPECT_LT(b["shaking_time_s"].get<double>(), a["shaking_time_s"].get<double>() - 0.1) << member;
+    const std::string history = text_of(stop / member / "history.csv");
+    EXPECT_EQ(text_of(whole / member / "history.csv").substr(0, history.size()), history) << member;
+  }
+  // The loose stack's stones slide and rock apart, and all stay up: a plain run that stands.
+  const auto stands = run("stack_of_three_kobe.toml", "stop_at_stands", "");
+  const auto stands_too = run("stack_of_three_kobe.toml", "stop_at_stands_too", "--stop-at collapse");
+  ASSERT_NE(text_of(stands / "summary.json").find("\"collapse\": false"), std::string::npos);
+  EXPECT_NE(text_of(stands_too / "summary.json").find("\"stopped_early\": false"), std::string::npos);
+  EXPECT_EQ(state_hash_of(stands_too), state_hash_of(stands));
+  EXPECT_FALSE(state_hash_of(stands).empty());
+}
+
 TEST(Ensemble, RunMembersWritesProbabilitiesAndKeepsFinishedMembers) {
   const auto file = short_scenario("ensemble_a.toml", "[ensemble]\nmembers = 3\nseed = 5\namplitude = [0.9, 1.1]\n");
   const auto out = tmp_dir() / "ensemble_a";
