@@ -155,9 +155,11 @@ CLI::App* add_study_command(CLI::App& app, ishibashi::StudyCommandOptions& study
                          "0 or 1: single runs); the report gives each run's probabilities")
       ->check(ishibashi::number_in(0, 100000));
   // Every run's numerical method and joint model, as `run` takes them (a study of the
-  // fast path: --damping implicit --dt 4e-5).
+  // fast path: --damping implicit --dt 4e-5), and where its runs end (--stop-at collapse:
+  // the verdicts without the debris).
   add_run_setting_flags(study_cmd, study.run_overrides,
-                        {"dt_s", "damping", "solve_tolerance", "joint_rule", "shear_spring", "subdivision", "mortar_bonds"});
+                        {"dt_s", "damping", "solve_tolerance", "joint_rule", "shear_spring", "subdivision", "mortar_bonds",
+                         "stop_at"});
   study_cmd->add_flag("--force", study.force, "rerun analyses whose outputs are current");
   study_cmd->add_flag("--no-report", study.no_report, "skip the report (needs python3 with matplotlib)");
   return study_cmd;

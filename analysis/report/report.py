@@ -103,6 +103,16 @@ def members_of(out, run):
     return sorted(p for p in (out / "runs" / run["scenario"]).glob("member_*") if p.is_dir())
 
 
+def stopped_at_collapse(out, runs):
+    """Whether any run (or member of one) ended at its collapse (`--stop-at collapse`)."""
+    for r in runs:
+        for folder in members_of(out, r) or [run_folder(out, r)]:
+            summary = folder / "summary.json"
+            if summary.exists() and json.load(open(summary)).get("stopped_early"):
+                return True
+    return False
+
+
 def shaking_rows(folder):
     """History rows of the shaking in a run's folder, with the time counted from its start."""
     rows = read_rows(folder / "history.csv")
@@ -534,7 +544,10 @@ def run_sections(out, study, figures):
                     "(of the verdict most members share, the median number of fallen stones), then the "
                     "probabilities with their 95 % Wilson intervals, and that of the study's own verdict." if ensembles
                     else "")
-                 + (" Tie rods: how many of the run's rods yielded, and the largest tension any reached." if tied else ""),
+                 + (" Tie rods: how many of the run's rods yielded, and the largest tension any reached." if tied else "")
+                 + (" Runs that collapsed ended there (--stop-at collapse): their shaking time, crown drop and "
+                    "stones fallen are those of the frame that found the collapse; the debris after it was not run."
+                    if stopped_at_collapse(out, runs) else ""),
                  (["scenario", "settled", "shaking [s]", "first opening [s]", "mortar used", "crown drop [mm]",
                    "stones fallen", "collapse", "joints cracked", "energy balance [%]", "wall [s]"]
                   + (["members", "p collapse [95 %]", "p a stone falls [95 %]", "stones fallen (range)",

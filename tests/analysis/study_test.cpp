@@ -2,6 +2,7 @@
 // second call that keeps the current outputs; the jobs across MPI ranks; a bad study file
 // names its line.
 #include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
 
 #include <cstdio>
 #include <filesystem>
@@ -157,6 +158,28 @@ TEST(Study, RunSettingsOnTheCommandLineReachEveryRunAndItsKey) {
   ASSERT_EQ(status, 0) << reference;
   EXPECT_NE(reference.find("1 jobs ran, 0 were current"), std::string::npos) << reference;
   EXPECT_NE(text_of(out / "runs" / "nishida_a_kobe_dry" / "summary.json").find("\"damping\": \"study\""), std::string::npos);
+}
+
+// `study --stop-at collapse` reaches its runs: the tied stack of three, which topples whole
+// within its 3 s, ends at its collapse, and the report says that such a run's counts are
+// those at the collapse.
+TEST(Study, StopAtCollapseEndsCollapsingRunsAndTheReportSaysSo) {
+  const auto file = tmp_dir() / "ishibashi_study_stop.toml";
+  std::ofstream(file) << "[study]\nname = \"Stop\"\nscenarios = [\""
+                      << (kRoot / "scenarios/examples/stack_of_three_tied_kobe.toml").string()
+                      << "\"]\nsnapshot_times_s = [1.0]\nduration_s = 3.0\n";
+  const auto out = tmp_dir() / "ishibashi_study_stop";
+  std::filesystem::remove_all(out);
+  int status = 0;
+  const std::string log = run_command(
+      test::program() + " study " + file.string() + " --stop-at collapse --threads-per-job 1 --out " + out.string(), &status);
+  ASSERT_EQ(status, 0) << log;
+  const auto summary = nlohmann::json::parse(text_of(out / "runs" / "stack_of_three_tied_kobe" / "summary.json"));
+  EXPECT_EQ(summary["settings"]["stop_at"], "collapse");
+  EXPECT_TRUE(summary["collapse"].get<bool>());
+  EXPECT_TRUE(summary["stopped_early"].get<bool>());
+  EXPECT_LT(summary["shaking_time_s"].get<double>(), 2.9);
+  EXPECT_NE(text_of(out / "report.md").find("Runs that collapsed ended there (--stop-at collapse)"), std::string::npos);
 }
 
 // Under `mpirun -np 2` rank 0 hands the runs' members out as jobs of their own, then the
