@@ -268,6 +268,10 @@ ChaosProbeOutcome run_chaos_probe(const Scenario& scenario, const ChaosProbeOpti
                      ": a chaos probe needs 2 members or more (the reference and a perturbed run)");
   if (!(o.perturbation_m > 0))
     throw InputError("--perturbation: a chaos probe moves its stones by a distance > 0 m (1e-6: a micrometre)");
+  if (sc.settings.stop_at != StopAt::end)  // its members are compared frame by frame to the end
+    throw InputError(sc.file.string() + ": stop_at = \"" + setting_value(sc.settings.stop_at) +
+                     "\": a chaos probe follows its members to the record's end, where they are compared; "
+                     "run it with stop_at = \"end\" (--stop-at end)");
   const GroundMotion motion = prepare_ground_motion(sc.motion(), 1e-3);
   ChaosProbeOutcome outcome;
   outcome.members = o.members;

@@ -128,6 +128,22 @@ TEST(ChaosProbe, MpirunRanksRunTheSameMembersAsOneMachine) {
 // stopped before its first checkpoint (a killed process) starts again from the branch,
 // perturbed. (With the branch's checkpoint copied in among its files, such a member went
 // on from it unperturbed, a copy of the reference: model B dry's member 2, session 40.)
+// A probe compares its members to the record's end: one asked to stop them at a collapse is
+// refused with the setting that would run it, before any member runs.
+TEST(ChaosProbe, StopAtCollapseIsRefused) {
+  const fs::path out = tmp_dir() / "probe_stop_at";
+  fs::remove_all(out);
+  int status = 0;
+  const std::string printed = run_command(test::program() + " run " + sliding_block_scenario().string() +
+                                              " --probe 2 --stop-at collapse --out " + out.string(),
+                                          &status);
+  EXPECT_NE(status, 0) << printed;
+  EXPECT_NE(printed.find("stop_at = \"collapse\": a chaos probe follows its members to the record's end"), std::string::npos)
+      << printed;
+  EXPECT_NE(printed.find("(--stop-at end)"), std::string::npos) << printed;
+  EXPECT_FALSE(fs::exists(out / "member_000"));
+}
+
 TEST(ChaosProbe, AMemberStoppedBeforeItsFirstCheckpointStartsAgainPerturbed) {
   const fs::path out = tmp_dir() / "probe_restart";
   fs::remove_all(out);
