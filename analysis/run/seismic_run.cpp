@@ -296,23 +296,21 @@ void SeismicRun::shake(Progress& p) {
       r.largest_crown_drop_m =
           std::max(r.largest_crown_drop_m, p.settled_crown.z() - s.position[crown].z() + p.ground_displacement.z());
     p.shake_step = k + 1;
-    if ((k + 1) % steps_per_frame_ == 0 || k + 1 == n) {
-      p.record("shake", m, s);
-      write_summary(p, false);
-      if (options_.on_frame) options_.on_frame(s, double(k + 1) / n);
-      if (k + 1 < n && options_.branch_at_shake_s >= 0 && s.time_s - r.settle_time_s >= options_.branch_at_shake_s - 0.5 * dt_) {
-        write_checkpoint(p);  // the branch point, where the chaos probe's members go on from
-        p.branched = true;
-        return;
-      }
-      const bool stop = (options_.stop_when && options_.stop_when(r)) ||
-                        (scenario_.settings.stop_at == StopAt::collapse && r.collapse);
-      if (k + 1 < n && stop) {
-        p.stopped_early = true;
-        return;
-      }
-      if (k + 1 < n) maybe_checkpoint(p);
+    if ((k + 1) % steps_per_frame_ != 0 && k + 1 < n) continue;  // no output frame
+    p.record("shake", m, s);
+    write_summary(p, false);
+    if (options_.on_frame) options_.on_frame(s, double(k + 1) / n);
+    if (k + 1 == n) return;  // the record's end: nothing to branch, stop or checkpoint at
+    if (options_.branch_at_shake_s >= 0 && s.time_s - r.settle_time_s >= options_.branch_at_shake_s - 0.5 * dt_) {
+      write_checkpoint(p);  // the branch point, where the chaos probe's members go on from
+      p.branched = true;
+      return;
     }
+    if ((options_.stop_when && options_.stop_when(r)) || (scenario_.settings.stop_at == StopAt::collapse && r.collapse)) {
+      p.stopped_early = true;
+      return;
+    }
+    maybe_checkpoint(p);
   }
 }
 
