@@ -24,6 +24,13 @@ many members had a rod yield (of those with rods) and each member's largest rod 
 A side without rods says so, so that B tied against B dry reads as one bridge with a
 retrofit against the same bridge without.
 
+A side whose members were stopped at their collapse (`--stop-at collapse`: their
+summary.json says "stopped_early") has the outcomes that the rest of a collapse adds to
+(stones and ring stones fallen, whether a ring stone falls, the crown drop, the joints
+cracked, the rods' demand) only as far as each collapse: those rows give no p-value, and a
+line under the table says which side stopped. Collapse, whether any stone falls, the first
+opening and the first fall are whole-run outcomes either way.
+
 `--figure PNG` draws every member's crown unit (vertical, relative to the ground) and
 stones fallen against the time of shaking, each ensemble in its colour, its members thin
 and their median at each frame bold (member folders with histories only).
@@ -44,6 +51,11 @@ NUMBERS = [("fallen_stones", "stones fallen", "{:g}"), ("fallen_ring_stones", "r
 YES_NO = [("collapse", "collapse", lambda s: bool(s["collapse"])),
           ("stones_fall", "any stone falls", lambda s: s["fallen_stones"] > 0),
           ("ring_stones_fall", "a ring stone falls", lambda s: s["fallen_ring_stones"] > 0)]
+
+
+# The outcomes a run stopped at its collapse has only as far as the collapse.
+AT_COLLAPSE = {"fallen_stones", "fallen_ring_stones", "ring_stones_fall", "largest_crown_drop_m", "joints_cracked"}
+CUT_SHORT = "(a side stopped at its collapses)"
 
 
 def with_ties_columns(summary):
@@ -129,16 +141,17 @@ def spread(values, form):
     return f"{form.format(median(values))} ({form.format(min(values))} to {form.format(max(values))})"
 
 
-def print_ties_rows(tied):
+def print_ties_rows(tied, cut_short):
     """The rods' rows, over each side's members with rods ("no rods" for a side without)."""
     both = all(tied)
     yes = [sum(s["ties_yielded"] > 0 for s in r) for r in tied]
     cells = [f"{y} of {len(r)}" if r else "no rods" for y, r in zip(yes, tied)]
-    p = f"{fisher_p(yes[0], len(tied[0]), yes[1], len(tied[1])):.3f} (Fisher)" if both else "(a side has no rods)"
+    p = (CUT_SHORT if cut_short else f"{fisher_p(yes[0], len(tied[0]), yes[1], len(tied[1])):.3f} (Fisher)") if both \
+        else "(a side has no rods)"
     print(f"| a tie rod yields | {cells[0]} | {cells[1]} | {p} |")
     peaks = [[s["peak_tie_tension_kn"] for s in r] for r in tied]
     cells = [spread(v, "{:.0f}") if v else "no rods" for v in peaks]
-    p = f"{rank_sum_p(*peaks):.3f} (rank sum)" if both else "(a side has no rods)"
+    p = (CUT_SHORT if cut_short else f"{rank_sum_p(*peaks):.3f} (rank sum)") if both else "(a side has no rods)"
     print(f"| largest rod tension [kN] | {cells[0]} | {cells[1]} | {p} |")
 
 
@@ -158,19 +171,27 @@ def main():
     def count(n):
         return f"{n} member" + ("" if n == 1 else "s")
 
+    stopped = [any(s.get("stopped_early") for s in r) for r in runs]
+    cut_short = any(stopped)
     print(f"| outcome | {labels[0]} ({count(len(runs[0]))}) | {labels[1]} ({count(len(runs[1]))}) | exact p |")
     print("|---|---|---|---|")
-    for _, name, test in YES_NO:
+    for key, name, test in YES_NO:
         yes = [sum(test(s) for s in r) for r in runs]
-        p = fisher_p(yes[0], len(runs[0]), yes[1], len(runs[1]))
-        print(f"| {name} | {yes[0]} of {len(runs[0])} | {yes[1]} of {len(runs[1])} | {p:.3f} (Fisher) |")
+        p = CUT_SHORT if cut_short and key in AT_COLLAPSE else \
+            f"{fisher_p(yes[0], len(runs[0]), yes[1], len(runs[1])):.3f} (Fisher)"
+        print(f"| {name} | {yes[0]} of {len(runs[0])} | {yes[1]} of {len(runs[1])} | {p} |")
     for key, name, form in NUMBERS:
         values = [[s[key] for s in r if s.get(key) is not None] for r in runs]
-        p = f"{rank_sum_p(*values):.3f} (rank sum)" if all(values) else "(a side has none)"
+        p = CUT_SHORT if cut_short and key in AT_COLLAPSE else \
+            f"{rank_sum_p(*values):.3f} (rank sum)" if all(values) else "(a side has none)"
         print(f"| {name} | {spread(values[0], form)} | {spread(values[1], form)} | {p} |")
     tied = [[s for s in r if s["tie_rods"] > 0] for r in runs]
     if any(tied):
-        print_ties_rows(tied)
+        print_ties_rows(tied, cut_short)
+    for label, side_stopped in zip(labels, stopped):
+        if side_stopped:
+            print(f"\n{label}: its members that collapsed stopped there (--stop-at collapse), so its stones fallen, "
+                  "crown drop, joints cracked and rods' demand are those at each collapse.")
     if o.figure:
         draw(list(zip(labels, runs)), o.figure)
 

@@ -115,4 +115,17 @@ with tempfile.TemporaryDirectory() as tmp:
                              str(tmp / "a"), "--labels", "T", "A"], check=True, capture_output=True, text=True).stdout
     assert "| a tie rod yields | 2 of 3 | no rods | (a side has no rods) |" in untied, untied
     assert "| largest rod tension [kN] | 150 (120 to 180) | no rods | (a side has no rods) |" in untied, untied
+    # S: A's members again, those that collapsed (member 2) stopped there: the rows the rest of a
+    # collapse adds to give no p-value, the whole-run outcomes keep theirs, and a line says so.
+    for m, (fallen, ring) in enumerate([(0, 0), (3, 0), (9, 2)]):
+        write_member(tmp / "s" / f"member_{m:03d}", fallen, ring, 1.0 + m, 4)
+    summary = json.loads((tmp / "s" / "member_002" / "summary.json").read_text())
+    (tmp / "s" / "member_002" / "summary.json").write_text(json.dumps(dict(summary, stopped_early=True)))
+    cut = subprocess.run([sys.executable, str(ROOT / "scripts" / "compare_ensembles.py"), str(tmp / "s"),
+                          str(tmp / "b"), "--labels", "S", "B"], check=True, capture_output=True, text=True).stdout
+    assert "| stones fallen | 3 (0 to 9) | 25 (20 to 30) | (a side stopped at its collapses) |" in cut, cut  # B: 2 left
+    assert "| a ring stone falls | 1 of 3 | 2 of 2 | (a side stopped at its collapses) |" in cut, cut
+    assert "| any stone falls | 2 of 3 | 2 of 2 | 1.000 (Fisher) |" in cut, cut
+    assert "| first opening [s] |" in cut and cut.count("(rank sum)") == 2, cut  # first opening and first fall
+    assert "S: its members that collapsed stopped there" in cut and "B: its" not in cut, cut
 print("compare_ensembles: exact tests, table and median curve as computed by hand, the rods' rows; the figure written")
