@@ -2,7 +2,8 @@
 """scripts/compare_ensembles.py's exact tests against hand arithmetic, and its table from
 two small ensembles written here (member folders with summary.json and history.csv, one
 history kept as history.csv.xz), the same with one of them as an ensemble.csv; the
-members' median curve by hand, and the figure written."""
+members' median curve by hand, and the figure written; the rods' rows, and a side stopped
+at its collapses, whose cut-short outcomes get no p-value."""
 import json
 import lzma
 import subprocess
