@@ -49,6 +49,9 @@ SweepFile read_sweep(const std::filesystem::path& file) {
     if (!is_folder_name(sc.stem().string()))
       throw InputError(file.string() + ": scenario file name " + sc.filename().string() +
                        " must be letters, digits, '_', '-' or '.' before .toml (it names folders and rows of sweep.csv)");
+    if (read_scenario(sc).settings.stop_at != StopAt::end)  // a run stopped before its failure would count as a survival
+      throw InputError(file.string() + ": scenario " + sc.filename().string() + " ends its runs at their collapse ([run] "
+                       "stop_at = \"collapse\"); a sweep ends them at its own failure criteria: [failure] stop_at_failure = true");
   }
   if (pga.empty() == scale.empty())
     throw InputError(file.string() + ": [sweep] needs either pga_g = [...] (target PGAs, g) or scale = [...] (factors)");

@@ -308,6 +308,15 @@ TEST(Sweep, AmbiguousScenariosAreRefused) {
   std::filesystem::copy_file(dry, comma, std::filesystem::copy_options::overwrite_existing);
   const std::string named = message(sweep_file("scenarios = [\"" + comma.string() + "\"]"));
   EXPECT_NE(named.find("must be letters, digits"), std::string::npos) << named;
+  // A scenario that ends its runs at their collapse: with crown-drop criteria such a run
+  // could stop before it failed; the sweep's own stop is named instead.
+  const auto stops = twin / "stops.toml";
+  std::ofstream(stops) << text_of(dry).replace(text_of(dry).find("[run]\n"), 6, "[run]\nstop_at = \"collapse\"\n");
+  const std::string stopped = message(sweep_file("scenario = \"" + stops.string() + "\""));
+  EXPECT_NE(stopped.find("stops.toml ends its runs at their collapse ([run] stop_at = \"collapse\"); a sweep ends them at "
+                         "its own failure criteria: [failure] stop_at_failure = true"),
+            std::string::npos)
+      << stopped;
   // Two levels of one label ("%g": 0.5 and 0.5000001) would name the same runs' folders.
   const auto file = sweep_file();
   std::string text = text_of(file);
