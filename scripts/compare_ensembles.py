@@ -25,9 +25,9 @@ A side without rods says so, so that B tied against B dry reads as one bridge wi
 retrofit against the same bridge without.
 
 A side whose members were stopped at their collapse (`--stop-at collapse`: their
-summary.json says "stopped_early") has the outcomes that the rest of a collapse adds to
-(stones and ring stones fallen, whether a ring stone falls, the crown drop, the joints
-cracked, the rods' demand) only as far as each collapse: those rows give no p-value, and a
+summary.json says "stopped_early", and so does ensemble.csv's column of that name) has the
+outcomes that the rest of a collapse adds to (stones and ring stones fallen, whether a ring
+stone falls, the crown drop, the joints cracked, the rods' demand) only as far as each collapse: those rows give no p-value, and a
 line under the table says which side stopped. Collapse, whether any stone falls, the first
 opening and the first fall are whole-run outcomes either way.
 

@@ -7,7 +7,8 @@
 //   member_000/ ...        each member's run: series, history.csv, summary.json (its draws
 //                          under "member"), checkpoint.bin while it runs
 //   ensemble.csv           a row per member: member, seed, amplitude, friction_angle_deg,
-//                          then summary.json's result columns (run_result.h)
+//                          then summary.json's result columns (run_result.h), first_fall_s
+//                          and stopped_early (yes: ended at its collapse, [run] stop_at)
 //   ensemble.json          the probabilities of collapse, of any stone falling and of a
 //                          ring stone falling, each with its 95 % Wilson interval, and the
 //                          median, least and largest fallen stones, first opening, first

@@ -194,7 +194,7 @@ OutcomeCounts write_outcomes(const OutcomeTable& table, const fs::path& csv_file
   csv << "member";
   for (const std::string& name : table.draw_columns) csv << ',' << name;
   for (const ResultColumn& c : result_columns()) csv << ',' << c.name;
-  csv << ",first_fall_s\n";
+  csv << ",first_fall_s,stopped_early\n";  // stopped_early: ended at its collapse (stop_at), its counts at that frame
   OutcomeCounts n;
   std::vector<double> fallen, first_opening, first_fall, crown_drop;
   std::vector<int> members;
@@ -206,7 +206,8 @@ OutcomeCounts write_outcomes(const OutcomeTable& table, const fs::path& csv_file
     const double fall = first_fall_s(row.folder / "history.csv", s["settle_time_s"].get<double>());
     csv << row.member;
     for (const std::string& draw : row.draws) csv << ',' << draw;
-    csv << ',' << summary_csv_values(s) << ',' << (fall < 0 ? std::string() : std::to_string(fall)) << '\n';
+    csv << ',' << summary_csv_values(s) << ',' << (fall < 0 ? std::string() : std::to_string(fall)) << ','
+        << (s.value("stopped_early", false) ? "yes" : "no") << '\n';  // older summaries: no such key
     ++n.finished;
     n.collapses += s["collapse"].get<bool>();
     collapsed.push_back(s["collapse"].get<bool>());

@@ -294,6 +294,9 @@ TEST(Ensemble, StopAtCollapseEndsCollapsingMembersThere) {
   const auto whole = run("stack_of_three_tied_kobe.toml", "stop_at_whole", "--members 2 --jobs 2");
   const auto stop = run("stack_of_three_tied_kobe.toml", "stop_at_collapse", "--members 2 --jobs 2 --stop-at collapse");
   EXPECT_NE(text_of(stop / "ensemble.json").find("\"stop_at\": \"collapse\""), std::string::npos);
+  // ensemble.csv, what scenarios/results keeps of an ensemble, says which members stopped.
+  EXPECT_EQ(count_of(text_of(stop / "ensemble.csv"), ",yes\n"), 2) << text_of(stop / "ensemble.csv");
+  EXPECT_EQ(count_of(text_of(whole / "ensemble.csv"), ",no\n"), 2) << text_of(whole / "ensemble.csv");
   for (const char* member : {"member_000", "member_001"}) {
     const auto a = nlohmann::json::parse(text_of(whole / member / "summary.json"));
     const auto b = nlohmann::json::parse(text_of(stop / member / "summary.json"));

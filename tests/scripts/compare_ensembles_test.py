@@ -129,4 +129,14 @@ with tempfile.TemporaryDirectory() as tmp:
     assert "| any stone falls | 2 of 3 | 2 of 2 | 1.000 (Fisher) |" in cut, cut
     assert "| first opening [s] |" in cut and cut.count("(rank sum)") == 2, cut  # first opening and first fall
     assert "S: its members that collapsed stopped there" in cut and "B: its" not in cut, cut
+    # S as its ensemble.csv (stopped_early, yes/no): the same table.
+    columns = ["member", "interrupted", "settle_time_s", "first_opening_s", "collapse", "fallen_stones",
+               "fallen_ring_stones", "joints_cracked", "largest_crown_drop_m", "first_fall_s", "stopped_early"]
+    rows = [",".join(columns)] + [f"{m},no,0.5,{1.0 + m},{'yes' if ring else 'no'},{fallen},{ring},{100 + fallen},"
+                                  f"{0.01 * fallen},{0.4 if fallen else ''},{'yes' if m == 2 else 'no'}"
+                                  for m, (fallen, ring) in enumerate([(0, 0), (3, 0), (9, 2)])]
+    (tmp / "s.csv").write_text("\n".join(rows) + "\n")
+    cut_csv = subprocess.run([sys.executable, str(ROOT / "scripts" / "compare_ensembles.py"), str(tmp / "s.csv"),
+                              str(tmp / "b"), "--labels", "S", "B"], check=True, capture_output=True, text=True).stdout
+    assert cut_csv == cut, cut_csv + "\n" + cut
 print("compare_ensembles: exact tests, table and median curve as computed by hand, the rods' rows; the figure written")
