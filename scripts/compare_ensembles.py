@@ -27,9 +27,10 @@ retrofit against the same bridge without.
 A side whose members were stopped at their collapse (`--stop-at collapse`: their
 summary.json says "stopped_early", and so does ensemble.csv's column of that name) has the
 outcomes that the rest of a collapse adds to (stones and ring stones fallen, whether a ring
-stone falls, the crown drop, the joints cracked, the rods' demand) only as far as each collapse: those rows give no p-value, and a
-line under the table says which side stopped. Collapse, whether any stone falls, the first
-opening and the first fall are whole-run outcomes either way.
+stone falls, the crown drop, the joints cracked, the rods' demand) only as far as each
+collapse: those rows give no p-value, and a line under the table says which side stopped.
+Collapse, whether any stone falls, the first opening and the first fall are whole-run
+outcomes either way.
 
 `--figure PNG` draws every member's crown unit (vertical, relative to the ground) and
 stones fallen against the time of shaking, each ensemble in its colour, its members thin
