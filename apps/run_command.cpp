@@ -278,9 +278,9 @@ int run_scenario(const RunOptions& o) {
   char when[96] = "interrupted while settling";
   if (!r.interrupted || r.shaking_time_s > 0)
     std::snprintf(when, sizeof when, "%s after %.2f s of shaking",
-                  r.interrupted                                         ? "interrupted"
-                  : r.collapse && sc.settings.stop_at == StopAt::collapse ? "collapse, stopped there (--stop-at collapse),"
-                                                                          : "done",
+                  r.interrupted     ? "interrupted"
+                  : r.stopped_early ? "collapse, stopped there (--stop-at collapse),"  // the only stop a plain run has
+                                    : "done",
                   r.shaking_time_s);
   char crown[64] = "no crown unit monitored";  // an imported model has none unless [monitor] names one
   if (run.monitored_block() >= 0) std::snprintf(crown, sizeof crown, "largest crown drop %.4f m", r.largest_crown_drop_m);

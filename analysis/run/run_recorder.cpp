@@ -211,7 +211,7 @@ void RunRecorder::write_summary(const RunDescription& run, const SeismicRunResul
   Json j;
   j["model"] = run.model_name;
   j["finished"] = finished;
-  j["stopped_early"] = run.stopped_early;  // finished before the record's end: a sweep's failure decided
+  j["stopped_early"] = r.stopped_early;  // finished before the record's end: a sweep's failure decided
   for (const ResultColumn& column : result_columns())
     j[column.name] = std::visit(
         [](const auto& v) -> Json {

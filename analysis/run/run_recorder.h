@@ -52,7 +52,6 @@ struct RunDescription {
     MemberDraw draw;
     EnsembleSpec spec;
   } member;
-  bool stopped_early = false;                       // ended before the record by options.stop_when or stop_at
 };
 
 // The shaking (s) that the summary.json in `out` reports of a run that finished; -1 where

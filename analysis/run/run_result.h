@@ -15,6 +15,7 @@ namespace ishibashi {
 #define ISHIBASHI_RUN_RESULT_FIELDS(X)                                                                     \
   X(bool, settled, false)              /* the kinetic energy fell below the scenario's threshold */       \
   X(bool, interrupted, false)          /* stopped by SIGINT/SIGTERM (outputs valid up to then) */          \
+  X(bool, stopped_early, false)        /* ended at a frame where options.stop_when or stop_at said so */   \
   X(double, settle_time_s, 0)                                                                              \
   X(double, shaking_time_s, 0)         /* simulated after settling */                                      \
   X(double, first_opening_s, -1)       /* seconds of shaking until the first crack; -1: none */            \

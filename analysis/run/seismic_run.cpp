@@ -127,7 +127,6 @@ struct SeismicRun::Progress {
   SeismicRunResult result;
   bool shaking = false;  // settled: the ground moves
   bool branched = false;  // stopped at options.branch_at_shake_s
-  bool stopped_early = false;  // ended where options.stop_when or [run] stop_at said so
   long shake_step = 0;   // the next step of the ground motion
   Vec3 settled_crown = Vec3::Zero();
   Vec3 ground_accel = Vec3::Zero(), ground_displacement = Vec3::Zero();  // at the last step
@@ -172,7 +171,7 @@ void SeismicRun::write_summary(Progress& p, bool finished) {
   const BridgeSpec& bridge = scenario_.model.bridge;
   RunDescription run{scenario_.model.name, monitored_block(), dt_, world_->thread_tuner().max_threads(), bridge.mortar_pa,
                      {bridge.mortar_tension_fracture_j_m2, bridge.mortar_shear_fracture_j_m2}, mortar_part_names(bridge),
-                     scenario_.settings, peaks_, {}, p.stopped_early};
+                     scenario_.settings, peaks_, {}};
   if (options_.member >= 0) run.member = {options_.member, draw_member(scenario_.ensemble, options_.member), scenario_.ensemble};
   p.recorder.write_summary(run, r, s, p.joints, finished);
 }
@@ -307,7 +306,7 @@ void SeismicRun::shake(Progress& p) {
       return;
     }
     if ((options_.stop_when && options_.stop_when(r)) || (scenario_.settings.stop_at == StopAt::collapse && r.collapse)) {
-      p.stopped_early = true;
+      r.stopped_early = true;
       return;
     }
     maybe_checkpoint(p);

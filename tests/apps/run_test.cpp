@@ -567,5 +567,44 @@ TEST(Run, DurationPastTheRecordsEndIsSaid) {
   std::filesystem::remove_all(out);
 }
 
+// `--stop-at collapse`: the run's last line says it stopped at its collapse only when it did.
+// A run whose record ends at the very frame that first finds the collapse ran its whole
+// record, and says "done" (summary.json: not stopped early), though it collapsed. (Without
+// the baseline correction, which fits its constant to the whole window: a shorter record
+// is then the longer one's beginning, the same motion step for step.)
+TEST(Run, StopAtCollapseSaysStoppedThereOnlyWhenTheRunStopped) {
+  std::string text = test::text_of(kRoot / "scenarios/examples/stack_of_three_tied_kobe.toml");
+  for (std::size_t at; (at = text.find("\"../../")) != std::string::npos;) text.replace(at, 7, "\"" + kRoot.string() + "/");
+  const auto scenario = std::filesystem::temp_directory_path() / "ishibashi_stop_at_tied.toml";
+  std::ofstream(scenario) << text << "baseline_correction = false\n";  // [ground_motion], the file's last table
+  auto run = [&](const std::string& name, const std::string& options, nlohmann::json* summary) {
+    const auto out = std::filesystem::temp_directory_path() / ("ishibashi_stop_at_" + name);
+    std::filesystem::remove_all(out);
+    int status = 0;
+    const std::string said = test::run_command(
+        test::program() + " run " + scenario.string() + " --threads 1 --no-report --stop-at collapse " + options + " --out " + out.string(),
+        &status);
+    EXPECT_EQ(status, 0) << said;
+    *summary = nlohmann::json::parse(test::text_of(out / "summary.json"));
+    std::filesystem::remove_all(out);
+    return said;
+  };
+  nlohmann::json stopped, ended;
+  const std::string first = run("stopped", "", &stopped);
+  ASSERT_TRUE(stopped["collapse"].get<bool>()) << first;  // the tied stack topples within its 3 s
+  EXPECT_TRUE(stopped["stopped_early"].get<bool>());
+  EXPECT_NE(first.find("collapse, stopped there (--stop-at collapse), after"), std::string::npos) << first;
+  const double at_s = stopped["shaking_time_s"].get<double>();
+  ASSERT_LT(at_s, 2.9);
+  char duration[32];
+  std::snprintf(duration, sizeof duration, "--duration %.9f", at_s + 1e-7);  // dt = 9.9e-6 s: the same step count
+  const std::string second = run("ended", duration, &ended);
+  ASSERT_TRUE(ended["collapse"].get<bool>()) << second;
+  EXPECT_EQ(ended["steps"], stopped["steps"]);
+  EXPECT_FALSE(ended["stopped_early"].get<bool>());
+  EXPECT_EQ(second.find("stopped there"), std::string::npos) << second;
+  EXPECT_NE(second.find("done after"), std::string::npos) << second;
+}
+
 }  // namespace
 }  // namespace ishibashi
