@@ -119,6 +119,9 @@ int run_ensemble_of(const RunOptions& o, Scenario sc) {
   };
   std::printf("  collapse: %s\n  any stone fell: %s\n  a ring stone fell: %s\n", share(r.collapses).c_str(),
               share(r.stones_fell).c_str(), share(r.ring_stones_fell).c_str());
+  std::string modes;  // how_it_fails.h, failure_mode
+  for (const auto& [mode, members] : r.failure_modes) modes += (modes.empty() ? "" : "; ") + mode + ": " + share(members);
+  if (!modes.empty()) std::printf("  how they fail: %s\n", modes.c_str());
   if (sc.settings.stop_at == StopAt::collapse)
     std::printf("  (stop_at = \"collapse\": each collapsing member ended at its collapse, so its fallen stones and crown drop "
                 "are those at that frame, and a ring stone that would have fallen later is not counted)\n");
@@ -287,6 +290,7 @@ int run_scenario(const RunOptions& o) {
   std::printf("%s: %d fallen stones, %d of %d joints cracked (%d open now), largest slip %.4f m, %s, first opening %s\n",
               when, r.fallen_stones, r.joint_counts.cracked, r.joints, r.joint_counts.open, r.joint_counts.largest_slip_m,
               crown, r.first_opening_s < 0 ? "none" : (std::to_string(r.first_opening_s) + " s").c_str());
+  if (r.fallen_stones > 0) std::printf("how it fails: %s\n", how_it_fails_of(options.out).c_str());
   std::printf("energy balance error %.3g %% of the energy exchanged\n", 100 * r.balance_error_relative);
   if (std::abs(r.balance_error_relative) > kBalanceWarning)
     std::printf("warning: the energy balance misses by more than %.0f %%: a step too coarse for this run's impacts (try "

@@ -126,6 +126,7 @@ EnsembleOutcome run_ensemble(const Scenario& scenario, const EnsembleOptions& o)
   outcome.ring_stones_fell = finished.ring_stones_fell;
   outcome.typical_member = finished.typical;
   outcome.worst_member = finished.worst;
+  outcome.failure_modes = finished.failure_modes;
   return outcome;
 }
 

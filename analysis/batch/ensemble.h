@@ -50,6 +50,7 @@ struct EnsembleOutcome {
   int collapses = 0, stones_fell = 0, ring_stones_fell = 0;            // among the finished members
   int finished = 0;
   int typical_member = -1, worst_member = -1;  // of the most common and the worst outcome (member_runs.h)
+  std::vector<std::pair<std::string, int>> failure_modes;  // members by how they fail, the most common first
 };
 
 // Runs the members of [first_member, end_member) not yet finished (a member's folder

@@ -5,11 +5,13 @@
 #include <cmath>
 #include <cstdio>
 #include <fstream>
+#include <map>
 #include <sstream>
 #include <tuple>
 
 #include "analysis/batch/job_queue.h"
 #include "analysis/batch/study_progress.h"
+#include "analysis/run/how_it_fails.h"
 #include "engine/cores.h"
 #include "io/atomic_file.h"
 #include "io/vtk_output.h"
@@ -194,8 +196,9 @@ OutcomeCounts write_outcomes(const OutcomeTable& table, const fs::path& csv_file
   csv << "member";
   for (const std::string& name : table.draw_columns) csv << ',' << name;
   for (const ResultColumn& c : result_columns()) csv << ',' << c.name;
-  csv << ",first_fall_s,stopped_early\n";  // stopped_early: ended at its collapse (stop_at), its counts at that frame
+  csv << ",first_fall_s,stopped_early,failure_mode\n";  // stopped_early: ended at its collapse (stop_at), its counts at that frame
   OutcomeCounts n;
+  std::map<std::string, int> modes;
   std::vector<double> fallen, first_opening, first_fall, crown_drop;
   std::vector<int> members;
   std::vector<bool> collapsed;
@@ -204,10 +207,12 @@ OutcomeCounts write_outcomes(const OutcomeTable& table, const fs::path& csv_file
     const nlohmann::json s = nlohmann::json::parse(std::ifstream(row.folder / "summary.json"));
     fall_map.add(s, row.folder);
     const double fall = first_fall_s(row.folder / "history.csv", s["settle_time_s"].get<double>());
+    const std::string mode = failure_mode(s);
+    if (!mode.empty()) ++modes[mode];
     csv << row.member;
     for (const std::string& draw : row.draws) csv << ',' << draw;
     csv << ',' << summary_csv_values(s) << ',' << (fall < 0 ? std::string() : std::to_string(fall)) << ','
-        << (s.value("stopped_early", false) ? "yes" : "no") << '\n';  // older summaries: no such key
+        << (s.value("stopped_early", false) ? "yes" : "no") << ",\"" << mode << "\"\n";  // older summaries: no such keys
     ++n.finished;
     n.collapses += s["collapse"].get<bool>();
     collapsed.push_back(s["collapse"].get<bool>());
@@ -245,6 +250,10 @@ OutcomeCounts write_outcomes(const OutcomeTable& table, const fs::path& csv_file
   j["largest_crown_drop_m"] = value_spread(crown_drop);
   j["most_common_outcome_member"] = n.typical;  // of the majority's verdict, the median fallen stones
   j["worst_outcome_member"] = n.worst;          // the most fallen stones, then the largest crown drop
+  n.failure_modes.assign(modes.begin(), modes.end());
+  std::stable_sort(n.failure_modes.begin(), n.failure_modes.end(), [](const auto& a, const auto& b) { return a.second > b.second; });
+  j["failure_modes"] = nlohmann::ordered_json::object();  // members by how they fail, the most common first
+  for (const auto& [mode, count] : n.failure_modes) j["failure_modes"][mode] = count;
   j["fallen_blocks"] = fall_map.json();
   fall_map.write_vtu(csv_file.parent_path() / "fallen_share.vtu");
   return n;

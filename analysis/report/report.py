@@ -513,6 +513,16 @@ def tie_rods_cell(r):
     return f"{r['ties_yielded']} of {rods} yielded, {number(r['peak_tie_tension_n']) / 1000:.3g} kN"
 
 
+def how_it_fails_cell(out, r):
+    """How a run fails (its summary.json's sentence; an ensemble's most common outcome's
+    member's): which parts lost stones, from when, and which way they fell; "-" for a run
+    from a program before the sentence."""
+    summary = run_folder(out, r) / "summary.json"
+    if not summary.exists():
+        return "-"
+    return json.load(open(summary)).get("how_it_fails", {}).get("text", "-")
+
+
 def run_sections(out, study, figures):
     """The seismic runs' table and figures, their snapshots and animations."""
     runs = study["runs"]
@@ -523,12 +533,12 @@ def run_sections(out, study, figures):
                  fmt(r.get("bond_utilisation_peak"), 2),
                  fmt(r["largest_crown_drop_m"], 1, 1000), r["fallen_stones"], r["collapse"],
                  f"{r['joints_cracked']} / {r['joints']}", fmt(r["energy_balance_error_relative"], 3, 100),
-                 fmt(r["wall_s"], 0), study["study_says"].get(r["scenario"], "")]
+                 fmt(r["wall_s"], 0), how_it_fails_cell(out, r), study["study_says"].get(r["scenario"], "")]
                 for r in runs]
     ensembles = any(members_of(out, r) for r in runs)
     tied = any(tie_rods_cell(r) != "-" for r in runs)
     for row, r in zip(run_rows, runs):
-        row[-1:-1] = (ensemble_columns(r, study["study_outcome"].get(r["scenario"], "")) if ensembles else []) + \
+        row[-2:-2] = (ensemble_columns(r, study["study_outcome"].get(r["scenario"], "")) if ensembles else []) + \
             ([tie_rods_cell(r)] if tied else [])
     sections = [("Seismic runs",
                  "Settled under gravity, then shaken. First opening: seconds of shaking until a joint first "
@@ -536,7 +546,9 @@ def run_sections(out, study, figures):
                  "its strength an intact bond carried (1: a bond breaks; - without mortar; the figure of each mortar run "
                  "gives it through the shaking, each frame the largest since the frame before). Crown drop: the largest downward displacement "
                  "of the crown unit relative to the ground. Energy balance: the fraction of the energy "
-                 "exchanged (ground work, dashpots, friction, bonds) that the balance misses. Study says: what "
+                 "exchanged (ground work, dashpots, friction, bonds) that the balance misses. How it fails: which "
+                 "parts lost stones, from when (the first frame that found one fallen), on which side of the bridge, "
+                 "and which way they fell (x along the span: in plane; y across: out of plane). Study says: what "
                  "the published study reports of that run, where the study file gives it (the study's time axis "
                  "runs 3.8 s behind the record: its 4.0 s is the record's 7.8 s, 3.8 s of shaking from 4.0 s)."
                  + (" A run of several members is an ensemble (members that differ by the construction "
@@ -552,7 +564,7 @@ def run_sections(out, study, figures):
                    "stones fallen", "collapse", "joints cracked", "energy balance [%]", "wall [s]"]
                   + (["members", "p collapse [95 %]", "p a stone falls [95 %]", "stones fallen (range)",
                       "p of the study's outcome here"] if ensembles else [])
-                  + (["tie rods"] if tied else []) + ["study says"],
+                  + (["tie rods"] if tied else []) + ["how it fails", "study says"],
                   run_rows),
                  [ground_motion_figure(out, runs, figures), crown_figure(out, runs, figures),
                   bond_utilisation_figure(out, runs, figures), energy_figure(out, runs, figures)])]

@@ -13,6 +13,7 @@ ParaView shows the same run in 3D (FOLDER/view.pvsm).
 """
 import re
 import sys
+import textwrap
 from pathlib import Path
 
 import matplotlib
@@ -56,9 +57,19 @@ def tie_rods(a, t, shake, summary):
                 f"{summary['peak_tie_tension_n'] / 1000:.3g} kN (between frames too)", fontsize=9)
 
 
-def bridge_at_the_end(axes, folder, shaken_s):
+def how_it_fails(summary):
+    """summary.json's sentence of which parts lost stones, from when, and which way they
+    fell, wrapped for a panel's title; empty where no stone fell (or an older run)."""
+    text = summary.get("how_it_fails", {}).get("text", "")
+    if not summary.get("fallen_stones") or not text:
+        return ""
+    return "\n" + textwrap.fill("how it fails: " + text, 150)
+
+
+def bridge_at_the_end(axes, folder, shaken_s, summary):
     """The last frame's blocks in 3D on the first frame's bounds (a stone that fell far is
-    cut off), coloured by displacement relative to the ground, fallen stones red."""
+    cut off), coloured by displacement relative to the ground, fallen stones red, and how
+    the run fails."""
     series = frames(folder)
     if not series:
         axes.set_axis_off()
@@ -71,7 +82,7 @@ def bridge_at_the_end(axes, folder, shaken_s):
     draw_bridge(axes, faces, moved, fallen, top, (lo, hi), -75)
     axes.set_box_aspect([max(hi[i] - lo[i], 1e-3) for i in range(3)], zoom=1.5)  # the panel is wide: fill it
     axes.set_title(f"the bridge at the end ({shaken_s:.2f} s of shaking): displacement relative to the ground up to "
-                   f"{1000 * top:.0f} mm (yellow), {stones} fallen stones red", fontsize=9)
+                   f"{1000 * top:.0f} mm (yellow), {stones} fallen stones red{how_it_fails(summary)}", fontsize=9)
 
 
 def draw(folder, title):
@@ -92,7 +103,7 @@ def draw(folder, title):
     panels = 5 + rods
     fig = plt.figure(figsize=(10, 3 * panels))
     grid = fig.add_gridspec(panels, 1, height_ratios=(1.6,) + (1,) * (panels - 1))
-    bridge_at_the_end(fig.add_subplot(grid[0], projection="3d"), folder, t[-1])
+    bridge_at_the_end(fig.add_subplot(grid[0], projection="3d"), folder, t[-1], summary)
     axes = [fig.add_subplot(grid[1])]
     axes += [fig.add_subplot(grid[k], sharex=axes[0]) for k in range(2, panels)]
     if rods:

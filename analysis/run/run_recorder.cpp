@@ -133,7 +133,8 @@ RunRecorder::RunRecorder(std::filesystem::path out, const Model& model, std::vec
       on_warning_(std::move(on_warning)),
       blocks_(out_, "blocks"),
       contacts_(out_, "contacts", VtkSeriesWriter::Kind::contacts),
-      reported_left_(model.block_count, 0) {
+      reported_left_(model.block_count, 0),
+      falls_(model.block_count) {
   if (!model.ties.empty()) ties_.emplace(out_, "ties", VtkSeriesWriter::Kind::ties);
   view_.ties = ties_.has_value();
   history_ = history_header(monitors_);
@@ -185,6 +186,7 @@ RunCounts RunRecorder::record(const char* phase, const State& s, const Vec3& ga,
         on_warning_(text);
       }
     }
+  falls_.note(m, s, gd);
   HistoryFrame frame{s.time_s, phase, ga, gd, s.energy, c, {}};
   for (int b : monitors_) frame.monitored_m.push_back(s.position[b] - m.initial_position[b] - gd);
   // The frames before the history's row: a write that fails (a full disk) stops the run
@@ -229,6 +231,7 @@ void RunRecorder::write_summary(const RunDescription& run, const SeismicRunResul
   for (int b = 0; b < model_.block_count; ++b)
     if (is_fallen(model_, s, b)) fallen.push_back(b);
   j["fallen_blocks"] = fallen;
+  j["how_it_fails"] = falls_.summary(model_, r.settle_time_s);
   j["monitored_block"] = run.monitored_block;
   j["dt_s"] = run.dt_s;  // the step used (settings.dt_s: the one asked for, 0 a share of the limit)
   const GroundMotionPeaks& peaks = run.ground_peaks;  // x, y, z: what a fragility takes as the intensity
@@ -281,6 +284,13 @@ double finished_shaking_s(const std::filesystem::path& out) {
   const nlohmann::json j = nlohmann::json::parse(in, nullptr, /*allow_exceptions=*/false);
   if (!j.is_object() || !j.value("finished", false)) return -1;
   return j.value("shaking_time_s", 0.0);
+}
+
+std::string how_it_fails_of(const std::filesystem::path& out) {
+  std::ifstream in(out / "summary.json");
+  const nlohmann::json j = nlohmann::json::parse(in, nullptr, /*allow_exceptions=*/false);
+  if (!j.is_object() || !j.contains("how_it_fails")) return "";
+  return j["how_it_fails"].value("text", "");
 }
 
 }  // namespace ishibashi

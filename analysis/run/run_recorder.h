@@ -9,6 +9,7 @@
 #include <string>
 #include <vector>
 
+#include "analysis/run/how_it_fails.h"
 #include "analysis/run/member_draw.h"
 #include "analysis/run/run_result.h"
 #include "engine/joints.h"
@@ -57,6 +58,8 @@ struct RunDescription {
 // The shaking (s) that the summary.json in `out` reports of a run that finished; -1 where
 // the folder holds no summary, or one of a run stopped, killed or under way.
 double finished_shaking_s(const std::filesystem::path& out);
+// The sentence of summary.json's how_it_fails in `out` (how_it_fails.h); empty where none.
+std::string how_it_fails_of(const std::filesystem::path& out);
 
 class RunRecorder {
  public:
@@ -79,6 +82,7 @@ class RunRecorder {
   template <class Archive>
   void visit(Archive& a) {
     a.field(reported_left_), a.field(history_), a.field(view_.colour_range_m);
+    falls_.visit(a);
     std::vector<double> times = blocks_.frame_times();
     a.field(times);
     if constexpr (Archive::reading) blocks_.resume(times);
@@ -107,6 +111,7 @@ class RunRecorder {
   ParaViewView view_;
   std::string history_;  // history.csv so far
   std::vector<std::uint8_t> reported_left_;  // (nb) warned that the block left the model
+  FallRecord falls_;                         // when and which way each stone fell: summary.json's how_it_fails
 };
 
 }  // namespace ishibashi

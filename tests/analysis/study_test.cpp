@@ -63,6 +63,7 @@ TEST(Study, QuickStudyWritesTablesAndAReportWithEveryFigureThenKeepsCurrentOutpu
   EXPECT_NE(md.find("## Natural frequencies against the study"), std::string::npos);
   EXPECT_NE(md.find("| 17.6 |"), std::string::npos) << "model A's x frequency in the study";
   EXPECT_NE(md.find("| collapses in plane: first horizontal crack at 4.0 s"), std::string::npos);
+  EXPECT_EQ(count_of(md, "| no stone fell |"), 2) << md;  // how it fails: neither loses a stone in 0.45 s
   EXPECT_EQ(count_of(text_of(out / "reference.csv"), "\n"), 14);  // header, 3 models, 5 verdicts, 5 outcomes
   for (const char* figure : {"ground_motion.png", "crown_displacement.png", "bond_utilisation.png", "impulse_spectra.png", "energy.png",
                              "mode_shapes_nishida_a_corners.png", "mode_shapes_nishida_a_moments.png"})
@@ -180,6 +181,10 @@ TEST(Study, StopAtCollapseEndsCollapsingRunsAndTheReportSaysSo) {
   EXPECT_TRUE(summary["stopped_early"].get<bool>());
   EXPECT_LT(summary["shaking_time_s"].get<double>(), 2.9);
   EXPECT_NE(text_of(out / "report.md").find("Runs that collapsed ended there (--stop-at collapse)"), std::string::npos);
+  // How it fails, beside what the study says: the run's own sentence (summary.json).
+  const std::string how = summary["how_it_fails"]["text"].get<std::string>();
+  EXPECT_EQ(how.rfind("imported stones from ", 0), 0u) << how;
+  EXPECT_NE(text_of(out / "report.md").find("| " + how + " |"), std::string::npos) << how;
 }
 
 // Under `mpirun -np 2` rank 0 hands the runs' members out as jobs of their own, then the

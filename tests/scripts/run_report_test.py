@@ -27,6 +27,12 @@ stopped = dict(plain, stopped_early=True)
 assert r.verdict(stopped).startswith("failed (the sweep's criteria), stopped there, after 3.00 s"), r.verdict(stopped)
 assert r.verdict(dict(stopped, collapse=True)).startswith("collapse, stopped there, after"), r.verdict(stopped)
 
+# How it fails: summary.json's sentence under the bridge's panel where stones fell, none where
+# none did or the run is older than the sentence.
+fell = dict(plain, fallen_stones=3, how_it_fails={"text": "wall stones from 5.20 s of shaking (3)"})
+assert r.how_it_fails(fell) == "\nhow it fails: wall stones from 5.20 s of shaking (3)", r.how_it_fails(fell)
+assert r.how_it_fails(dict(fell, fallen_stones=0)) == "" and r.how_it_fails(plain) == ""
+
 columns = ["time_s", "phase", "gravitational_j", "largest_tie_tension_n"] + list(r.ENERGY_TERMS) + [k for k, _ in r.COUNTS]
 columns += [f"ground_a{axis}_m_s2" for axis in "xyz"]
 heights = []
