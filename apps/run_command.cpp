@@ -119,7 +119,7 @@ int run_ensemble_of(const RunOptions& o, Scenario sc) {
   };
   std::printf("  collapse: %s\n  any stone fell: %s\n  a ring stone fell: %s\n", share(r.collapses).c_str(),
               share(r.stones_fell).c_str(), share(r.ring_stones_fell).c_str());
-  std::string modes;  // how_it_fails.h, failure_mode
+  std::string modes;  // how_it_fails.h, failure_mode_of
   for (const auto& [mode, members] : r.failure_modes) modes += (modes.empty() ? "" : "; ") + mode + ": " + share(members);
   if (!modes.empty()) std::printf("  how they fail: %s\n", modes.c_str());
   if (sc.settings.stop_at == StopAt::collapse)

@@ -32,6 +32,11 @@ collapse: those rows give no p-value, and a line under the table says which side
 Collapse, whether any stone falls, the first opening and the first fall are whole-run
 outcomes either way.
 
+Where members say how they fail (summary.json's how_it_fails "mode", ensemble.csv's
+`failure_mode`: the part whose stones fell first and the way most went, "wall first,
+across"), a row counts each side's members by mode, with Fisher's p for the most common
+mode of both sides together (members of programs before the modes are left out of it).
+
 `--figure PNG` draws every member's crown unit (vertical, relative to the ground) and
 stones fallen against the time of shaking, each ensemble in its colour, its members thin
 and their median at each frame bold (member folders with histories only).
@@ -41,6 +46,7 @@ import csv
 import itertools
 import math
 import sys
+from collections import Counter
 from pathlib import Path
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "analysis" / "report"))
@@ -142,6 +148,27 @@ def spread(values, form):
     return f"{form.format(median(values))} ({form.format(min(values))} to {form.format(max(values))})"
 
 
+def failure_mode(summary):
+    """A member's failure mode: its summary.json's how_it_fails "mode" or its ensemble.csv
+    row's failure_mode; None from a program before the modes."""
+    return (summary.get("how_it_fails") or {}).get("mode") or summary.get("failure_mode") or None
+
+
+def print_modes_row(runs):
+    """How each side's members fail, counted by mode, and Fisher's p for the most common mode."""
+    modes = [[m for m in map(failure_mode, r) if m] for r in runs]
+    if not any(modes):
+        return
+    counts = [Counter(m) for m in modes]
+    cells = ["; ".join(f"{mode}: {n}" for mode, n in c.most_common()) or "none said" for c in counts]
+    if all(modes):
+        common = (counts[0] + counts[1]).most_common(1)[0][0]
+        p = f"{fisher_p(counts[0][common], len(modes[0]), counts[1][common], len(modes[1])):.3f} (Fisher, {common})"
+    else:
+        p = "(a side says none)"
+    print(f"| how they fail | {cells[0]} | {cells[1]} | {p} |")
+
+
 def print_ties_rows(tied, cut_short):
     """The rods' rows, over each side's members with rods ("no rods" for a side without)."""
     both = all(tied)
@@ -186,6 +213,7 @@ def main():
         p = CUT_SHORT if cut_short and key in AT_COLLAPSE else \
             f"{rank_sum_p(*values):.3f} (rank sum)" if all(values) else "(a side has none)"
         print(f"| {name} | {spread(values[0], form)} | {spread(values[1], form)} | {p} |")
+    print_modes_row(runs)
     tied = [[s for s in r if s["tie_rods"] > 0] for r in runs]
     if any(tied):
         print_ties_rows(tied, cut_short)

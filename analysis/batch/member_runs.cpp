@@ -11,7 +11,6 @@
 
 #include "analysis/batch/job_queue.h"
 #include "analysis/batch/study_progress.h"
-#include "analysis/run/how_it_fails.h"
 #include "engine/cores.h"
 #include "io/atomic_file.h"
 #include "io/vtk_output.h"
@@ -207,7 +206,7 @@ OutcomeCounts write_outcomes(const OutcomeTable& table, const fs::path& csv_file
     const nlohmann::json s = nlohmann::json::parse(std::ifstream(row.folder / "summary.json"));
     fall_map.add(s, row.folder);
     const double fall = first_fall_s(row.folder / "history.csv", s["settle_time_s"].get<double>());
-    const std::string mode = failure_mode(s);
+    const std::string mode = s.contains("how_it_fails") ? s["how_it_fails"].value("mode", "") : "";  // older runs: none
     if (!mode.empty()) ++modes[mode];
     csv << row.member;
     for (const std::string& draw : row.draws) csv << ',' << draw;

@@ -94,7 +94,9 @@ nlohmann::ordered_json FallRecord::summary(const Model& m, double settle_time_s)
     how["parts"].push_back(part);
   }
   for (int way = 0; way < 4; ++way) how["toward"][kTowardNames[way]] = toward[way];
-  how["text"] = how_it_fails_text(nlohmann::json(how));
+  const nlohmann::json plain(how);
+  how["mode"] = failure_mode_of(plain);
+  how["text"] = how_it_fails_text(plain);
   return how;
 }
 
@@ -132,9 +134,7 @@ std::string how_it_fails_text(const nlohmann::json& how) {
   return text;
 }
 
-std::string failure_mode(const nlohmann::json& summary) {
-  if (!summary.contains("how_it_fails")) return "";
-  const nlohmann::json& how = summary["how_it_fails"];
+std::string failure_mode_of(const nlohmann::json& how) {
   if (how["parts"].empty()) return "no stone fell";
   const nlohmann::json& t = how["toward"];
   const int across = t["+y"].get<int>() + t["-y"].get<int>(), along = t["+x"].get<int>() + t["-x"].get<int>();
