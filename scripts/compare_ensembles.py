@@ -32,9 +32,8 @@ collapse: those rows give no p-value, and a line under the table says which side
 Collapse, whether any stone falls, the first opening and the first fall are whole-run
 outcomes either way.
 
-Where members say how they fail (summary.json's how_it_fails "mode", ensemble.csv's
-`failure_mode`: the part whose stones fell first and the way most went, "wall first,
-across"), a row counts each side's members by mode, with Fisher's p for the most common
+Where members say how they fail (summary.json's and ensemble.csv's `failure_mode`: the part
+whose stones fell first and the way most went, "wall first (across)"), a row counts each side's members by mode, with Fisher's p for the most common
 mode of both sides together (members of programs before the modes are left out of it).
 
 `--figure PNG` draws every member's crown unit (vertical, relative to the ground) and
@@ -148,15 +147,9 @@ def spread(values, form):
     return f"{form.format(median(values))} ({form.format(min(values))} to {form.format(max(values))})"
 
 
-def failure_mode(summary):
-    """A member's failure mode: its summary.json's how_it_fails "mode" or its ensemble.csv
-    row's failure_mode; None from a program before the modes."""
-    return (summary.get("how_it_fails") or {}).get("mode") or summary.get("failure_mode") or None
-
-
 def print_modes_row(runs):
     """How each side's members fail, counted by mode, and Fisher's p for the most common mode."""
-    modes = [[m for m in map(failure_mode, r) if m] for r in runs]
+    modes = [[s["failure_mode"] for s in r if s.get("failure_mode")] for r in runs]  # older programs: none
     if not any(modes):
         return
     counts = [Counter(m) for m in modes]

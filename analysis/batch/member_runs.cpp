@@ -195,7 +195,7 @@ OutcomeCounts write_outcomes(const OutcomeTable& table, const fs::path& csv_file
   csv << "member";
   for (const std::string& name : table.draw_columns) csv << ',' << name;
   for (const ResultColumn& c : result_columns()) csv << ',' << c.name;
-  csv << ",first_fall_s,stopped_early,failure_mode\n";  // stopped_early: ended at its collapse (stop_at), its counts at that frame
+  csv << ",first_fall_s,stopped_early\n";  // stopped_early: ended at its collapse (stop_at), its counts at that frame
   OutcomeCounts n;
   std::map<std::string, int> modes;
   std::vector<double> fallen, first_opening, first_fall, crown_drop;
@@ -206,12 +206,11 @@ OutcomeCounts write_outcomes(const OutcomeTable& table, const fs::path& csv_file
     const nlohmann::json s = nlohmann::json::parse(std::ifstream(row.folder / "summary.json"));
     fall_map.add(s, row.folder);
     const double fall = first_fall_s(row.folder / "history.csv", s["settle_time_s"].get<double>());
-    const std::string mode = s.contains("how_it_fails") ? s["how_it_fails"].value("mode", "") : "";  // older runs: none
-    if (!mode.empty()) ++modes[mode];
+    if (s.contains("failure_mode") && s["failure_mode"].is_string()) ++modes[s["failure_mode"].get<std::string>()];  // older runs: none
     csv << row.member;
     for (const std::string& draw : row.draws) csv << ',' << draw;
     csv << ',' << summary_csv_values(s) << ',' << (fall < 0 ? std::string() : std::to_string(fall)) << ','
-        << (s.value("stopped_early", false) ? "yes" : "no") << ",\"" << mode << "\"\n";  // older summaries: no such keys
+        << (s.value("stopped_early", false) ? "yes" : "no") << '\n';  // older summaries: no such key
     ++n.finished;
     n.collapses += s["collapse"].get<bool>();
     collapsed.push_back(s["collapse"].get<bool>());

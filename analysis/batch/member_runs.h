@@ -64,14 +64,14 @@ struct OutcomeCounts {
   // not, the one with the median number of fallen stones) and of the worst (the most fallen
   // stones, then the largest crown drop); -1: no member finished.
   int typical = -1, worst = -1;
-  // How many members fail each way (summary.json's how_it_fails "mode"), the most common first.
+  // How many members fail each way (the result's failure_mode), the most common first.
   std::vector<std::pair<std::string, int>> failure_modes;
 };
 // summary.json's result columns (run_result.h) as a CSV row's fields, without a newline.
 std::string summary_csv_values(const nlohmann::json& summary);
 
 // Writes `csv` (a row per member: member, its draws, summary.json's result columns,
-// first_fall_s, stopped_early and failure_mode) and puts into `json` the probabilities of
+// first_fall_s and stopped_early) and puts into `json` the probabilities of
 // collapse, of any stone falling and of a ring stone falling, each with its Wilson interval,
 // the median, least and largest fallen stones, first opening, first fall and crown drop, how
 // many members fail each way ("failure_modes") and in how many members each stone fell

@@ -70,7 +70,9 @@ namespace {
 //     not know its step turns, so its narrowphase visits every pair and schedules them anew.
 // 22: the tie rods' plastic elongations, tensions and peak tensions; Energy::tie_yield_j.
 // 23: the run's result holds the rods' count, how many yielded and their peak tension.
-constexpr char kCheckpointMagic[] = "ishibashi checkpoint 23\n";
+// 24: the result says whether the run stopped early and how it fails (its failure mode);
+//     the outputs keep when and which way each stone fell (how_it_fails.h, FallRecord).
+constexpr char kCheckpointMagic[] = "ishibashi checkpoint 24\n";
 
 template <class Archive, class H>
 void visit_header(Archive& a, H& h) {

@@ -94,9 +94,7 @@ nlohmann::ordered_json FallRecord::summary(const Model& m, double settle_time_s)
     how["parts"].push_back(part);
   }
   for (int way = 0; way < 4; ++way) how["toward"][kTowardNames[way]] = toward[way];
-  const nlohmann::json plain(how);
-  how["mode"] = failure_mode_of(plain);
-  how["text"] = how_it_fails_text(plain);
+  how["text"] = how_it_fails_text(nlohmann::json(how));
   return how;
 }
 
@@ -139,7 +137,7 @@ std::string failure_mode_of(const nlohmann::json& how) {
   const nlohmann::json& t = how["toward"];
   const int across = t["+y"].get<int>() + t["-y"].get<int>(), along = t["+x"].get<int>() + t["-x"].get<int>();
   const char* way = 3 * across >= 2 * (across + along) ? "across" : 3 * along >= 2 * (across + along) ? "along" : "both ways";
-  return how["parts"][0]["part"].get<std::string>() + " first, " + way;
+  return how["parts"][0]["part"].get<std::string>() + " first (" + way + ")";
 }
 
 }  // namespace ishibashi

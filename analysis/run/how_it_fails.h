@@ -31,8 +31,7 @@ class FallRecord {
 
   // summary.json's "how_it_fails": {"parts": [{"part", "fallen", "first_fall_s" (seconds of
   // shaking; negative: while settling), "sides": {"-y", "middle", "+y"}}, ...] in the order
-  // their first stones fell, "toward": {"+x", "-x", "+y", "-y"}, "mode" (failure_mode_of),
-  // "text": the same in a sentence}.
+  // their first stones fell, "toward": {"+x", "-x", "+y", "-y"}, "text": the same in a sentence}.
   nlohmann::ordered_json summary(const Model& m, double settle_time_s) const;
 
   template <class Archive>
@@ -51,10 +50,11 @@ class FallRecord {
 // plane, 190 toward -y) and 48 fell along the span (in plane, 28 toward -x)".
 std::string how_it_fails_text(const nlohmann::json& how);
 
-// A run's failure in a few words (its "parts" and "toward"), to count an ensemble's members
-// by: "no stone fell", or the part whose stones fell first and the way most fell: "wall
-// first, across" (two thirds or more across the bridge), "ring first, along" (two thirds or
-// more along the span) or "fill first, both ways". summary.json's how_it_fails "mode".
+// A run's failure in a few words, from a summary's how_it_fails (its "parts" and "toward"):
+// "no stone fell", or the part whose stones fell first and the way most fell, "wall first
+// (across)" (two thirds or more across the bridge), "ring first (along)" (two thirds or more
+// along the span) or "fill first (both ways)". The result's failure_mode (a column of
+// summary.json, runs.csv, sweep.csv and ensemble.csv: no commas), what ensembles count.
 std::string failure_mode_of(const nlohmann::json& how);
 
 }  // namespace ishibashi

@@ -18,6 +18,7 @@ void take_counts(const Model& m, const RunCounts& c, SeismicRunResult& r) {
   r.joint_counts = c.joints;
   r.fallen_stones = c.fallen;
   r.fallen_ring_stones = c.fallen_ring;
+  r.failure_mode = c.failure_mode;
   r.blocks_left_model = c.left_model;
   r.collapse = c.fallen_ring > 0 || c.fallen > 0.05 * m.block_count;
   r.tie_rods = static_cast<int>(m.ties.size());
@@ -187,6 +188,7 @@ RunCounts RunRecorder::record(const char* phase, const State& s, const Vec3& ga,
       }
     }
   falls_.note(m, s, gd);
+  c.failure_mode = failure_mode_of(nlohmann::json(falls_.summary(m, 0.0)));  // the order of the parts' falls, not their times
   HistoryFrame frame{s.time_s, phase, ga, gd, s.energy, c, {}};
   for (int b : monitors_) frame.monitored_m.push_back(s.position[b] - m.initial_position[b] - gd);
   // The frames before the history's row: a write that fails (a full disk) stops the run

@@ -27,6 +27,7 @@ namespace ishibashi {
 struct RunCounts {
   JointCounts joints;
   int fallen = 0, fallen_ring = 0;
+  std::string failure_mode;  // of the stones fallen so far (how_it_fails.h, failure_mode_of)
   int left_model = 0;  // blocks that fell past the ground and were frozen there
   double bond_utilisation = -1;  // largest_bond_utilisation (joints.h); -1: no bond left
   int ties_yielded = 0;           // tie rods with a plastic elongation

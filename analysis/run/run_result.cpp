@@ -31,6 +31,10 @@ const std::vector<ResultColumn>& result_columns() {
       {"fallen_stones", [](const R& r) -> OutputValue { return (long long)r.fallen_stones; }},
       {"fallen_ring_stones", [](const R& r) -> OutputValue { return (long long)r.fallen_ring_stones; }},
       {"blocks_left_model", [](const R& r) -> OutputValue { return (long long)r.blocks_left_model; }},
+      {"failure_mode", [](const R& r) -> OutputValue {
+         if (r.failure_mode.empty()) return {};
+         return r.failure_mode;
+       }},
       {"tie_rods", [](const R& r) -> OutputValue { return (long long)r.tie_rods; }},
       {"ties_yielded", [](const R& r) -> OutputValue {
          if (r.tie_rods == 0) return {};
