@@ -515,12 +515,18 @@ def tie_rods_cell(r):
 
 def how_it_fails_cell(out, r):
     """How a run fails (its summary.json's sentence; an ensemble's most common outcome's
-    member's): which parts lost stones, from when, and which way they fell; "-" for a run
-    from a program before the sentence."""
+    member's, then how many members fail each way): which parts lost stones, from when, and
+    which way they fell; "-" for a run from a program before the sentence."""
     summary = run_folder(out, r) / "summary.json"
     if not summary.exists():
         return "-"
-    return json.load(open(summary)).get("how_it_fails", {}).get("text", "-")
+    text = json.load(open(summary)).get("how_it_fails", {}).get("text", "-")
+    ensemble = out / "runs" / r["scenario"] / "ensemble.json"
+    if members_of(out, r) and ensemble.exists():
+        modes = json.load(open(ensemble)).get("failure_modes", {})
+        if modes:
+            text += " (members: " + "; ".join(f"{mode} {n}" for mode, n in modes.items()) + ")"
+    return text
 
 
 def run_sections(out, study, figures):
@@ -548,7 +554,8 @@ def run_sections(out, study, figures):
                  "of the crown unit relative to the ground. Energy balance: the fraction of the energy "
                  "exchanged (ground work, dashpots, friction, bonds) that the balance misses. How it fails: which "
                  "parts lost stones, from when (the first frame that found one fallen), on which side of the bridge, "
-                 "and which way they fell (x along the span: in plane; y across: out of plane). Study says: what "
+                 "and which way they fell (x along the span: in plane; y across: out of plane); for an ensemble, how "
+                 "many members fail each way (the part that lost stones first and the way most went). Study says: what "
                  "the published study reports of that run, where the study file gives it (the study's time axis "
                  "runs 3.8 s behind the record: its 4.0 s is the record's 7.8 s, 3.8 s of shaking from 4.0 s)."
                  + (" A run of several members is an ensemble (members that differ by the construction "

@@ -132,6 +132,7 @@ TEST(Study, RunsAsEnsemblesGiveTheirProbabilitiesAndTheStudysOutcomeInTheReport)
   EXPECT_NE(md.find("| 0.00 [0.00-0.66] |"), std::string::npos) << md;
   EXPECT_NE(md.find("| stands: 1.00 [0.34-1.00] |"), std::string::npos) << md;
   EXPECT_NE(md.find("| 0-0 |"), std::string::npos) << md;  // stones fallen, least and most
+  EXPECT_NE(md.find("| no stone fell (members: no stone fell 2) |"), std::string::npos) << md;  // how it fails
   EXPECT_NE(md.find("](figures/snapshot_nishida_a_kobe_dry_member_00"), std::string::npos) << md;  // the worst outcome
   const std::string second = run_command(study, &status);
   EXPECT_EQ(status, 0) << second;
