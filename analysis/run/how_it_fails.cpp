@@ -94,12 +94,12 @@ nlohmann::ordered_json FallRecord::summary(const Model& m, double settle_time_s)
     how["parts"].push_back(part);
   }
   for (int way = 0; way < 4; ++way) how["toward"][kTowardNames[way]] = toward[way];
-  how["text"] = how_it_fails_text(nlohmann::json(how));
+  how["text"] = how_it_fails_text(how);
   return how;
 }
 
-std::string how_it_fails_text(const nlohmann::json& how) {
-  const nlohmann::json& parts = how["parts"];
+std::string how_it_fails_text(const nlohmann::ordered_json& how) {
+  const nlohmann::ordered_json& parts = how["parts"];
   if (parts.empty()) return "no stone fell";
   std::string text;
   int all = 0;
@@ -132,9 +132,9 @@ std::string how_it_fails_text(const nlohmann::json& how) {
   return text;
 }
 
-std::string failure_mode_of(const nlohmann::json& how) {
+std::string failure_mode_of(const nlohmann::ordered_json& how) {
   if (how["parts"].empty()) return "no stone fell";
-  const nlohmann::json& t = how["toward"];
+  const nlohmann::ordered_json& t = how["toward"];
   const int across = t["+y"].get<int>() + t["-y"].get<int>(), along = t["+x"].get<int>() + t["-x"].get<int>();
   const char* way = 3 * across >= 2 * (across + along) ? "across" : 3 * along >= 2 * (across + along) ? "along" : "both ways";
   return how["parts"][0]["part"].get<std::string>() + " first (" + way + ")";

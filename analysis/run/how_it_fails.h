@@ -48,13 +48,13 @@ class FallRecord {
 // for instance "wall stones from 5.20 s of shaking (180, 150 of them on the -y side), then
 // ring stones from 5.40 s of shaking (83); of the 263, 215 fell across the bridge (out of
 // plane, 190 toward -y) and 48 fell along the span (in plane, 28 toward -x)".
-std::string how_it_fails_text(const nlohmann::json& how);
+std::string how_it_fails_text(const nlohmann::ordered_json& how);
 
 // A run's failure in a few words, from a summary's how_it_fails (its "parts" and "toward"):
 // "no stone fell", or the part whose stones fell first and the way most fell, "wall first
 // (across)" (two thirds or more across the bridge), "ring first (along)" (two thirds or more
 // along the span) or "fill first (both ways)". The result's failure_mode (a column of
 // summary.json, runs.csv, sweep.csv and ensemble.csv: no commas), what ensembles count.
-std::string failure_mode_of(const nlohmann::json& how);
+std::string failure_mode_of(const nlohmann::ordered_json& how);
 
 }  // namespace ishibashi

@@ -188,7 +188,7 @@ RunCounts RunRecorder::record(const char* phase, const State& s, const Vec3& ga,
       }
     }
   falls_.note(m, s, gd);
-  c.failure_mode = failure_mode_of(nlohmann::json(falls_.summary(m, 0.0)));  // the order of the parts' falls, not their times
+  c.failure_mode = failure_mode_of(falls_.summary(m, 0.0));  // the order of the parts' falls, not their times
   HistoryFrame frame{s.time_s, phase, ga, gd, s.energy, c, {}};
   for (int b : monitors_) frame.monitored_m.push_back(s.position[b] - m.initial_position[b] - gd);
   // The frames before the history's row: a write that fails (a full disk) stops the run

@@ -141,7 +141,7 @@ TEST(HowItFails, PartsComeInTheOrderTheyFellWithTheirSidesAndDirections) {
   EXPECT_EQ(how["toward"]["-x"], 1);
   EXPECT_EQ(how["toward"]["+x"], 0);
   EXPECT_EQ(how["text"], how_it_fails_text(how));
-  EXPECT_EQ(failure_mode_of(nlohmann::json(how)), "wall first (both ways)");  // one across, one along: neither two thirds
+  EXPECT_EQ(failure_mode_of(how), "wall first (both ways)");  // one across, one along: neither two thirds
 }
 
 // A run killed after its block fell, and resumed from its last checkpoint, says when and which
@@ -178,12 +178,12 @@ TEST(HowItFails, TheSentenceNamesThePartsInTheOrderTheyFellAndAOneSidedWallsSide
             "wall stones from 5.20 s of shaking (180, 150 of them on the -y side), ring stones from 5.40 s of shaking "
             "(83), then fill stones from 5.45 s of shaking (57); of the 320, 272 fell across the bridge (out of plane, "
             "250 toward -y) and 48 fell along the span (in plane, 28 toward -x)");
-  EXPECT_EQ(failure_mode_of(nlohmann::json(how)), "wall first (across)");  // 272 of 320: over two thirds
+  EXPECT_EQ(failure_mode_of(how), "wall first (across)");  // 272 of 320: over two thirds
   how["toward"] = {{"+x", 20}, {"-x", 200}, {"+y", 22}, {"-y", 78}};
-  EXPECT_EQ(failure_mode_of(nlohmann::json(how)), "wall first (along)");  // 220 of 320
+  EXPECT_EQ(failure_mode_of(how), "wall first (along)");  // 220 of 320
   how["parts"] = nlohmann::ordered_json::array();
   EXPECT_EQ(how_it_fails_text(how), "no stone fell");
-  EXPECT_EQ(failure_mode_of(nlohmann::json(how)), "no stone fell");
+  EXPECT_EQ(failure_mode_of(how), "no stone fell");
 }
 
 }  // namespace
