@@ -36,6 +36,9 @@ Where members say how they fail (summary.json's and ensemble.csv's `failure_mode
 whose stones fell first and the way most went, "wall first (across)"), a row counts each side's members by mode, with Fisher's p for the most common
 mode of both sides together (members of programs before the modes are left out of it).
 
+Where members count the ring's hinges (`most_ring_hinges`: the most at once before a ring
+stone fell), a row gives each side's median and range with the rank sum's p.
+
 `--figure PNG` draws every member's crown unit (vertical, relative to the ground) and
 stones fallen against the time of shaking, each ensemble in its colour, its members thin
 and their median at each frame bold (member folders with histories only).
@@ -60,7 +63,8 @@ YES_NO = [("collapse", "collapse", lambda s: bool(s["collapse"])),
 
 
 # The outcomes a run stopped at its collapse has only as far as the collapse.
-AT_COLLAPSE = {"fallen_stones", "fallen_ring_stones", "ring_stones_fall", "largest_crown_drop_m", "joints_cracked"}
+AT_COLLAPSE = {"fallen_stones", "fallen_ring_stones", "ring_stones_fall", "largest_crown_drop_m", "joints_cracked",
+               "most_ring_hinges"}  # hinges count until a ring stone falls: a wall's collapse may stop them sooner
 CUT_SHORT = "(a side stopped at its collapses)"
 
 
@@ -206,6 +210,10 @@ def main():
         p = CUT_SHORT if cut_short and key in AT_COLLAPSE else \
             f"{rank_sum_p(*values):.3f} (rank sum)" if all(values) else "(a side has none)"
         print(f"| {name} | {spread(values[0], form)} | {spread(values[1], form)} | {p} |")
+    hinges = [[s["most_ring_hinges"] for s in r if s.get("most_ring_hinges") is not None] for r in runs]
+    if any(hinges):  # older programs, and models without a ring, count none
+        p = CUT_SHORT if cut_short else f"{rank_sum_p(*hinges):.3f} (rank sum)" if all(hinges) else "(a side has none)"
+        print(f"| most ring hinges at once | {spread(hinges[0], '{:g}')} | {spread(hinges[1], '{:g}')} | {p} |")
     print_modes_row(runs)
     tied = [[s for s in r if s["tie_rods"] > 0] for r in runs]
     if any(tied):

@@ -2,9 +2,9 @@
 """A seismic run at a glance, from its history.csv, summary.json and last frame: the bridge
 at the end (coloured by displacement relative to the ground, fallen stones red), then
 through the shaking the ground's acceleration as applied, the monitored units'
-displacement relative to the ground, the joints open, cracked and slipped and the stones
-fallen, the energy terms and, where the model has tie rods, their largest tension against
-their yield force, under a title with the verdict. One PNG in the run's folder:
+displacement relative to the ground, the joints open, cracked and slipped, the stones
+fallen and the ring's hinges, the energy terms and, where the model has tie rods, their
+largest tension against their yield force, under a title with the verdict. One PNG in the run's folder:
 
     /usr/bin/python3 analysis/report/run_report.py FOLDER [TITLE]   (FOLDER: history.csv, summary.json)
 
@@ -27,7 +27,7 @@ from run_outputs import frames, read_rows, read_summary, save_figure  # noqa: E4
 
 ENERGY_TERMS = ("kinetic_j", "elastic_j", "damping_j", "friction_j", "bond_j", "ground_work_j", "balance_error_j")
 COUNTS = (("joints_open", "joints open"), ("joints_cracked", "joints cracked"), ("joints_slipped", "joints slipped"),
-          ("fallen_stones", "stones fallen"))
+          ("fallen_stones", "stones fallen"), ("ring_hinges", "ring hinges"))
 
 
 def verdict(summary):
@@ -128,9 +128,11 @@ def draw(folder, title):
 
     a = axes[2]
     for key, label in COUNTS:
-        a.plot(t, [number(r[key]) for r in shake], lw=1.0, label=label)
+        if key in shake[0]:  # older runs have no ring_hinges
+            a.plot(t, [number(r[key]) for r in shake], lw=1.0, label=label)
     a.set_ylabel("count")
-    a.set_title("joints (cracked: opened by more than 1 mm or bond broken, for good) and fallen stones", fontsize=9)
+    a.set_title("joints (cracked: opened by more than 1 mm or bond broken, for good), fallen stones and the ring's "
+                "hinges (sections along the arc open at one edge or through)", fontsize=9)
 
     a = axes[3]
     potential0 = number(shake[0]["gravitational_j"])  # a potential: its change is what the others balance

@@ -72,7 +72,9 @@ namespace {
 // 23: the run's result holds the rods' count, how many yielded and their peak tension.
 // 24: the result says whether the run stopped early and how it fails (its failure mode);
 //     the outputs keep when and which way each stone fell (how_it_fails.h, FallRecord).
-constexpr char kCheckpointMagic[] = "ishibashi checkpoint 24\n";
+// 25: the ring's hinges until its first stone fell (how_it_fails.h, RingHinges) and the
+//     result's most_ring_hinges.
+constexpr char kCheckpointMagic[] = "ishibashi checkpoint 25\n";
 
 template <class Archive, class H>
 void visit_header(Archive& a, H& h) {

@@ -4,6 +4,7 @@
 #include <array>
 #include <cmath>
 #include <cstdio>
+#include <numbers>
 
 #include <nlohmann/json.hpp>
 
@@ -94,13 +95,145 @@ nlohmann::ordered_json FallRecord::summary(const Model& m, double settle_time_s)
     how["parts"].push_back(part);
   }
   for (int way = 0; way < 4; ++way) how["toward"][kTowardNames[way]] = toward[way];
+  return how;
+}
+
+void RingHinges::find_sections(const Model& m, const Joints& joints) {
+  found_ = true;
+  const int ring = static_cast<int>(Part::ring);
+  int along = 0;  // voussoirs along the arc, springers included
+  for (int b = 0; b < m.block_count; ++b)
+    if (m.block_tag[b].part == ring) along = std::max(along, m.block_tag[b].course + 1);
+  // A radial joint: two ring stones at neighbouring positions, over an area (three points or
+  // more, not stones of neighbouring courses across the width touching along an edge). Its
+  // section is its position (the joint's number along the arc) in its span: the spans'
+  // sections at one position lie a span apart along x.
+  struct Radial {
+    int position;
+    double x_m;
+    int joint;
+  };
+  std::vector<Radial> radial;
+  for (int j = 0; j < joints.size(); ++j) {
+    const int a = joints.block_a[j], b = joints.block_b[j];
+    if (m.block_tag[a].part != ring || m.block_tag[b].part != ring) continue;
+    if (std::abs(m.block_tag[a].course - m.block_tag[b].course) != 1) continue;  // between courses across the width
+    if (joints.point_begin[j + 1] - joints.point_begin[j] < 3) continue;
+    const Vec3 centre = m.initial_position[a] + m.initial_orientation[a] * joints.centre_on_a[j];
+    radial.push_back({std::max(m.block_tag[a].course, m.block_tag[b].course), centre.x(), j});
+  }
+  std::sort(radial.begin(), radial.end(),
+            [](const Radial& p, const Radial& q) { return p.position != q.position ? p.position < q.position : p.x_m < q.x_m; });
+  for (std::size_t k = 0; k < radial.size(); ++k) {
+    const Radial& r = radial[k];
+    const bool same_position = k > 0 && r.position == radial[k - 1].position;
+    if (!same_position || r.x_m - radial[k - 1].x_m > 0.1) {
+      const int a = joints.block_a[r.joint];
+      // A radial joint's normal is the arc's tangent, (cos a, 0, -sin a) at angle a from the
+      // crown: |a| from its x, the side from its position (joints before the middle one lie
+      // toward -x, geometry/arch_ring.h's RingGeometry::joint); its depth runs across the
+      // normal in the x-z plane.
+      const Vec3 n = m.initial_orientation[a] * joints.normal_on_a[r.joint];
+      const double in_plane = std::max(std::hypot(n.x(), n.z()), 1e-300);
+      Section section;
+      section.span = same_position ? sections_.back().span + 1 : 0;
+      section.position = r.position;
+      section.angle_deg = ((2 * r.position > along) - (2 * r.position < along)) *
+                          std::acos(std::min(1.0, std::abs(n.x()) / in_plane)) * 180 / std::numbers::pi;
+      const Vec3 across = m.initial_orientation[a].inverse() * Vec3(-n.z() / in_plane, 0, n.x() / in_plane);
+      double lo = INFINITY, hi = -INFINITY;
+      for (int q = joints.point_begin[r.joint]; q < joints.point_begin[r.joint + 1]; ++q) {
+        lo = std::min(lo, joints.point_on_a[q].dot(across));
+        hi = std::max(hi, joints.point_on_a[q].dot(across));
+      }
+      section.depth_m = hi - lo;
+      sections_.push_back(section);
+    }
+    sections_.back().joints.push_back(r.joint);
+  }
+  // Along each span's arc, so that a section's neighbours come before and after it.
+  std::stable_sort(sections_.begin(), sections_.end(),
+                   [](const Section& p, const Section& q) { return p.span != q.span ? p.span < q.span : p.position < q.position; });
+}
+
+int RingHinges::note(const Model& m, const Joints& joints, double time_s, bool ring_stone_fell) {
+  if (!found_) find_sections(m, joints);
+  const std::size_t n = sections_.size();
+  std::vector<double> opening(n);  // (sections) the median over the width, m
+  std::vector<double> of_joints;
+  for (std::size_t k = 0; k < n; ++k) {
+    of_joints.clear();
+    for (int j : sections_[k].joints) of_joints.push_back(joints.opening_m[j]);
+    std::nth_element(of_joints.begin(), of_joints.begin() + of_joints.size() / 2, of_joints.end());
+    opening[k] = of_joints[of_joints.size() / 2];
+  }
+  auto neighbours = [&](std::size_t k, std::size_t l) {
+    return sections_[k].span == sections_[l].span && std::abs(sections_[k].position - sections_[l].position) == 1;
+  };
+  std::vector<double> angles;
+  for (std::size_t k = 0; k < n; ++k) {
+    if (opening[k] < kHingeRotationRad * sections_[k].depth_m) continue;
+    if (k > 0 && neighbours(k, k - 1) && opening[k - 1] >= opening[k]) continue;  // ties: the first along the arc
+    if (k + 1 < n && neighbours(k, k + 1) && opening[k + 1] > opening[k]) continue;
+    angles.push_back(sections_[k].angle_deg);
+  }
+  const int hinged = static_cast<int>(angles.size());
+  if (ring_stone_fell || hinged == 0) return hinged;
+  if (first_s_ < 0) first_s_ = time_s;
+  if (hinged > most_) most_ = hinged, most_at_s_ = time_s, most_angles_deg_ = angles;
+  return hinged;
+}
+
+nlohmann::ordered_json RingHinges::summary(double settle_time_s) const {
+  if (sections_.empty()) return nullptr;
+  nlohmann::ordered_json h;
+  h["sections"] = sections_.size();
+  std::size_t radial = 0;
+  for (const Section& section : sections_) radial += section.joints.size();
+  h["joints"] = radial;
+  h["rotation_rad"] = kHingeRotationRad;
+  h["first_s"] = first_s_ < 0 ? nlohmann::ordered_json() : nlohmann::ordered_json(first_s_ - settle_time_s);
+  h["most"] = most_;
+  h["most_at_s"] = most_ == 0 ? nlohmann::ordered_json() : nlohmann::ordered_json(most_at_s_ - settle_time_s);
+  h["angles_deg"] = most_angles_deg_;
+  return h;
+}
+
+nlohmann::ordered_json how_it_fails(const Model& m, const FallRecord& falls, const RingHinges& hinges, double settle_time_s) {
+  nlohmann::ordered_json how = falls.summary(m, settle_time_s);
+  how["ring_hinges"] = hinges.summary(settle_time_s);
   how["text"] = how_it_fails_text(how);
   return how;
 }
 
+namespace {
+
+// The ring hinges' clause of the sentence: "; ring hinges from ..." or "; no ring joint hinged";
+// empty for a model without ring sections.
+std::string ring_hinges_text(const nlohmann::ordered_json& how) {
+  if (!how.contains("ring_hinges") || how["ring_hinges"].is_null()) return "";
+  const nlohmann::ordered_json& h = how["ring_hinges"];
+  const int most = h["most"].get<int>();
+  if (most == 0) return "; no ring joint hinged";
+  std::string angles;
+  const auto& list = h["angles_deg"];
+  for (std::size_t k = 0; k < list.size(); ++k) {
+    angles += k == 0 ? "" : k + 1 == list.size() ? " and " : ", ";
+    angles += std::to_string(std::lround(list[k].get<double>()));
+  }
+  bool ring_fell = false;
+  for (const auto& p : how["parts"]) ring_fell |= p["part"] == "ring";
+  std::string first = seconds(h["first_s"].get<double>()), at = seconds(h["most_at_s"].get<double>());
+  if (at.rfind("from ", 0) == 0) at.erase(0, 5);  // "4.40 s of shaking"
+  return "; ring hinges " + first + ", at most " + std::to_string(most) + " at once (at " + angles +
+         " degrees from the crown, " + at + ")" + (ring_fell ? " before its first stone fell" : "");
+}
+
+}  // namespace
+
 std::string how_it_fails_text(const nlohmann::ordered_json& how) {
   const nlohmann::ordered_json& parts = how["parts"];
-  if (parts.empty()) return "no stone fell";
+  if (parts.empty()) return "no stone fell" + ring_hinges_text(how);
   std::string text;
   int all = 0;
   for (const auto& p : parts) {
@@ -125,11 +258,14 @@ std::string how_it_fails_text(const nlohmann::ordered_json& how) {
   const std::string across_text = way("+y", "-y", "across the bridge (out of plane");
   const std::string along_text = way("+x", "-x", "along the span (in plane");
   const std::string every = all == 1 ? "; it " : "; all " + std::to_string(all) + " ";
-  if (across == all) return text + every + across_text;
-  if (along == all) return text + every + along_text;
-  text += "; of the " + std::to_string(all) + ", " + std::to_string(across) + " " + across_text + " and " +
-          std::to_string(along) + " " + along_text;
-  return text;
+  if (across == all)
+    text += every + across_text;
+  else if (along == all)
+    text += every + along_text;
+  else
+    text += "; of the " + std::to_string(all) + ", " + std::to_string(across) + " " + across_text + " and " +
+            std::to_string(along) + " " + along_text;
+  return text + ring_hinges_text(how);
 }
 
 std::string failure_mode_of(const nlohmann::ordered_json& how) {

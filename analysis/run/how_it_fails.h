@@ -11,6 +11,7 @@
 
 #include <nlohmann/json_fwd.hpp>
 
+#include "engine/joints.h"
 #include "engine/model.h"
 #include "engine/state.h"
 
@@ -29,9 +30,9 @@ class FallRecord {
   // frame: the simulated time and which way they went relative to the ground, displaced gd.
   void note(const Model& m, const State& s, const Vec3& ground_displacement_m);
 
-  // summary.json's "how_it_fails": {"parts": [{"part", "fallen", "first_fall_s" (seconds of
-  // shaking; negative: while settling), "sides": {"-y", "middle", "+y"}}, ...] in the order
-  // their first stones fell, "toward": {"+x", "-x", "+y", "-y"}, "text": the same in a sentence}.
+  // The falls in summary.json's "how_it_fails" (how_it_fails below): {"parts": [{"part",
+  // "fallen", "first_fall_s" (seconds of shaking; negative: while settling), "sides": {"-y",
+  // "middle", "+y"}}, ...] in the order their first stones fell, "toward": {"+x", "-x", "+y", "-y"}}.
   nlohmann::ordered_json summary(const Model& m, double settle_time_s) const;
 
   template <class Archive>
@@ -44,10 +45,66 @@ class FallRecord {
   std::vector<FallDirection> toward_;  // (nb)
 };
 
-// The sentence of a summary's "how_it_fails" (its "parts" and "toward"): "no stone fell", or
+// The ring's hinges, noted at the output frames. A section between neighbouring voussoirs
+// along the arc (ring stones whose positions along it, BlockTag::course, differ by one) opens
+// by the median over its radial joints across the width (engine/joints.h's opening: at the
+// edge a hinge opens at). It is a hinge when that opening is at least kHingeRotationRad of
+// the joint's depth (a relative rotation of the two sides: 6.4 mm for the study's 0.64 m
+// ring) and more than its neighbours' along the arc: a shaken ring opens most of its joints
+// by a millimetre or two, and a hinge's rotation spread over two joints is one hinge. Four
+// hinges make an arch a mechanism (Heyman); the study tells its model A's collapse by them
+// ("the ring in five parts, like an M, then it falls"). Counted until the first ring stone
+// fell: after that, open sections are the ring in pieces, no longer a mechanism forming.
+constexpr double kHingeRotationRad = 0.01;
+
+class RingHinges {
+ public:
+  // The hinges now, from the joints as measure_joints left them at simulated time time_s;
+  // the record takes them while no ring stone has fallen. The first call finds the sections
+  // (joints of the same model give the same ones on a resume).
+  int note(const Model& m, const Joints& joints, double time_s, bool ring_stone_fell);
+
+  // summary.json's "how_it_fails" "ring_hinges": {"sections", "joints" (radial, across the
+  // width of all sections), "rotation_rad" (kHingeRotationRad), "first_s" (seconds of shaking,
+  // null: none hinged), "most" (at once), "most_at_s", "angles_deg" (of those, from the crown
+  // of their span: negative toward -x)}; null for a model without ring sections.
+  nlohmann::ordered_json summary(double settle_time_s) const;
+  // The most hinges at once so far (the result's most_ring_hinges); -1 for a model without
+  // ring sections.
+  int most() const { return sections_.empty() ? -1 : most_; }
+
+  template <class Archive>
+  void visit(Archive& a) {
+    a.field(first_s_), a.field(most_), a.field(most_at_s_), a.field(most_angles_deg_);
+  }
+
+ private:
+  struct Section {
+    int span = 0, position = 0;  // the span's number from -x; the joint's along the arc (1 .. voussoirs - 1)
+    double angle_deg = 0;        // of its radial joints from the crown
+    double depth_m = 0;          // of its joints, radially
+    std::vector<int> joints;     // across the width
+  };
+  void find_sections(const Model& m, const Joints& joints);
+  bool found_ = false;
+  std::vector<Section> sections_;
+  double first_s_ = -1;                  // the first frame with a hinge; -1: none yet
+  int most_ = 0;                         // the most hinged at one frame
+  double most_at_s_ = -1;                // the first frame with that many
+  std::vector<double> most_angles_deg_;  // (most_) their angles then
+};
+
+// summary.json's "how_it_fails": the falls (FallRecord::summary), "ring_hinges"
+// (RingHinges::summary) and "text", the two in a sentence (how_it_fails_text).
+nlohmann::ordered_json how_it_fails(const Model& m, const FallRecord& falls, const RingHinges& hinges, double settle_time_s);
+
+// The sentence of a summary's "how_it_fails" (its "parts", "toward" and "ring_hinges"): "no stone fell", or
 // for instance "wall stones from 5.20 s of shaking (180, 150 of them on the -y side), then
 // ring stones from 5.40 s of shaking (83); of the 263, 215 fell across the bridge (out of
-// plane, 190 toward -y) and 48 fell along the span (in plane, 28 toward -x)".
+// plane, 190 toward -y) and 48 fell along the span (in plane, 28 toward -x)"; then, for a
+// model with a ring, "; ring hinges from 4.20 s of shaking, at most 5 at once (at -85, -55, 0,
+// 55 and 85 degrees from the crown, 4.40 s of shaking) before its first stone fell" or
+// "; no ring joint hinged".
 std::string how_it_fails_text(const nlohmann::ordered_json& how);
 
 // A run's failure in a few words, from a summary's how_it_fails (its "parts" and "toward"):

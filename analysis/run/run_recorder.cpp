@@ -19,6 +19,7 @@ void take_counts(const Model& m, const RunCounts& c, SeismicRunResult& r) {
   r.fallen_stones = c.fallen;
   r.fallen_ring_stones = c.fallen_ring;
   r.failure_mode = c.failure_mode;
+  r.most_ring_hinges = c.most_ring_hinges;
   r.blocks_left_model = c.left_model;
   r.collapse = c.fallen_ring > 0 || c.fallen > 0.05 * m.block_count;
   r.tie_rods = static_cast<int>(m.ties.size());
@@ -97,6 +98,7 @@ const HistoryColumn kHistoryColumns[] = {
      }},
     {"ties_yielded", [](const F& f) -> V { return (long long)f.c.ties_yielded; }},
     {"largest_tie_tension_n", [](const F& f) -> V { return f.c.largest_tie_tension_n; }},
+    {"ring_hinges", [](const F& f) -> V { return (long long)f.c.ring_hinges; }},
 };
 constexpr const char* kMonitorsAfter = "ground_dz_m";
 
@@ -188,6 +190,8 @@ RunCounts RunRecorder::record(const char* phase, const State& s, const Vec3& ga,
       }
     }
   falls_.note(m, s, gd);
+  c.ring_hinges = hinges_.note(m, joints, s.time_s, c.fallen_ring > 0);
+  c.most_ring_hinges = hinges_.most();
   c.failure_mode = failure_mode_of(falls_.summary(m, 0.0));  // the order of the parts' falls, not their times
   HistoryFrame frame{s.time_s, phase, ga, gd, s.energy, c, {}};
   for (int b : monitors_) frame.monitored_m.push_back(s.position[b] - m.initial_position[b] - gd);
@@ -233,7 +237,7 @@ void RunRecorder::write_summary(const RunDescription& run, const SeismicRunResul
   for (int b = 0; b < model_.block_count; ++b)
     if (is_fallen(model_, s, b)) fallen.push_back(b);
   j["fallen_blocks"] = fallen;
-  j["how_it_fails"] = falls_.summary(model_, r.settle_time_s);
+  j["how_it_fails"] = how_it_fails(model_, falls_, hinges_, r.settle_time_s);
   j["monitored_block"] = run.monitored_block;
   j["dt_s"] = run.dt_s;  // the step used (settings.dt_s: the one asked for, 0 a share of the limit)
   const GroundMotionPeaks& peaks = run.ground_peaks;  // x, y, z: what a fragility takes as the intensity

@@ -28,6 +28,8 @@ struct RunCounts {
   JointCounts joints;
   int fallen = 0, fallen_ring = 0;
   std::string failure_mode;  // of the stones fallen so far (how_it_fails.h, failure_mode_of)
+  int ring_hinges = 0;       // the ring's hinges now (how_it_fails.h, RingHinges)
+  int most_ring_hinges = -1; // the most at once so far before a ring stone fell; -1: no ring
   int left_model = 0;  // blocks that fell past the ground and were frozen there
   double bond_utilisation = -1;  // largest_bond_utilisation (joints.h); -1: no bond left
   int ties_yielded = 0;           // tie rods with a plastic elongation
@@ -84,6 +86,7 @@ class RunRecorder {
   void visit(Archive& a) {
     a.field(reported_left_), a.field(history_), a.field(view_.colour_range_m);
     falls_.visit(a);
+    hinges_.visit(a);
     std::vector<double> times = blocks_.frame_times();
     a.field(times);
     if constexpr (Archive::reading) blocks_.resume(times);
@@ -113,6 +116,7 @@ class RunRecorder {
   std::string history_;  // history.csv so far
   std::vector<std::uint8_t> reported_left_;  // (nb) warned that the block left the model
   FallRecord falls_;                         // when and which way each stone fell: summary.json's how_it_fails
+  RingHinges hinges_;                        // the ring's hinges until its first stone fell: the same
 };
 
 }  // namespace ishibashi

@@ -35,6 +35,10 @@ const std::vector<ResultColumn>& result_columns() {
          if (r.failure_mode.empty()) return {};
          return r.failure_mode;
        }},
+      {"most_ring_hinges", [](const R& r) -> OutputValue {
+         if (r.most_ring_hinges < 0) return {};  // no ring
+         return (long long)r.most_ring_hinges;
+       }},
       {"tie_rods", [](const R& r) -> OutputValue { return (long long)r.tie_rods; }},
       {"ties_yielded", [](const R& r) -> OutputValue {
          if (r.tie_rods == 0) return {};

@@ -38,7 +38,8 @@ namespace ishibashi {
   X(std::uint64_t, motion_hash, 0)     /* the blocks' part of state_hash (World::motion_hash) */         \
   X(double, wall_s, 0)                                                                                     \
   X(double, output_wall_s, 0)          /* of wall_s, recording frames: counts, ParaView files, history */ \
-  X(std::string, failure_mode, "")     /* how_it_fails.h, failure_mode_of; empty before the first frame */
+  X(std::string, failure_mode, "")     /* how_it_fails.h, failure_mode_of; empty before the first frame */ \
+  X(int, most_ring_hinges, -1)         /* at once before a ring stone fell (RingHinges); -1: no ring */
 
 struct SeismicRunResult {
 #define ISHIBASHI_DECLARE_RESULT_FIELD(type, name, initial) type name = initial;

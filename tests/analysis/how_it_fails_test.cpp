@@ -2,7 +2,8 @@
 // width b and height h on a pedestal, under a constant horizontal ground acceleration a,
 // stands while a < g b / h and tips over the edge away from the acceleration (the inertial
 // force -m a in the ground's frame) once a > g b / h, falling off the pedestal to the slab.
-// And the sentence's wording from a summary's parts and directions.
+// The ring's hinges against the classical limit state of a semicircular arch under its own
+// weight. And the sentence's wording from a summary's parts, directions and hinges.
 #include <gtest/gtest.h>
 
 #include <sys/wait.h>
@@ -11,10 +12,12 @@
 #include <cmath>
 #include <csignal>
 #include <fstream>
+#include <numbers>
 #include <nlohmann/json.hpp>
 
 #include "analysis/run/how_it_fails.h"
 #include "command_line.h"
+#include "engine/world.h"
 #include "geometry/bridge.h"
 #include "scenes.h"
 
@@ -129,7 +132,7 @@ TEST(HowItFails, PartsComeInTheOrderTheyFellWithTheirSidesAndDirections) {
   s.position[1] += Vec3(-0.6, 0.1, -1.5);
   s.position[2] += Vec3(0, 0, -0.3);
   falls.note(m, s, Vec3(0, 0.2, 0));
-  const nlohmann::ordered_json how = falls.summary(m, settled_s);
+  const nlohmann::ordered_json how = how_it_fails(m, falls, RingHinges{}, settled_s);
   ASSERT_EQ(how["parts"].size(), 2u) << how.dump();
   EXPECT_EQ(how["parts"][0]["part"], "wall");
   EXPECT_NEAR(how["parts"][0]["first_fall_s"].get<double>(), 0.8, 1e-12);
@@ -166,6 +169,121 @@ TEST(HowItFails, ARunResumedAfterTheFallKeepsItsTimeAndWay) {
   EXPECT_EQ(after["how_it_fails"], whole["how_it_fails"]);
 }
 
+// A semicircular arch of 36 voussoirs (5 degrees each) on radial joints, two stones across its
+// 1 m width (stacked), centre-line radius 5 m, thickness t, tagged as a bridge's ring: the
+// voussoirs at positions 1 .. 36 along the arc from the -x springing, on two fixed springer
+// stones (positions 0 and 37) on a fixed base. Friction 60 degrees: nothing slides. Under its
+// own weight for up to 4 s, the hinges noted every 0.05 s (a run's frames) until the crown
+// dropped 0.1 m, the mechanism formed.
+RingHinges arch_hinges(double t_over_r) {
+  const double radius = 5.0, t = t_over_r * radius, inner = radius - t / 2, outer = radius + t / 2;
+  const int count = 36;
+  ModelBuilder b;
+  const int mat = b.add_material(test::stone(1.0, 60.0));
+  const Polyhedron base = make_box(Vec3(0, 0, -0.45), Vec3(3 * radius, 2.0, 0.5));
+  b.add_block(base.vertices, base.faces, mat, Motion::fixed, "base", {static_cast<int>(Part::ground), 0});
+  const int ring = static_cast<int>(Part::ring);
+  for (const auto& [x, position] : {std::pair{-radius, 0}, std::pair{radius, count + 1}}) {
+    const Polyhedron springer = make_box(Vec3(x, 0, -0.1), Vec3(t, 1.0, 0.2));
+    b.add_block(springer.vertices, springer.faces, mat, Motion::fixed, "springer", {ring, position});
+  }
+  for (int k = 0; k < count; ++k) {
+    const double a0 = std::numbers::pi * (1 - double(k) / count), a1 = std::numbers::pi * (1 - double(k + 1) / count);
+    const std::vector<Vec3> polygon{{inner * std::cos(a1), 0, inner * std::sin(a1)},
+                                    {outer * std::cos(a1), 0, outer * std::sin(a1)},
+                                    {outer * std::cos(a0), 0, outer * std::sin(a0)},
+                                    {inner * std::cos(a0), 0, inner * std::sin(a0)}};
+    for (double y0 : {-0.5, 0.0}) {
+      const Polyhedron v = make_prism_xz(polygon, y0, y0 + 0.5);
+      b.add_block(v.vertices, v.faces, mat, Motion::free, "voussoir", {ring, k + 1});
+    }
+  }
+  const Model m = b.build({});
+  World w(m, 1e-5);
+  const State& s = w.state();
+  Joints joints = find_original_joints(s);
+  RingHinges hinges;
+  const int crown = 3 + count;  // a voussoir beside the crown joint
+  const double z0 = s.position[crown].z();
+  while (s.time_s < 4.0 && z0 - s.position[crown].z() < 0.1) {
+    w.run(5000);
+    measure_joints(s, JointThresholds{}, joints);
+    bool ring_fell = false;
+    for (int k = 3; k < m.block_count; ++k) ring_fell |= is_fallen(m, s, k);
+    hinges.note(m, joints, s.time_s, ring_fell);
+  }
+  return hinges;
+}
+
+// Heyman's limit state: a semicircular arch needs t/R = 0.1075 (Milankovitch), and one thinner
+// collapses on five hinges, at the crown, at 54-59 degrees from it on both sides (the
+// haunches) and at the springings. The record finds the sections across the width and the
+// angles from the joints' directions, with the -x side negative.
+TEST(HowItFails, TheRingHingesOfASemicircularArchAreHeymansFive) {
+  const nlohmann::ordered_json stands = arch_hinges(0.12).summary(0.0);
+  EXPECT_EQ(stands["sections"], 37);  // between the 38 stones along the arc
+  EXPECT_EQ(stands["joints"], 74);    // two across the width: not the neighbours' courses touching along an edge
+  EXPECT_EQ(stands["most"], 0) << stands.dump();
+  EXPECT_TRUE(stands["first_s"].is_null());
+
+  const nlohmann::ordered_json collapses = arch_hinges(0.10).summary(0.0);
+  std::printf("t/R = 0.10: %s\n", collapses.dump().c_str());
+  ASSERT_EQ(collapses["most"], 5) << collapses.dump();
+  const std::vector<double> angles = collapses["angles_deg"].get<std::vector<double>>();
+  EXPECT_NEAR(angles[0], -90, 1e-6);
+  EXPECT_GT(angles[1], -59.5);
+  EXPECT_LT(angles[1], -52);
+  EXPECT_NEAR(angles[2], 0, 1e-6);
+  EXPECT_GT(angles[3], 52);
+  EXPECT_LT(angles[3], 59.5);
+  EXPECT_NEAR(angles[4], 90, 1e-6);
+  EXPECT_LE(collapses["first_s"].get<double>(), collapses["most_at_s"].get<double>());
+}
+
+// A bridge's ring of two spans, two stones across its width: each span's radial joints make
+// its own sections, at the ring's joint angles (geometry/arch_ring.h), and of two neighbouring
+// sections opened by hand the one open more is the hinge.
+TEST(HowItFails, RingSectionsArePerSpanAtTheJointsAnglesAndAHingeIsTheWiderOfNeighbours) {
+  BridgeSpec spec;
+  spec.ring.width_m = 1.28;  // two stones of 0.64 m across
+  spec.ring.voussoirs = 33;
+  spec.spans = 2;
+  const Model m = compile_bridge(spec, generate_bridge(spec));
+  World w(m, 1e-5);
+  Joints joints = find_original_joints(w.state());
+  RingHinges hinges;
+  EXPECT_EQ(hinges.note(m, joints, 0.0, false), 0);
+  nlohmann::ordered_json h = hinges.summary(0.0);
+  EXPECT_EQ(h["sections"], 2 * 32);
+  EXPECT_EQ(h["joints"], 2 * 32 * 2);
+  EXPECT_EQ(hinges.most(), 0);
+  // Opens the joints of the section at `position` in the span at x > 0 (or x < 0) by `opening`.
+  auto open = [&](int position, bool plus_x, double opening) {
+    for (int j = 0; j < joints.size(); ++j) {
+      const int a = joints.block_a[j], b = joints.block_b[j];
+      if (m.block_tag[a].part != static_cast<int>(Part::ring) || m.block_tag[b].part != static_cast<int>(Part::ring)) continue;
+      if (std::max(m.block_tag[a].course, m.block_tag[b].course) != position || m.block_tag[a].course == m.block_tag[b].course) continue;
+      if ((m.initial_position[a].x() > 0) == plus_x) joints.opening_m[j] = opening;
+    }
+  };
+  const RingGeometry g = ring_geometry(spec.ring);
+  const double depth = spec.ring.thickness_m;
+  open(5, true, 1.5 * kHingeRotationRad * depth);   // the +x span: one hinge at joint 5
+  open(20, false, 1.5 * kHingeRotationRad * depth);  // the -x span: joints 20 and 21 open, 21 more
+  open(21, false, 2.0 * kHingeRotationRad * depth);
+  open(9, false, 0.9 * kHingeRotationRad * depth);   // below the rotation: no hinge
+  EXPECT_EQ(hinges.note(m, joints, 1.0, false), 2);
+  h = hinges.summary(0.5);
+  ASSERT_EQ(h["most"], 2) << h.dump();
+  EXPECT_NEAR(h["most_at_s"].get<double>(), 0.5, 1e-12);
+  const auto angles = h["angles_deg"].get<std::vector<double>>();  // the -x span's first
+  EXPECT_NEAR(angles[0], g.joint(21) * 180 / std::numbers::pi, 1e-6);
+  EXPECT_NEAR(angles[1], g.joint(5) * 180 / std::numbers::pi, 1e-6);
+  open(12, true, 2.0 * kHingeRotationRad * depth);
+  EXPECT_EQ(hinges.note(m, joints, 1.1, true), 3);  // a ring stone fell: counted, no longer recorded
+  EXPECT_EQ(hinges.most(), 2);
+}
+
 nlohmann::ordered_json part(const char* name, int fallen, double first_s, int minus_y, int middle, int plus_y) {
   return {{"part", name}, {"fallen", fallen}, {"first_fall_s", first_s}, {"sides", {{"-y", minus_y}, {"middle", middle}, {"+y", plus_y}}}};
 }
@@ -184,6 +302,26 @@ TEST(HowItFails, TheSentenceNamesThePartsInTheOrderTheyFellAndAOneSidedWallsSide
   how["parts"] = nlohmann::ordered_json::array();
   EXPECT_EQ(how_it_fails_text(how), "no stone fell");
   EXPECT_EQ(failure_mode_of(how), "no stone fell");
+}
+
+TEST(HowItFails, TheSentenceSaysWhereTheRingHingedAndWhetherBeforeItsStonesFell) {
+  nlohmann::ordered_json how;
+  how["parts"] = nlohmann::ordered_json::array({part("ring", 32, 5.6, 0, 32, 0)});
+  how["toward"] = {{"+x", 0}, {"-x", 32}, {"+y", 0}, {"-y", 0}};
+  how["ring_hinges"] = {{"sections", 32}, {"first_s", 4.2}, {"most", 5}, {"most_at_s", 4.4}, {"angles_deg", {-85.2, -55, 0, 55, 85.2}}};
+  EXPECT_EQ(how_it_fails_text(how),
+            "ring stones from 5.60 s of shaking (32); all 32 fell along the span (in plane, 32 toward -x); ring hinges "
+            "from 4.20 s of shaking, at most 5 at once (at -85, -55, 0, 55 and 85 degrees from the crown, 4.40 s of "
+            "shaking) before its first stone fell");
+  EXPECT_EQ(failure_mode_of(how), "ring first (along)");  // the hinges do not change the mode
+  how["parts"] = nlohmann::ordered_json::array();
+  how["ring_hinges"] = {{"sections", 32}, {"first_s", 2.1}, {"most", 1}, {"most_at_s", 2.1}, {"angles_deg", {3}}};
+  EXPECT_EQ(how_it_fails_text(how), "no stone fell; ring hinges from 2.10 s of shaking, at most 1 at once (at 3 degrees "
+                                    "from the crown, 2.10 s of shaking)");
+  how["ring_hinges"] = {{"sections", 32}, {"first_s", nullptr}, {"most", 0}, {"most_at_s", nullptr}, {"angles_deg", nlohmann::ordered_json::array()}};
+  EXPECT_EQ(how_it_fails_text(how), "no stone fell; no ring joint hinged");
+  how["ring_hinges"] = nullptr;  // a model without a ring
+  EXPECT_EQ(how_it_fails_text(how), "no stone fell");
 }
 
 }  // namespace

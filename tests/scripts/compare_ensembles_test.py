@@ -93,18 +93,23 @@ with tempfile.TemporaryDirectory() as tmp:
     # How they fail: A's members say "wall first (across)" twice and "no stone fell" once, B's
     # (as its ensemble.csv's failure_mode column) "ring first (along)" thrice: the most common
     # mode of both, "ring first (along)", 0 of 3 against 3 of 3: Fisher's p 2 / C(6, 3) = 0.1.
+    # The ring's hinges likewise: A's members 2, 3 and 4 at most at once, B's 5, 6 and 7: the rank
+    # sum puts A's three lowest, 1 of C(6, 3) = 20 splits each tail: p 0.1.
+    assert "most ring hinges" not in table, table  # no member counts them (a program before the hinges)
     for m, mode in enumerate(["no stone fell", "wall first (across)", "wall first (across)"]):
         summary_file = tmp / "a" / f"member_{m:03d}" / "summary.json"
         summary = json.loads(summary_file.read_text())
-        summary_file.write_text(json.dumps(dict(summary, failure_mode=mode)))
+        summary_file.write_text(json.dumps(dict(summary, failure_mode=mode, most_ring_hinges=2 + m)))
     with_modes = (tmp / "b.csv").read_text().splitlines()
-    with_modes = [with_modes[0] + ",failure_mode"] + [row + ",ring first (along)" for row in with_modes[1:]]
+    with_modes = [with_modes[0] + ",failure_mode,most_ring_hinges"] + [
+        row + f",ring first (along),{5 + m if m < 3 else ''}" for m, row in enumerate(with_modes[1:])]
     (tmp / "b_modes.csv").write_text("\n".join(with_modes) + "\n")
     modes = subprocess.run([sys.executable, str(ROOT / "scripts" / "compare_ensembles.py"), str(tmp / "a"),
                             str(tmp / "b_modes.csv"), "--labels", "A", "B"], check=True, capture_output=True,
                            text=True).stdout
     assert ("| how they fail | wall first (across): 2; no stone fell: 1 | ring first (along): 3 | "
             "0.100 (Fisher, ring first (along)) |") in modes, modes
+    assert "| most ring hinges at once | 3 (2 to 4) | 6 (5 to 7) | 0.100 (rank sum) |" in modes, modes
 
     # Tied members: T's summaries as the B tied lane's program (dcb7acf) writes them (the
     # rods' demand in "ties"), U's as an ensemble.csv of today's columns (one without rods'
