@@ -198,7 +198,7 @@ OutcomeCounts write_outcomes(const OutcomeTable& table, const fs::path& csv_file
   csv << ",first_fall_s,stopped_early\n";  // stopped_early: ended at its collapse (stop_at), its counts at that frame
   OutcomeCounts n;
   std::map<std::string, int> modes;
-  std::vector<double> fallen, first_opening, first_fall, crown_drop;
+  std::vector<double> fallen, first_opening, first_fall, crown_drop, hinges;
   std::vector<int> members;
   std::vector<bool> collapsed;
   FallMap fall_map;
@@ -220,6 +220,7 @@ OutcomeCounts write_outcomes(const OutcomeTable& table, const fs::path& csv_file
     if (!s["first_opening_s"].is_null()) first_opening.push_back(s["first_opening_s"].get<double>());
     if (fall >= 0) first_fall.push_back(fall);
     crown_drop.push_back(s["largest_crown_drop_m"].get<double>());
+    if (s.contains("most_ring_hinges") && s["most_ring_hinges"].is_number()) hinges.push_back(s["most_ring_hinges"].get<int>());
     members.push_back(row.member);
   }
   const std::size_t count = members.size();
@@ -246,6 +247,7 @@ OutcomeCounts write_outcomes(const OutcomeTable& table, const fs::path& csv_file
   j["first_opening_s"] = value_spread(first_opening);  // count: the members in which a joint opened
   j["first_fall_s"] = value_spread(first_fall);
   j["largest_crown_drop_m"] = value_spread(crown_drop);
+  if (!hinges.empty()) j["most_ring_hinges"] = value_spread(hinges);  // older runs and models without a ring: none
   j["most_common_outcome_member"] = n.typical;  // of the majority's verdict, the median fallen stones
   j["worst_outcome_member"] = n.worst;          // the most fallen stones, then the largest crown drop
   n.failure_modes.assign(modes.begin(), modes.end());

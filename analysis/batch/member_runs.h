@@ -73,7 +73,8 @@ std::string summary_csv_values(const nlohmann::json& summary);
 // Writes `csv` (a row per member: member, its draws, summary.json's result columns,
 // first_fall_s and stopped_early) and puts into `json` the probabilities of
 // collapse, of any stone falling and of a ring stone falling, each with its Wilson interval,
-// the median, least and largest fallen stones, first opening, first fall and crown drop, how
+// the median, least and largest fallen stones, first opening, first fall, crown drop and
+// most ring hinges at once (members of a model with a ring), how
 // many members fail each way ("failure_modes") and in how many members each stone fell
 // ("fallen_blocks"); beside `csv`, fallen_share.vtu: the model's blocks (a member's first
 // frame) with that share of the members as cell array fallen_share.

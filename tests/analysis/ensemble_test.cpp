@@ -367,6 +367,8 @@ TEST(Ensemble, RunMembersWritesProbabilitiesAndKeepsFinishedMembers) {
   const std::string json = text_of(out / "ensemble.json");
   EXPECT_NE(json.find("\"finished\": 3"), std::string::npos) << json;
   EXPECT_NE(json.find("\"collapse\""), std::string::npos) << json;
+  // Model A's ring: each member counted its hinges (none in these 0.05 s).
+  EXPECT_EQ(nlohmann::json::parse(json)["most_ring_hinges"]["count"], 3) << json;
   const std::string csv = text_of(out / "ensemble.csv");
   EXPECT_EQ(std::count(csv.begin(), csv.end(), '\n'), 4) << csv;  // header and a row per member
   EXPECT_NE(text_of(out / "member_002" / "summary.json").find("\"index\": 2"), std::string::npos);
