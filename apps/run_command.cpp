@@ -290,7 +290,8 @@ int run_scenario(const RunOptions& o) {
   std::printf("%s: %d fallen stones, %d of %d joints cracked (%d open now), largest slip %.4f m, %s, first opening %s\n",
               when, r.fallen_stones, r.joint_counts.cracked, r.joints, r.joint_counts.open, r.joint_counts.largest_slip_m,
               crown, r.first_opening_s < 0 ? "none" : (std::to_string(r.first_opening_s) + " s").c_str());
-  if (r.fallen_stones > 0) std::printf("how it fails: %s\n", how_it_fails_of(options.out).c_str());
+  // A bridge that stands with its ring hinged came near a mechanism: say where, as for a collapse.
+  if (r.fallen_stones > 0 || r.most_ring_hinges > 0) std::printf("how it fails: %s\n", how_it_fails_of(options.out).c_str());
   std::printf("energy balance error %.3g %% of the energy exchanged\n", 100 * r.balance_error_relative);
   if (std::abs(r.balance_error_relative) > kBalanceWarning)
     std::printf("warning: the energy balance misses by more than %.0f %%: a step too coarse for this run's impacts (try "

@@ -58,10 +58,11 @@ def tie_rods(a, t, shake, summary):
 
 
 def how_it_fails(summary):
-    """summary.json's sentence of which parts lost stones, from when, and which way they
-    fell, wrapped for a panel's title; empty where no stone fell (or an older run)."""
+    """summary.json's sentence of which parts lost stones, from when, which way they fell
+    and where the ring hinged, wrapped for a panel's title; empty where no stone fell and
+    the ring never hinged (or an older run)."""
     text = summary.get("how_it_fails", {}).get("text", "")
-    if not summary.get("fallen_stones") or not text:
+    if not text or not (summary.get("fallen_stones") or summary.get("most_ring_hinges")):
         return ""
     return "\n" + textwrap.fill("how it fails: " + text, 150)
 

@@ -32,6 +32,10 @@ assert r.verdict(dict(stopped, collapse=True)).startswith("collapse, stopped the
 fell = dict(plain, fallen_stones=3, how_it_fails={"text": "wall stones from 5.20 s of shaking (3)"})
 assert r.how_it_fails(fell) == "\nhow it fails: wall stones from 5.20 s of shaking (3)", r.how_it_fails(fell)
 assert r.how_it_fails(dict(fell, fallen_stones=0)) == "" and r.how_it_fails(plain) == ""
+# A ring that hinged but lost no stone: said too.
+hinged = dict(plain, fallen_stones=0, most_ring_hinges=3, how_it_fails={"text": "no stone fell; ring hinges from 2.10 s"})
+assert r.how_it_fails(hinged) == "\nhow it fails: no stone fell; ring hinges from 2.10 s", r.how_it_fails(hinged)
+assert r.how_it_fails(dict(hinged, most_ring_hinges=0)) == ""
 
 columns = ["time_s", "phase", "gravitational_j", "largest_tie_tension_n"] + list(r.ENERGY_TERMS) + [k for k, _ in r.COUNTS]
 columns += [f"ground_a{axis}_m_s2" for axis in "xyz"]
