@@ -37,11 +37,12 @@ hinged = dict(plain, fallen_stones=0, most_ring_hinges=3, how_it_fails={"text": 
 assert r.how_it_fails(hinged) == "\nhow it fails: no stone fell; ring hinges from 2.10 s", r.how_it_fails(hinged)
 assert r.how_it_fails(dict(hinged, most_ring_hinges=0)) == ""
 
-columns = ["time_s", "phase", "gravitational_j", "largest_tie_tension_n"] + list(r.ENERGY_TERMS) + [k for k, _ in r.COUNTS]
+columns = ["time_s", "phase", "gravitational_j", "largest_tie_tension_n", "ring_hinges"] + list(r.ENERGY_TERMS) + \
+    [k for k, _ in r.COUNTS]
 columns += [f"ground_a{axis}_m_s2" for axis in "xyz"]
 heights = []
 with tempfile.TemporaryDirectory() as tmp:
-    for summary in (plain, tied):
+    for summary in (plain, dict(tied, how_it_fails={"ring_hinges": {"most": 0}})):  # a ring: its hinges' axis too
         folder = Path(tmp) / str(len(heights))
         folder.mkdir()
         (folder / "summary.json").write_text(json.dumps(summary))
