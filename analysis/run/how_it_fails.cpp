@@ -98,8 +98,7 @@ nlohmann::ordered_json FallRecord::summary(const Model& m, double settle_time_s)
   return how;
 }
 
-void RingHinges::find_sections(const Model& m, const Joints& joints) {
-  found_ = true;
+RingHinges::RingHinges(const Model& m, const Joints& joints) {
   const int ring = static_cast<int>(Part::ring);
   int along = 0;  // voussoirs along the arc, springers included
   for (int b = 0; b < m.block_count; ++b)
@@ -156,8 +155,7 @@ void RingHinges::find_sections(const Model& m, const Joints& joints) {
                    [](const Section& p, const Section& q) { return p.span != q.span ? p.span < q.span : p.position < q.position; });
 }
 
-int RingHinges::note(const Model& m, const Joints& joints, double time_s, bool ring_stone_fell) {
-  if (!found_) find_sections(m, joints);
+int RingHinges::note(const Joints& joints, double time_s, bool ring_stone_fell) {
   const std::size_t n = sections_.size();
   std::vector<double> opening(n);  // (sections) the median over the width, m
   std::vector<double> of_joints;

@@ -59,10 +59,12 @@ constexpr double kHingeRotationRad = 0.01;
 
 class RingHinges {
  public:
+  // The ring's sections among the joints found at the start (find_original_joints).
+  RingHinges(const Model& m, const Joints& joints);
+
   // The hinges now, from the joints as measure_joints left them at simulated time time_s;
-  // the record takes them while no ring stone has fallen. The first call finds the sections
-  // (joints of the same model give the same ones on a resume).
-  int note(const Model& m, const Joints& joints, double time_s, bool ring_stone_fell);
+  // the record takes them while no ring stone has fallen.
+  int note(const Joints& joints, double time_s, bool ring_stone_fell);
 
   // summary.json's "how_it_fails" "ring_hinges": {"sections", "joints" (radial, across the
   // width of all sections), "rotation_rad" (kHingeRotationRad), "first_s" (seconds of shaking,
@@ -85,8 +87,6 @@ class RingHinges {
     double depth_m = 0;          // of its joints, radially
     std::vector<int> joints;     // across the width
   };
-  void find_sections(const Model& m, const Joints& joints);
-  bool found_ = false;
   std::vector<Section> sections_;
   double first_s_ = -1;                  // the first frame with a hinge; -1: none yet
   int most_ = 0;                         // the most hinged at one frame

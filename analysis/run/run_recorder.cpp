@@ -128,7 +128,7 @@ std::string history_row(const HistoryFrame& frame) {
 
 }  // namespace
 
-RunRecorder::RunRecorder(std::filesystem::path out, const Model& model, std::vector<int> monitors,
+RunRecorder::RunRecorder(std::filesystem::path out, const Model& model, const Joints& joints, std::vector<int> monitors,
                          std::function<void(const std::string&)> on_warning)
     : out_(std::move(out)),
       model_(model),
@@ -137,7 +137,8 @@ RunRecorder::RunRecorder(std::filesystem::path out, const Model& model, std::vec
       blocks_(out_, "blocks"),
       contacts_(out_, "contacts", VtkSeriesWriter::Kind::contacts),
       reported_left_(model.block_count, 0),
-      falls_(model.block_count) {
+      falls_(model.block_count),
+      hinges_(model, joints) {
   if (!model.ties.empty()) ties_.emplace(out_, "ties", VtkSeriesWriter::Kind::ties);
   view_.ties = ties_.has_value();
   history_ = history_header(monitors_);
@@ -190,7 +191,7 @@ RunCounts RunRecorder::record(const char* phase, const State& s, const Vec3& ga,
       }
     }
   falls_.note(m, s, gd);
-  c.ring_hinges = hinges_.note(m, joints, s.time_s, c.fallen_ring > 0);
+  c.ring_hinges = hinges_.note(joints, s.time_s, c.fallen_ring > 0);
   c.most_ring_hinges = hinges_.most();
   c.failure_mode = failure_mode_of(falls_.summary(m, 0.0));  // the order of the parts' falls, not their times
   HistoryFrame frame{s.time_s, phase, ga, gd, s.energy, c, {}};

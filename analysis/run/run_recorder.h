@@ -66,7 +66,8 @@ std::string how_it_fails_of(const std::filesystem::path& out);
 
 class RunRecorder {
  public:
-  RunRecorder(std::filesystem::path out, const Model& model, std::vector<int> monitors,
+  // `joints`: the run's, as found at the start (the ring's hinges are read from them).
+  RunRecorder(std::filesystem::path out, const Model& model, const Joints& joints, std::vector<int> monitors,
               std::function<void(const std::string&)> on_warning);
 
   // One row of history.csv and one frame of each series, of the state now (and view.pvsm

@@ -114,7 +114,7 @@ std::unique_ptr<SeismicRun> SeismicRun::resume(SeismicRunOptions options, const 
 // where the run is. visit() lists what a checkpoint holds of it, for writing and reading.
 struct SeismicRun::Progress {
   Progress(const SeismicRunOptions& options, const Model& m, const std::vector<int>& monitors, const State& s)
-      : joints(find_original_joints(s, soil_blocks(m))), recorder(options.out, m, monitors, options.on_warning) {}
+      : joints(find_original_joints(s, soil_blocks(m))), recorder(options.out, m, joints, monitors, options.on_warning) {}
   // The masonry's joints: a soil fill's elements part and slide as soil does.
   static std::vector<std::uint8_t> soil_blocks(const Model& m) {
     std::vector<std::uint8_t> soil(m.block_count, 0);

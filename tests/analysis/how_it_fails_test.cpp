@@ -132,7 +132,7 @@ TEST(HowItFails, PartsComeInTheOrderTheyFellWithTheirSidesAndDirections) {
   s.position[1] += Vec3(-0.6, 0.1, -1.5);
   s.position[2] += Vec3(0, 0, -0.3);
   falls.note(m, s, Vec3(0, 0.2, 0));
-  const nlohmann::ordered_json how = how_it_fails(m, falls, RingHinges{}, settled_s);
+  const nlohmann::ordered_json how = how_it_fails(m, falls, RingHinges(m, Joints{}), settled_s);
   ASSERT_EQ(how["parts"].size(), 2u) << how.dump();
   EXPECT_EQ(how["parts"][0]["part"], "wall");
   EXPECT_NEAR(how["parts"][0]["first_fall_s"].get<double>(), 0.8, 1e-12);
@@ -202,7 +202,7 @@ RingHinges arch_hinges(double t_over_r) {
   World w(m, 1e-5);
   const State& s = w.state();
   Joints joints = find_original_joints(s);
-  RingHinges hinges;
+  RingHinges hinges(m, joints);
   const int crown = 3 + count;  // a voussoir beside the crown joint
   const double z0 = s.position[crown].z();
   while (s.time_s < 4.0 && z0 - s.position[crown].z() < 0.1) {
@@ -210,7 +210,7 @@ RingHinges arch_hinges(double t_over_r) {
     measure_joints(s, JointThresholds{}, joints);
     bool ring_fell = false;
     for (int k = 3; k < m.block_count; ++k) ring_fell |= is_fallen(m, s, k);
-    hinges.note(m, joints, s.time_s, ring_fell);
+    hinges.note(joints, s.time_s, ring_fell);
   }
   return hinges;
 }
@@ -251,8 +251,8 @@ TEST(HowItFails, RingSectionsArePerSpanAtTheJointsAnglesAndAHingeIsTheWiderOfNei
   const Model m = compile_bridge(spec, generate_bridge(spec));
   World w(m, 1e-5);
   Joints joints = find_original_joints(w.state());
-  RingHinges hinges;
-  EXPECT_EQ(hinges.note(m, joints, 0.0, false), 0);
+  RingHinges hinges(m, joints);
+  EXPECT_EQ(hinges.note(joints, 0.0, false), 0);
   nlohmann::ordered_json h = hinges.summary(0.0);
   EXPECT_EQ(h["sections"], 2 * 32);
   EXPECT_EQ(h["joints"], 2 * 32 * 2);
@@ -272,7 +272,7 @@ TEST(HowItFails, RingSectionsArePerSpanAtTheJointsAnglesAndAHingeIsTheWiderOfNei
   open(20, false, 1.5 * kHingeRotationRad * depth);  // the -x span: joints 20 and 21 open, 21 more
   open(21, false, 2.0 * kHingeRotationRad * depth);
   open(9, false, 0.9 * kHingeRotationRad * depth);   // below the rotation: no hinge
-  EXPECT_EQ(hinges.note(m, joints, 1.0, false), 2);
+  EXPECT_EQ(hinges.note(joints, 1.0, false), 2);
   h = hinges.summary(0.5);
   ASSERT_EQ(h["most"], 2) << h.dump();
   EXPECT_NEAR(h["most_at_s"].get<double>(), 0.5, 1e-12);
@@ -280,7 +280,7 @@ TEST(HowItFails, RingSectionsArePerSpanAtTheJointsAnglesAndAHingeIsTheWiderOfNei
   EXPECT_NEAR(angles[0], g.joint(21) * 180 / std::numbers::pi, 1e-6);
   EXPECT_NEAR(angles[1], g.joint(5) * 180 / std::numbers::pi, 1e-6);
   open(12, true, 2.0 * kHingeRotationRad * depth);
-  EXPECT_EQ(hinges.note(m, joints, 1.1, true), 3);  // a ring stone fell: counted, no longer recorded
+  EXPECT_EQ(hinges.note(joints, 1.1, true), 3);  // a ring stone fell: counted, no longer recorded
   EXPECT_EQ(hinges.most(), 2);
 }
 
