@@ -3,11 +3,18 @@
 // A compute-bound loop and a streaming sum on one core, then on cores 0 and 1 at once
 // (two cores of their own give 2x the throughput of one), and a cache line bounced
 // between them (its round trip: what data the two threads of a step share costs).
+//   build/perf/core_probe clock 1 2 4 8 16
+// How fast one core computes while N cores compute at once (cores 0..N-1, the same loop,
+// no data shared): a core that runs slower as more are busy (a lower turbo clock, a
+// host's power budget, shared physical cores) makes N threads' work grow by that factor
+// whatever the engine does, so the engine's own scaling is read against it.
 #include <pthread.h>
 
 #include <atomic>
 #include <chrono>
 #include <cstdio>
+#include <cstdlib>
+#include <string>
 #include <thread>
 #include <vector>
 
@@ -23,11 +30,12 @@ void pin(int cpu) {
 volatile double sink;  // keeps the loops' results alive
 
 // 64 independent multiply-add chains: enough to keep a core's floating-point units full.
+long compute_rounds = 100'000'000;
 void compute(int cpu) {
   pin(cpu);
   double acc[64];
   for (int k = 0; k < 64; ++k) acc[k] = 1.0 + k * 1e-3;
-  for (long i = 0; i < 100'000'000; ++i)
+  for (long i = 0; i < compute_rounds; ++i)
     for (double& a : acc) a = a * 0.999999 + 1e-7;
   double sum = 0;
   for (double a : acc) sum += a;
@@ -78,7 +86,27 @@ double round_trip_ns() {
 
 }  // namespace
 
-int main() {
+// One line per count of cores: the compute loop's seconds on each of N cores at once,
+// against the same loop on one core (1.00: as fast as alone), twice, one count after another.
+int clock_scan(int argc, char** argv) {
+  compute_rounds = 30'000'000;
+  const unsigned cores = std::thread::hardware_concurrency();
+  for (int round = 0; round < 2; ++round)
+    for (int a = 2; a < argc; ++a) {
+      const int n = std::atoi(argv[a]);
+      if (n < 1 || unsigned(n) > cores) {
+        std::fprintf(stderr, "core_probe clock: '%s' should be a count of cores from 1 to %u\n", argv[a], cores);
+        return 1;
+      }
+      const double alone = seconds_of(compute, 1), together = seconds_of(compute, n);
+      std::printf("clock: %2d busy at once, %.3f s each against %.3f s alone: each %.2fx slower\n", n, together,
+                  alone, together / alone);
+    }
+  return 0;
+}
+
+int main(int argc, char** argv) {
+  if (argc > 1 && std::string(argv[1]) == "clock") return clock_scan(argc, argv);
   arrays[0].assign(16 << 20, 1);
   arrays[1].assign(16 << 20, 1);
   for (int round = 0; round < 2; ++round) {
