@@ -56,11 +56,11 @@ void print_profile(const SeismicRun& run, const SeismicRunResult& r) {
     return;
   }
   if (run.first_step() > 0) std::printf("the %ld steps since the checkpoint (step %ld):\n", steps, run.first_step());
-  std::printf("stage             seconds   share   work µs/step   working  waiting   serial  imbalance  stolen\n");
+  std::printf("stage                  seconds   share   work µs/step   working  waiting   serial  imbalance  stolen\n");
   for (int k = 0; k < kStageCount; ++k) {
     const StageTime& t = p.stages[k];
     if (t.wall_s == 0) continue;
-    std::printf("%-16s %8.2f %6.1f %%   %12.1f  %6.1f %%  %5.1f %%  %5.1f %%  %9.2f  %4.1f %%\n", kStageNames[k], t.wall_s,
+    std::printf("%-21s %8.2f %6.1f %%   %12.1f  %6.1f %%  %5.1f %%  %5.1f %%  %9.2f  %4.1f %%\n", kStageNames[k], t.wall_s,
                 100 * t.wall_s / total, 1e6 * t.work_s / steps, 100 * t.work_s / t.team_s, 100 * t.wait_s() / t.team_s,
                 100 * t.serial_s / t.wall_s, t.imbalance(), 100 * t.stolen_share());
   }

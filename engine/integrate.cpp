@@ -4,7 +4,10 @@
 // model (Model::leave_depth_m) is frozen there and its kinetic energy booked as lost.
 // With explicit dashpots each block's forces are gathered just before it moves, in the
 // same pass: as loops of their own gather and integrate each cost a team post and a tail
-// (model F on 16 threads: 24 and 23 us a step for 9 and 11 us of work a thread).
+// (model F on 16 threads: 24 and 23 us a step for 9 and 11 us of work a thread). For the
+// same reason each block is posed for the next step as soon as it has moved (pose.cpp):
+// the pose's own loop took 22 us a step on 16 threads for 5 us of work a thread
+// (perf/results, session 72).
 #include <array>
 #include <cmath>
 #include <sstream>
@@ -51,24 +54,33 @@ bool integrate_block(const Model& m, State& s, double dt, const Vec3& down, std:
 }
 
 // The pass over the blocks in the stage chunks (those of the gather and the pair loops),
-// gathering each block's forces first when `gather`; the chunks' sums added in chunk order.
+// gathering each block's forces first when `gather` and posing it once it has moved; the
+// chunks' sums added in chunk order. A block's gather, step and pose read and write its
+// own entries alone (its pairs' forces, which the contact law wrote, aside).
 ForcesAndMotion integrate_blocks(const Model& m, State& s, double dt, bool gather) {
   std::array<BlockEnergy, kStageChunks> parts{};
   std::array<double, kStageChunks> power{};
+  std::array<PoseChunk, kStageChunks> poses;
   std::array<int, kStageChunks> first_not_finite;
   first_not_finite.fill(-1);
   const Vec3 down = m.gravity_m_s2.norm() > 0 ? Vec3(m.gravity_m_s2.normalized()) : Vec3::Zero();
+  const bool add = begin_pose(s);
   const int chunks = stage_chunks(m.block_count);
   parallel_chunks(m.block_count, chunks, [&](std::ptrdiff_t begin, std::ptrdiff_t end, int k) {
     // Before this chunk's blocks move: the power reads the prescribed blocks' velocities
     // (which no pass changes) and the pair forces.
     if (gather) power[k] = prescribed_power_of_chunk(s, k);
     BlockEnergy e;
+    PoseChunk pose;
     for (std::ptrdiff_t b = begin; b < end; ++b) {
       if (gather) gather_block(m, s, b);
       if (!integrate_block(m, s, dt, down, b, e) && first_not_finite[k] < 0) first_not_finite[k] = static_cast<int>(b);
     }
+    // A loop of its own over the chunk's blocks, still in the cache: interleaved with the
+    // step above, the pose made the pass slower than the two passes apart (one thread).
+    for (std::ptrdiff_t b = begin; b < end; ++b) pose_block(m, s, b, add, pose);
     parts[k] = e;
+    poses[k] = pose;
   });
 
   // A NaN spreads through every contact it touches: stop at once and say where.
@@ -79,6 +91,8 @@ ForcesAndMotion integrate_blocks(const Model& m, State& s, double dt, bool gathe
           << " s, step " << s.step << "; the time step is probably too large for its contacts, or a load is invalid";
       throw ModelError(msg.str());
     }
+  s.moved_ahead = finish_pose(m, s, poses.data(), chunks);
+  s.posed_ahead = true;
   ForcesAndMotion total;
   if (gather) total.prescribed_power_w = carried_prescribed_power(s);
   for (int k = 0; k < chunks; ++k) {

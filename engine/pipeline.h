@@ -2,6 +2,8 @@
 // Model and updates part of the State; each lives in its own .cpp file.
 #pragma once
 #include <cmath>
+#include <cstddef>
+#include <limits>
 #include <vector>
 
 #include "engine/model.h"
@@ -13,7 +15,24 @@ namespace ishibashi {
 // makes the vertices and edge directions of the pairs it searches: narrowphase.h).
 // Returns whether the pair list must be rebuilt: there is none, or a block has moved more
 // than half the margin since it was built (update_pairs' check, made in the same pass).
+// A step's integrate pass poses each block as it moves it (State::posed_ahead), so this
+// runs only where no step has: a new or restored state.
 bool update_pose(const Model& model, State& state);
+// The same pose, block by block, for a pass over the blocks in stage chunks: each chunk
+// keeps its part of the check in a PoseChunk, and finish_pose combines them.
+struct PoseChunk {
+  bool moved = false;  // a block of the chunk moved half the margin
+  // The spread of the blocks' step shifts along each axis (m) and their largest step turn
+  // (rad), for the apart pairs' clock.
+  Vec3 shift_lo = Vec3::Constant(std::numeric_limits<double>::infinity());
+  Vec3 shift_hi = Vec3::Constant(-std::numeric_limits<double>::infinity());
+  double turn = 0.0;
+};
+// `add`: the blocks' step motions add to those no narrowphase has read yet (begin_pose).
+bool begin_pose(State& state);
+void pose_block(const Model& model, State& state, std::ptrdiff_t b, bool add, PoseChunk& chunk);
+// Returns whether the pair list must be rebuilt, as update_pose; advances the apart clock.
+bool finish_pose(const Model& model, State& state, const PoseChunk* chunks, int chunk_count);
 
 // broadphase.cpp: rebuilds the sorted candidate pair list when a block has moved more
 // than half the margin since the last rebuild; keeps each surviving pair's memory.
@@ -121,7 +140,8 @@ struct DampingSolve {
 DampingSolve solve_implicit_damping(const Model& model, State& state, double dt_s);
 
 // integrate.cpp: semi-implicit Euler with Euler's rotation equations in the principal frame;
-// reads State::rotation, so update_pose must have run on the current orientations.
+// reads State::rotation, so update_pose must have run on the current orientations. Then
+// poses each block it moved, for the next step (State::posed_ahead, pose.cpp).
 // Returns the kinetic and gravitational energy of the free blocks before the update (J),
 // and the kinetic energy of blocks that left the model in this step and were frozen.
 // Throws ModelError naming the block when its state becomes NaN or infinite.

@@ -1,6 +1,5 @@
 #include <array>
 #include <cmath>
-#include <cstdint>
 #include <limits>
 
 #include "engine/parallel.h"
@@ -20,7 +19,7 @@ double turn_bound_rad(double chord) {
 
 // Block b's rotation matrix and world-frame face planes, and how it moved since the last
 // pose: added to what it moved before when no narrowphase has read that yet (`add`).
-void pose_block(const Model& m, State& s, std::ptrdiff_t b, bool add) {
+void pose_only(const Model& m, State& s, std::ptrdiff_t b, bool add) {
   const Mat3 r = s.rotation[b] = s.orientation[b].toRotationMatrix();
   const Vec3& x = s.position[b];
   const Vec3 shift = x - s.position_at_pose[b];
@@ -35,30 +34,12 @@ void pose_block(const Model& m, State& s, std::ptrdiff_t b, bool add) {
   }
 }
 
-// The spread of the blocks' step shifts along each axis and their largest step turn: a
-// chunk's, then all of them.
-struct StepMotionSpread {
-  Vec3 lo = Vec3::Constant(std::numeric_limits<double>::infinity());
-  Vec3 hi = Vec3::Constant(-std::numeric_limits<double>::infinity());
-  double turn = 0.0;
-  void add(const Vec3& shift, double block_turn) {
-    lo = lo.cwiseMin(shift);
-    hi = hi.cwiseMax(shift);
-    turn = std::max(turn, block_turn);
-  }
-  void add(const StepMotionSpread& o) {
-    lo = lo.cwiseMin(o.lo);
-    hi = hi.cwiseMax(o.hi);
-    turn = std::max(turn, o.turn);
-  }
-};
-
 // The apart pairs' clock moves on by a bound on any pair's step motion: b's shift relative
 // to a's, |shift_b - shift_a|_1, is at most the spread's sum over the axes, and the turns
 // move b's points relative to a by at most turn (lever + 2 r_b) (separating_axis.cpp,
 // moved_at_least), within Model::apart_lever_bound_m. Padded as each pair's own bound is.
-void advance_apart_clock(const Model& m, State& s, const StepMotionSpread& spread) {
-  const double step = (spread.hi - spread.lo).sum() + spread.turn * m.apart_lever_bound_m;
+void advance_apart_clock(const Model& m, State& s, const PoseChunk& spread) {
+  const double step = (spread.shift_hi - spread.shift_lo).sum() + spread.turn * m.apart_lever_bound_m;
   s.apart_clock_valid = std::isfinite(step);
   if (!s.apart_clock_valid) return;  // a turn not known (the first pose, a restore): none skipped
   s.apart_clock_step_m = step * (1.0 + 1e-12) + 1e-13;
@@ -67,37 +48,51 @@ void advance_apart_clock(const Model& m, State& s, const StepMotionSpread& sprea
 
 }  // namespace
 
+bool begin_pose(State& s) {
+  const bool add = !s.step_motion_read;
+  s.step_motion_read = false;
+  return add;
+}
+
+void pose_block(const Model& m, State& s, std::ptrdiff_t b, bool add, PoseChunk& chunk) {
+  pose_only(m, s, b, add);
+  if (!s.pairs_valid) return;  // no list to check against: it is built next
+  chunk.moved = chunk.moved || moved_half_margin(m, s, static_cast<int>(b));
+  chunk.shift_lo = chunk.shift_lo.cwiseMin(s.step_shift[b]);
+  chunk.shift_hi = chunk.shift_hi.cwiseMax(s.step_shift[b]);
+  chunk.turn = std::max(chunk.turn, s.step_turn[b]);
+}
+
+bool finish_pose(const Model& m, State& s, const PoseChunk* chunks, int chunk_count) {
+  if (!s.pairs_valid) {
+    s.apart_clock_valid = false;
+    return true;
+  }
+  // Minima, maxima and "any": the same whichever thread ran which chunk.
+  PoseChunk all;
+  for (int k = 0; k < chunk_count; ++k) {
+    all.moved = all.moved || chunks[k].moved;
+    all.shift_lo = all.shift_lo.cwiseMin(chunks[k].shift_lo);
+    all.shift_hi = all.shift_hi.cwiseMax(chunks[k].shift_hi);
+    all.turn = std::max(all.turn, chunks[k].turn);
+  }
+  advance_apart_clock(m, s, all);
+  return all.moved;
+}
+
 bool update_pose(const Model& m, State& s) {
   // The broadphase's check rides on this pass over the blocks: as a loop of its own it
   // cost more to post to a team than its 3 ns a block (model F on 16 threads: 9 us a
   // step, against 6.7 on one thread).
-  const bool add = !s.step_motion_read;
-  s.step_motion_read = false;
-  if (!s.pairs_valid) {  // no list to check against: it is built next
-    parallel_for(m.block_count, [&](std::ptrdiff_t b) { pose_block(m, s, b, add); });
-    s.apart_clock_valid = false;
-    return true;
-  }
-  std::array<std::uint8_t, kStageChunks> moved{};
-  std::array<StepMotionSpread, kStageChunks> spreads;
-  const int chunks = stage_chunks(m.block_count);
-  parallel_chunks(m.block_count, chunks, [&](std::ptrdiff_t begin, std::ptrdiff_t end, int k) {
-    bool any = false;  // written once: the chunks' flags share cache lines
-    StepMotionSpread spread;
-    for (std::ptrdiff_t b = begin; b < end; ++b) {
-      pose_block(m, s, b, add);
-      any = any || moved_half_margin(m, s, static_cast<int>(b));
-      spread.add(s.step_shift[b], s.step_turn[b]);
-    }
-    moved[k] = any;
-    spreads[k] = spread;
+  const bool add = begin_pose(s);
+  std::array<PoseChunk, kStageChunks> chunks;
+  const int count = stage_chunks(m.block_count);
+  parallel_chunks(m.block_count, count, [&](std::ptrdiff_t begin, std::ptrdiff_t end, int k) {
+    PoseChunk chunk;  // written once: the chunks' records share cache lines
+    for (std::ptrdiff_t b = begin; b < end; ++b) pose_block(m, s, b, add, chunk);
+    chunks[k] = chunk;
   });
-  StepMotionSpread all;
-  for (int k = 0; k < chunks; ++k) all.add(spreads[k]);
-  advance_apart_clock(m, s, all);
-  for (int k = 0; k < chunks; ++k)
-    if (moved[k]) return true;
-  return false;
+  return finish_pose(m, s, chunks.data(), count);
 }
 
 }  // namespace ishibashi

@@ -9,7 +9,8 @@ namespace ishibashi {
 
 // The stages of World::step in the order it calls them.
 // gather_integrate: both in one pass (explicit dashpots); with implicit ones the solve
-// comes between them.
+// comes between them. Either integrate poses the blocks for the next step (pose.cpp), so
+// the pose stage runs only on a run's first step and after a restore.
 enum class Stage : std::uint8_t {
   pose,
   broadphase,
@@ -23,8 +24,8 @@ enum class Stage : std::uint8_t {
 };
 constexpr int kStageCount = 9;
 constexpr std::array<const char*, kStageCount> kStageNames = {
-    "pose", "broadphase", "narrowphase", "damping caps", "contact law", "gather", "damping solve", "integrate",
-    "gather+integrate"};
+    "pose", "broadphase", "narrowphase", "damping caps", "contact law", "gather", "damping solve", "integrate+pose",
+    "gather+integrate+pose"};
 
 // One stage's time, summed over the steps. The thread times (Team::set_timing) are
 // measured only while a run profiles or traces; wall_s always.

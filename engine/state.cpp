@@ -52,6 +52,7 @@ void forget_step_motion(State& s) {
   s.step_shift.assign(s.position.size(), Vec3::Zero());
   s.step_turn.assign(s.position.size(), std::numeric_limits<double>::infinity());
   s.step_motion_read = false;
+  s.posed_ahead = false;
 }
 
 }  // namespace ishibashi

@@ -238,6 +238,12 @@ struct State {
   std::vector<Quat> orientation_at_pose; // (nb)
   bool step_motion_read = false;         // a narrowphase has read step_shift and step_turn: the
                                          // next pose starts them anew (else adds to them)
+  // The last step's integrate pass posed the blocks it moved (pose.cpp): the next step
+  // skips its pose stage and takes the broadphase's check from `moved_ahead`. Whoever
+  // moves a block after a step and before the next calls forget_step_motion, which clears
+  // it (a restore does).
+  bool posed_ahead = false;
+  bool moved_ahead = false;
   // A bound on how far any point of any block moved relative to any other within the lever
   // Model::apart_lever_bound_m, summed over the poses (pose.cpp): the spread of the blocks'
   // step shifts plus the largest step turn times the lever, m. Apart pairs are scheduled
@@ -322,7 +328,8 @@ struct State {
 State make_initial_state(const Model& model);
 
 // The blocks' step motions unknown (a new or restored state): measured from the current
-// pose on, with turns of inf, so that the next narrowphase runs every pair's exact test.
+// pose on, with turns of inf, so that the next narrowphase runs every pair's exact test;
+// and no pose made ahead, so that the next step poses the blocks where they are now.
 void forget_step_motion(State& state);
 
 // Calls fn(i) for every sub-contact i, pair by pair in pair order: the arrays' own order

@@ -117,7 +117,10 @@ void World::step() {
   team_of_thread.set_timing(p.threads_timed || time_threads_);  // the team of the thread stepping now
   const double step_begin = team_of_thread.now_s();
 
-  const bool moved = timed(Stage::pose, [&] { return update_pose(m, s); });
+  // The last step's integrate pass posed the blocks as it moved them, unless no step has
+  // run since the state was made or restored.
+  const bool moved = s.posed_ahead ? s.moved_ahead : timed(Stage::pose, [&] { return update_pose(m, s); });
+  s.posed_ahead = false;
   const bool rebuilt = moved && timed(Stage::broadphase, [&] { return update_pairs(m, s, moved); });
   if (rebuilt) ++p.broadphase_rebuilds;
   timed(Stage::narrowphase, [&] { update_contacts(m, s, /*first_detection=*/false, dt_s_); });

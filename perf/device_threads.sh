@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # Issue 47's 16-core measurements in one call of the device machine (about 7 minutes),
 # from the project's root there. Pack this checkout's program and one to compare with:
-#   bash perf/device_pack.sh 589177e=before
+#   bash perf/device_pack.sh caa3656=before
 #   device: carry [".devpack"], command
 #     tar xJf .devpack/dev.tar.xz && bash .dev/device_threads.sh
 # Writes under $OUT:

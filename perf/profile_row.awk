@@ -1,15 +1,16 @@
 # One CSV fragment from `ishibashi run --profile`'s output: steps/s, then the work us a step
 # of pose, narrowphase, contact law, gather, damping solve (0 without implicit dashpots) and
 # integrate, then the regroups. Used by perf/cracked_ab.sh and perf/device_cracked.sh.
-# With explicit dashpots the gather and integrate are one pass ("gather+integrate"): its
-# work goes in the gather column, integrate's is 0.
+# With explicit dashpots the gather and integrate are one pass ("gather+integrate", since
+# session 72 "gather+integrate+pose" and the pose on a run's first step alone): its work
+# goes in the gather column, integrate's is 0.
 /^pose/ {pose = $5}
 /^narrowphase/ {narrowphase = $5}
 /^contact law/ {law = $6}
 /^gather / {gather = $5}
 /^gather\+integrate/ {gather = $5; integrate = 0}
 /^damping solve/ {solve = $6}
-/^integrate / {integrate = $5}
+/^integrate( |\+pose)/ {integrate = $5}
 /steps\/s/ {
   for (i = 1; i <= NF; ++i) {
     if ($i == "steps/s,") rate = $(i - 1)

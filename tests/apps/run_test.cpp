@@ -295,7 +295,7 @@ TEST(Run, ProfileTableAndTraceOfAShortRun) {
                                                    out.string(), &status);
   ASSERT_EQ(status, 0) << output;
   EXPECT_NE(output.find("working  waiting   serial  imbalance"), std::string::npos) << output;
-  for (const char* stage : {"\npose ", "\nnarrowphase ", "\ncontact law ", "\ngather+integrate "})
+  for (const char* stage : {"\npose ", "\nnarrowphase ", "\ncontact law ", "\ngather+integrate+pose "})
     EXPECT_NE(output.find(stage), std::string::npos) << stage;
   EXPECT_NE(output.find("trace of 5 steps (10:15 asked)"), std::string::npos) << output;
   const nlohmann::json doc = nlohmann::json::parse(std::ifstream(trace));
