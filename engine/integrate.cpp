@@ -5,8 +5,8 @@
 // With explicit dashpots each block's forces are gathered just before it moves, in the
 // same pass: as loops of their own gather and integrate each cost a team post and a tail
 // (model F on 16 threads: 24 and 23 us a step for 9 and 11 us of work a thread). For the
-// same reason each block is posed for the next step as soon as it has moved (pose.cpp):
-// the pose's own loop took 22 us a step on 16 threads for 5 us of work a thread
+// same reason each chunk's blocks are posed for the next step once they have moved
+// (pose.cpp): the pose's own loop took 22 us a step on 16 threads for 5 us of work a thread
 // (perf/results, session 72).
 #include <array>
 #include <cmath>
@@ -54,8 +54,8 @@ bool integrate_block(const Model& m, State& s, double dt, const Vec3& down, std:
 }
 
 // The pass over the blocks in the stage chunks (those of the gather and the pair loops),
-// gathering each block's forces first when `gather` and posing it once it has moved; the
-// chunks' sums added in chunk order. A block's gather, step and pose read and write its
+// gathering each block's forces first when `gather`, and posing the chunk's blocks once
+// they have moved; the chunks' sums added in chunk order. A block's gather, step and pose read and write its
 // own entries alone (its pairs' forces, which the contact law wrote, aside).
 ForcesAndMotion integrate_blocks(const Model& m, State& s, double dt, bool gather) {
   std::array<BlockEnergy, kStageChunks> parts{};

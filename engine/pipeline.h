@@ -15,8 +15,8 @@ namespace ishibashi {
 // makes the vertices and edge directions of the pairs it searches: narrowphase.h).
 // Returns whether the pair list must be rebuilt: there is none, or a block has moved more
 // than half the margin since it was built (update_pairs' check, made in the same pass).
-// A step's integrate pass poses each block as it moves it (State::posed_ahead), so this
-// runs only where no step has: a new or restored state.
+// A step's integrate pass poses the blocks once it has moved them (State::posed_ahead), so
+// this runs only where no step has: a new or restored state.
 bool update_pose(const Model& model, State& state);
 // The same pose, block by block, for a pass over the blocks in stage chunks: each chunk
 // keeps its part of the check in a PoseChunk, and finish_pose combines them.
