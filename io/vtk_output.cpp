@@ -8,6 +8,7 @@
 #include <vtkIdList.h>
 #include <vtkIntArray.h>
 #include <vtkNew.h>
+#include <vtkObjectFactory.h>
 #include <vtkPointData.h>
 #include <vtkPoints.h>
 #include <vtkSmartPointer.h>
@@ -25,6 +26,9 @@
 #include "io/vtk_input.h"
 
 namespace ishibashi {
+
+void make_vtk_ready_for_threads() { vtkObjectFactory::GetRegisteredFactories(); }
+
 namespace {
 
 vtkNew<vtkDoubleArray> vector_array(const char* name, vtkIdType n) {

@@ -12,6 +12,12 @@
 
 namespace ishibashi {
 
+// VTK makes its list of object factories on its first object, and not thread-safely: two
+// threads that write their first files at once can both make it, and one list leaks
+// (LeakSanitizer saw it in an ensemble of two members side by side). Called before
+// threads that write VTK files start, it makes the list on the calling thread.
+void make_vtk_ready_for_threads();
+
 // Cell data: block_id, material, part and course (the generator's labels, see
 // geometry/bridge.h: 0 ground, 1 ring, 2 wall, 3 fill, 4 soil, 5 side wall), fixed (1
 // unless the block is free), fallen (see is_fallen in engine/state.h), velocity (m/s),

@@ -14,6 +14,7 @@
 #include "analysis/model/fingerprint.h"
 #include "analysis/run/seismic_run.h"
 #include "io/atomic_file.h"
+#include "io/vtk_output.h"
 
 namespace ishibashi {
 
@@ -23,6 +24,7 @@ int JobQueue::take() {
 }
 
 void JobQueue::start(int threads, const std::function<void(int)>& job) {
+  if (threads > 0) make_vtk_ready_for_threads();  // every job writes ParaView files
   for (int t = 0; t < threads; ++t) threads_.emplace_back([this, job] { work(job); });
 }
 
