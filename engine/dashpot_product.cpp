@@ -3,7 +3,6 @@
 
 #include <algorithm>
 #include <array>
-#include <cassert>
 
 #include "engine/pair_damping.h"
 #include "engine/parallel.h"
@@ -85,8 +84,41 @@ void make_block_lists(State& s, std::ptrdiff_t i) {
   w.b_end[i] = at;
 }
 
-// Whether every block's lists are those make_block_lists would make now (debug builds).
-[[maybe_unused]] bool lists_are_current(const State& s, int nb) {
+}  // namespace
+
+// Once a step, after the contact law. Most steps change the dashpots of a few pairs (model
+// F cracked: about 14 a step, in three steps of four): only their two blocks' lists are
+// marked. Every block's when the pair list changed or a chunk of the contact law noted
+// more changes than it keeps.
+void mark_stale_dashpot_lists(const Model& m, State& s) {
+  ImplicitDamping& w = s.implicit;
+  const int nb = m.block_count;
+  bool all = w.lists_stale || w.relist.size() != static_cast<std::size_t>(nb);
+  for (int n : w.changed_count) all |= n > ImplicitDamping::kChangedPerChunk;
+  if (all) {
+    w.dashpot_pairs.resize(s.block_pair.size() + nb);
+    w.a_end.resize(nb);
+    w.b_end.resize(nb);
+    w.relist.assign(nb, 1);
+    w.lists_stale = false;
+  } else {
+    for (std::size_t k = 0; k < w.changed_count.size(); ++k)
+      for (int c = 0; c < w.changed_count[k]; ++c) {
+        const Pair& pair = s.pairs[w.changed[k][c]];
+        w.relist[pair.a] = w.relist[pair.b] = 1;
+      }
+  }
+  std::fill(w.changed_count.begin(), w.changed_count.end(), 0);
+}
+
+void update_dashpot_lists(State& s, std::ptrdiff_t i) {
+  std::uint8_t& stale = s.implicit.relist[i];
+  if (!stale) return;
+  make_block_lists(s, i);
+  stale = 0;
+}
+
+bool dashpot_lists_are_current(const State& s, int nb) {
   const ImplicitDamping& w = s.implicit;
   for (int i = 0; i < nb; ++i) {
     int at = dashpot_lists_begin(s, i);
@@ -98,37 +130,6 @@ void make_block_lists(State& s, std::ptrdiff_t i) {
     }
   }
   return true;
-}
-
-}  // namespace
-
-// Once a step, after the contact law. Most steps change the dashpots of a few pairs (model
-// F cracked: about 14 a step, in three steps of four): only their two blocks' lists are
-// made again. Every block's, in the block loops' chunks, when the pair list changed or a
-// chunk of the contact law noted more changes than it keeps.
-void index_pairs_with_dashpots(const Model& m, State& s) {
-  ImplicitDamping& w = s.implicit;
-  const int nb = m.block_count;
-  bool all = w.lists_stale || w.a_end.size() != static_cast<std::size_t>(nb);
-  for (int n : w.changed_count) all |= n > ImplicitDamping::kChangedPerChunk;
-  if (all) {
-    w.dashpot_pairs.resize(s.block_pair.size() + nb);
-    w.a_end.resize(nb);
-    w.b_end.resize(nb);
-    parallel_chunks(nb, stage_chunks(nb), [&](std::ptrdiff_t begin, std::ptrdiff_t end, int) {
-      for (std::ptrdiff_t i = begin; i < end; ++i) make_block_lists(s, i);
-    });
-    w.lists_stale = false;
-  } else {
-    for (std::size_t k = 0; k < w.changed_count.size(); ++k)
-      for (int c = 0; c < w.changed_count[k]; ++c) {
-        const Pair& pair = s.pairs[w.changed[k][c]];
-        make_block_lists(s, pair.a);
-        make_block_lists(s, pair.b);
-      }
-  }
-  std::fill(w.changed_count.begin(), w.changed_count.end(), 0);
-  assert(lists_are_current(s, nb));
 }
 
 namespace {

@@ -14,9 +14,17 @@ namespace ishibashi {
 // Whether pair p has dashpots this step (the contact law marks one without sub-contacts).
 inline bool has_dashpots(const ImplicitDamping& w, std::ptrdiff_t p) { return w.blocks[p][1] >= 0; }
 
-// Once a step, after the contact law: each block's lists of its pairs with dashpots
-// (ImplicitDamping::dashpot_pairs): the passes loop over them without a test per pair.
-void index_pairs_with_dashpots(const Model& m, State& s);
+// Each block's lists of its pairs with dashpots (ImplicitDamping::dashpot_pairs) let the
+// passes loop over them without a test per pair. Once a step, after the contact law: marks
+// the blocks whose lists are out of date (ImplicitDamping::relist). Then, before any pass
+// reads them, update_dashpot_lists(s, i) makes block i's anew if marked: the solve's first
+// pass over the blocks calls it for each (a block's lists need no other block's, so the
+// team shares the work, which one thread did between the passes: model F, about 25 us a step).
+void mark_stale_dashpot_lists(const Model& m, State& s);
+void update_dashpot_lists(State& s, std::ptrdiff_t i);
+
+// Whether every block's lists are those read off the pairs now (debug builds' check).
+bool dashpot_lists_are_current(const State& s, int nb);
 
 // Where block i's lists begin in ImplicitDamping::dashpot_pairs: its range of
 // State::block_pair's length, and one spare slot per block before it.

@@ -13,6 +13,7 @@
 // The change is handed to integrate() as the force M delta / dt.
 // Every sum runs in fixed chunks in a fixed order: the result is the same for any team.
 #include <array>
+#include <cassert>
 #include <cmath>
 
 #include "engine/dashpot_product.h"
@@ -118,8 +119,9 @@ double for_solved_blocks(const Model& m, const State& s, Fn&& fn) {
   return sums_over_solved_blocks<1>(m, s, [&](std::ptrdiff_t b) { return std::array<double, 1>{fn(b)}; })[0];
 }
 
-// The velocities v* integrate() gives without the dashpots (prescribed blocks keep theirs,
-// fixed and frozen blocks are at rest), the preconditioner when `refresh`, and the first
+// The blocks' lists of pairs with dashpots where marked, the velocities v* integrate()
+// gives without the dashpots (prescribed blocks keep theirs, fixed and frozen blocks are
+// at rest), the preconditioner when `refresh`, and the first
 // residual. The preconditioner only steers the iterations (any symmetric positive definite
 // one leads to the same solution): refreshed every kPreconditionerRefreshSteps steps, it
 // costs a tenth, for a tenth more iterations (model F). The first guess is last step's
@@ -130,6 +132,7 @@ double first_residual(const Model& m, State& s, double dt, bool refresh, double*
   ImplicitDamping& w = s.implicit;
   std::vector<Vec6>& x = w.delta;
   parallel_for(m.block_count, [&](std::ptrdiff_t b) {
+    update_dashpot_lists(s, b);
     Vec6& v = w.velocity[b];
     if (solved(m, s, b)) {
       const Mat3& r = s.rotation[b];
@@ -149,6 +152,7 @@ double first_residual(const Model& m, State& s, double dt, bool refresh, double*
       w.product[b] = v;
     }
   });
+  assert(dashpot_lists_are_current(s, m.block_count));
   pair_products_at(m, s, w.product);
   const auto [rz, impulse2] = sums_over_solved_blocks<2>(m, s, [&](std::ptrdiff_t b) {
     if (refresh) w.diagonal[b] = diagonal_inverse(m, s, b, dt);
@@ -253,7 +257,7 @@ DampingSolve solve_implicit_damping(const Model& m, State& s, double dt) {
   const bool fresh = w.diagonal.size() != static_cast<std::size_t>(nb);  // none yet, nor from a checkpoint
   w.diagonal.resize(nb);
 
-  index_pairs_with_dashpots(m, s);
+  mark_stale_dashpot_lists(m, s);
   DampingSolve result;
   double scale2 = 0;
   const double rz = first_residual(m, s, dt, fresh || s.step % kPreconditionerRefreshSteps == 0, &scale2);

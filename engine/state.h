@@ -203,6 +203,7 @@ struct ImplicitDamping {
   std::vector<std::array<int, kChangedPerChunk>> changed;  // (chunks)
   std::vector<int> changed_count;                          // (chunks)
   bool lists_stale = true;
+  std::vector<std::uint8_t> relist;  // (nb) 1: block i's lists are to be made anew before they are read
   std::vector<Vec6> velocity;          // (nb) v* (without dashpots); prescribed: theirs
   std::vector<Vec6> delta;             // (nb) v_new - v*; last step's is the solve's first guess
   std::vector<Vec6> residual, preconditioned, direction, product;  // (nb) conjugate gradients

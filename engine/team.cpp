@@ -79,12 +79,20 @@ void Team::run(int threads, int chunk_count, ChunkFn chunk, const void* context)
     active_workers_.notify_all();
   }
 
-  ++generation_;
-  for (int r = 0; r < threads; ++r) slots_[r].range.store(std::uint64_t{generation_} << 32, std::memory_order_relaxed);
-  chunk_.store(chunk);
-  context_.store(context);
-  done_.store(0);
-  shape_.store(std::uint64_t{generation_} << 32 | std::uint64_t(threads) << 16 | std::uint64_t(chunk_count));
+  // The ranges' claim words are not reset here: each is a cache line its owner's claims
+  // left in its own core, and 15 stores to them held up every posting on 16 threads. A
+  // claim that finds an older loop's word starts the range afresh (claim()). Only every
+  // 2^30 loops are they all reset, so that no word falls 2^31 loops behind, where the
+  // generations' comparison wraps.
+  if (++generation_ % (1u << 30) == 0)
+    for (Slot& slot : slots_) slot.range.store(std::uint64_t{generation_} << 32, std::memory_order_relaxed);
+  // Relaxed: posted_'s store publishes them (the workers read it with acquire), and is
+  // the one full fence of a posting (then sleepers_ is read: see wait_for_loop).
+  chunk_.store(chunk, std::memory_order_relaxed);
+  context_.store(context, std::memory_order_relaxed);
+  done_.store(0, std::memory_order_relaxed);
+  shape_.store(std::uint64_t{generation_} << 32 | std::uint64_t(threads) << 16 | std::uint64_t(chunk_count),
+               std::memory_order_relaxed);
   posted_.store(generation_);
   if (sleepers_.load() > 0) posted_.notify_all();
 
@@ -109,9 +117,15 @@ int Team::claim(int r, std::uint32_t generation, int size, bool from_end) {
   std::atomic<std::uint64_t>& range = slots_[r].range;
   std::uint64_t seen = range.load(std::memory_order_relaxed);
   for (;;) {
-    const int start = from_start_of(seen), end = from_end_of(seen);
-    if (generation_of(seen) != generation || start + end >= size) return -1;
-    if (range.compare_exchange_weak(seen, seen + (from_end ? 1 : std::uint64_t{1} << 16)))
+    const std::int32_t behind = static_cast<std::int32_t>(generation - generation_of(seen));
+    if (behind < 0) return -1;  // a newer loop's: this one is done
+    // An older loop's word: none of this loop's chunks of the range is claimed yet. A
+    // thread still in a finished loop never gets here: that loop claimed a chunk of each
+    // of its ranges but an empty one, so their words are of that loop or newer.
+    const std::uint64_t current = behind > 0 ? std::uint64_t{generation} << 32 : seen;
+    const int start = from_start_of(current), end = from_end_of(current);
+    if (start + end >= size) return -1;
+    if (range.compare_exchange_weak(seen, current + (from_end ? 1 : std::uint64_t{1} << 16)))
       return from_end ? size - 1 - end : start;
   }
 }

@@ -89,8 +89,9 @@ class Team {
   bool wait_for_loop(int index, std::uint32_t seen);
 
   // Per thread, a cache line of its own: the claim word of its range (generation << 32 |
-  // chunks taken from its start << 16 | from its end; reset by the caller as it posts a
-  // loop, so a claim of a finished loop's worker never matches) and its timing.
+  // chunks taken from its start << 16 | from its end; a word of an older loop counts as
+  // none taken, one of a newer loop as none left: a finished loop's worker claims nothing)
+  // and its timing.
   struct alignas(64) Slot {
     std::atomic<std::uint64_t> range{0};
     ThreadTime time;

@@ -8,7 +8,15 @@
 // no data shared): a core that runs slower as more are busy (a lower turbo clock, a
 // host's power budget, shared physical cores) makes N threads' work grow by that factor
 // whatever the engine does, so the engine's own scaling is read against it.
+//   build/perf/core_probe loops 1 2 4 8 16
+// What one of the step's parallel loops costs the team beyond its chunks' work: loops of
+// near-empty chunks (250: model F's stage loops; 64: the solve's sums) on N threads, the
+// engine's own team (engine/team.h). A step runs 4-5 such loops with explicit dashpots and
+// about 20 with implicit ones: their posting, claiming and ending is the step's cost that
+// no chunk does.
 #include <pthread.h>
+
+#include <algorithm>
 
 #include <atomic>
 #include <chrono>
@@ -17,6 +25,8 @@
 #include <string>
 #include <thread>
 #include <vector>
+
+#include "engine/parallel.h"
 
 namespace {
 
@@ -105,8 +115,41 @@ int clock_scan(int argc, char** argv) {
   return 0;
 }
 
+// One line per count of threads and chunks: the median over batches of one loop's wall
+// time on the calling thread, from its posting to its last chunk's end.
+int loop_scan(int argc, char** argv) {
+  const unsigned cores = std::thread::hardware_concurrency();
+  struct alignas(64) Slot {
+    long touched = 0;
+  };
+  static Slot slots[ishibashi::kStageChunks];
+  for (int a = 2; a < argc; ++a) {
+    const int n = std::atoi(argv[a]);
+    if (n < 1 || unsigned(n) > cores) {
+      std::fprintf(stderr, "core_probe loops: '%s' should be a count of threads from 1 to %u\n", argv[a], cores);
+      return 1;
+    }
+    const ishibashi::ScopedTeamSize team(n);
+    for (const int chunks : {250, 64}) {
+      const int loops = 20'000, batches = 7;
+      std::vector<double> us;
+      for (int batch = 0; batch < batches; ++batch) {
+        const auto t0 = std::chrono::steady_clock::now();
+        for (int i = 0; i < loops; ++i)
+          ishibashi::parallel_chunks(2003, chunks, [&](std::ptrdiff_t, std::ptrdiff_t, int k) { ++slots[k].touched; });
+        us.push_back(std::chrono::duration<double, std::micro>(std::chrono::steady_clock::now() - t0).count() / loops);
+      }
+      std::sort(us.begin(), us.end());
+      std::printf("loops: %2d threads, %3d chunks: %.2f us a loop (median of %d batches of %d; %.2f-%.2f)\n", n, chunks,
+                  us[batches / 2], batches, loops, us.front(), us.back());
+    }
+  }
+  return 0;
+}
+
 int main(int argc, char** argv) {
   if (argc > 1 && std::string(argv[1]) == "clock") return clock_scan(argc, argv);
+  if (argc > 1 && std::string(argv[1]) == "loops") return loop_scan(argc, argv);
   arrays[0].assign(16 << 20, 1);
   arrays[1].assign(16 << 20, 1);
   for (int round = 0; round < 2; ++round) {

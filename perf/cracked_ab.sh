@@ -20,7 +20,7 @@ run() {  # label program extra-flags...
     --fixed-threads "$@")
   echo "$label,$round,$THREADS,$row"
 }
-echo "run,round,threads,steps_per_s,pose_us,narrowphase_us,contact_law_us,gather_us,solve_us,integrate_us,regroups,state_hash"
+echo "run,round,threads,steps_per_s,pose_us,narrowphase_us,contact_law_us,gather_us,solve_us,integrate_us,regroups,solve_serial_pct,state_hash"
 for round in $(seq "$ROUNDS"); do
   run before_explicit "$BEFORE"
   run after_explicit "$AFTER"

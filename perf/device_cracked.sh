@@ -16,7 +16,7 @@ b_run() {
   { echo "=== $label: $t threads $*"; cat "/tmp/$label.log"; } >> "$O/profiles.log"
   echo "$label,$t,$(awk -f "$R/perf/profile_row.awk" "/tmp/$label.log")" >> "$O/runs.csv"
 }
-echo "label,threads,steps_per_s,pose_us,narrowphase_us,contact_law_us,gather_us,solve_us,integrate_us,regroups" > "$O/runs.csv"
+echo "label,threads,steps_per_s,pose_us,narrowphase_us,contact_law_us,gather_us,solve_us,integrate_us,regroups,solve_serial_pct" > "$O/runs.csv"
 for t in 1 2 4 8 16; do
   b_run "$t" "explicit_$t"
   b_run "$t" "implicit_$t" --damping implicit --dt 4e-5

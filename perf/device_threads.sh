@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Issue 47's 16-core measurements in one call of the device machine (about 7 minutes),
+# Issue 47's 16-core measurements in one call of the device machine (about 8 minutes),
 # from the project's root there. Pack this checkout's program and one to compare with:
 #   bash perf/device_pack.sh caa3656=before
 #   device: carry [".devpack"], command
@@ -8,6 +8,8 @@
 #   clock.txt                     core_probe clock: how much slower each core computes with
 #                                 2..16 busy at once (no data shared): the growth of the
 #                                 stages' work with the threads that is the machine's own
+#   loops.txt                     core_probe loops: one parallel loop's cost beyond its chunks
+#                                 on 1..16 threads (a step has 4-5, 20 with implicit dashpots)
 #   f_scaling.csv + profiles.log  model F dry, 0.02 s settling and 0.05 s of the strongest
 #                                 Kobe pulses (the record's 7.3 s), fixed teams 1..16, with
 #                                 run --profile's tables and the end state's hash: the study's
@@ -18,7 +20,8 @@
 #   trace_f_16.json               explicit, 16 threads, steps 6000-6020 (Perfetto)
 #   clock_end.txt                 core_probe clock 1 16 again at the end
 #   ab.csv                        .dev/bin/ishibashi_before (if there) and this program
-#                                 alternated: 16 threads three rounds, then one thread once
+#                                 alternated: 16 threads three rounds, then one thread once,
+#                                 then implicit dashpots (4e-5 s) on 16 threads three rounds
 #   parallel12.csv, wall.csv      only with EXTRAS=1: the study's twelve runs side by side
 #                                 (one thread each, 0.1 s), the 1,534-block wall, teams 1..16
 # A stage's imbalance far above 1 in every stage at once means another process held a
@@ -29,6 +32,7 @@ O=${OUT:-/tmp/device_out}; mkdir -p "$O"
 lscpu > "$O/cpu.txt"
 cd "$D/main"
 [ -x "$D/bin/core_probe" ] && timeout 60 "$D/bin/core_probe" clock 1 2 4 8 12 16 > "$O/clock.txt" 2>&1
+[ -x "$D/bin/core_probe" ] && timeout 60 "$D/bin/core_probe" loops 1 2 4 8 16 > "$O/loops.txt" 2>&1
 sed -e 's/^settle_max_s = .*/settle_max_s = 0.02/' scenarios/nishida_f_kobe_dry.toml > scenarios/bench_f.toml
 f_run() {  # program threads label [extra...]: prints the stepping rate and the end state's hash
   local bin=$1 t=$2 label=$3; shift 3
@@ -64,10 +68,13 @@ if [ -x "$D/bin/ishibashi_before" ]; then
     echo "$bin,16,$(f_run $bin 16 "ab_${bin}_$rep" --fixed-threads)" >> "$O/ab.csv"
   done; done
   echo "ishibashi_before,1,$(f_run ishibashi_before 1 ab_before_1 --fixed-threads)" >> "$O/ab.csv"
+  for rep in 1 2 3; do for bin in ishibashi_before ishibashi; do
+    echo "$bin implicit 4e-5,16,$(f_run $bin 16 "abi_${bin}_$rep" --fixed-threads --damping implicit --dt 4e-5)" >> "$O/ab.csv"
+  done; done
 fi
 # Again at the end: a host that slowed or sped up during the call shows here.
 [ -x "$D/bin/core_probe" ] && timeout 60 "$D/bin/core_probe" clock 1 16 > "$O/clock_end.txt" 2>&1
-cat "$O/clock.txt" "$O/f_scaling.csv" "$O/ab.csv" "$O/clock_end.txt"
+cat "$O/clock.txt" "$O/loops.txt" "$O/f_scaling.csv" "$O/ab.csv" "$O/clock_end.txt"
 [ "${EXTRAS:-0}" = 1 ] || exit 0
 for m in a b c d e f; do for v in dry mortar; do
   sed -e 's/^settle_max_s = .*/settle_max_s = 0.02/' "scenarios/nishida_${m}_kobe_${v}.toml" > "scenarios/par_${m}_${v}.toml"

@@ -1,6 +1,8 @@
 # One CSV fragment from `ishibashi run --profile`'s output: steps/s, then the work us a step
 # of pose, narrowphase, contact law, gather, damping solve (0 without implicit dashpots) and
-# integrate, then the regroups. Used by perf/cracked_ab.sh and perf/device_cracked.sh.
+# integrate, then the regroups, then the share of the solve's wall time that the caller ran
+# alone (its serial parts, %; 0 without implicit dashpots). Used by perf/cracked_ab.sh,
+# perf/window_ab.sh and perf/device_cracked.sh.
 # With explicit dashpots the gather and integrate are one pass ("gather+integrate", since
 # session 72 "gather+integrate+pose" and the pose on a run's first step alone): its work
 # goes in the gather column, integrate's is 0.
@@ -9,7 +11,7 @@
 /^contact law/ {law = $6}
 /^gather / {gather = $5}
 /^gather\+integrate/ {gather = $5; integrate = 0}
-/^damping solve/ {solve = $6}
+/^damping solve/ {solve = $6; solve_serial = $11}
 /^integrate( |\+pose)/ {integrate = $5}
 /steps\/s/ {
   for (i = 1; i <= NF; ++i) {
@@ -17,4 +19,5 @@
     if ($i == "regroups") {regroups = $(i + 1); gsub(",", "", regroups)}
   }
 }
-END {printf "%s,%s,%s,%s,%s,%s,%s,%s", rate, pose, narrowphase, law, gather, (solve == "" ? 0 : solve), integrate, regroups}
+END {printf "%s,%s,%s,%s,%s,%s,%s,%s,%s", rate, pose, narrowphase, law, gather, (solve == "" ? 0 : solve), integrate, regroups,
+  (solve_serial == "" ? 0 : solve_serial)}

@@ -19,7 +19,7 @@ run() {  # label program threads
   row=$(profiled_run "$2" "$SCENARIO" --settle-max 0.02 --start 7.3 --duration 0.03 --threads "$3" --fixed-threads "${EXTRA[@]}")
   echo "$1,$round,$3,$row"
 }
-echo "run,round,threads,steps_per_s,pose_us,narrowphase_us,contact_law_us,gather_us,solve_us,integrate_us,regroups,state_hash"
+echo "run,round,threads,steps_per_s,pose_us,narrowphase_us,contact_law_us,gather_us,solve_us,integrate_us,regroups,solve_serial_pct,state_hash"
 for round in $(seq "$ROUNDS"); do
   for t in $THREADS; do
     run before "$BEFORE" "$t"
