@@ -63,6 +63,14 @@ class Team {
   // when all have returned.
   void run(int threads, int chunk_count, ChunkFn chunk, const void* context);
 
+  // Tests: as if the loops up to `posted` had been posted, each claim word last reset at
+  // it (the caller's own reset every 2^30 loops), so that a test reaches the loop count's
+  // wrap at 2^32 without running four billion loops. Only between loops.
+  void skip_to_loop_for_test(std::uint32_t posted) {
+    generation_ = posted;
+    for (Slot& slot : slots_) slot.range.store(std::uint64_t{posted} << 32, std::memory_order_relaxed);
+  }
+
   // Timing of each thread's share of the loops (off by default: two clock reads per
   // thread and loop when on).
   void set_timing(bool on) { timing_ = on; }

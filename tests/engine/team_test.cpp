@@ -37,6 +37,28 @@ TEST(Team, EveryChunkRunsOnceWhateverTheTeam) {
   }
 }
 
+// A loop's posting leaves the claim words alone: a claim starts an older loop's word
+// afresh, and every 2^30 loops the caller resets them all, so that the generations'
+// comparison (modulo 2^32) never meets a word 2^31 loops behind. Across those resets and
+// the count's wrap, with the team shrinking and growing (its idle ranges' words left
+// behind) and loops with fewer chunks than threads (empty ranges), every chunk still
+// runs once.
+TEST(Team, EveryChunkRunsOnceWhereTheLoopCountWraps) {
+  Team team;
+  std::vector<std::atomic<int>> runs(64);
+  auto loop = [&](int threads, int chunks) {
+    for (int k = 0; k < chunks; ++k) runs[k] = 0;
+    auto fn = [&](int k) { runs[k].fetch_add(1); };
+    team.run(threads, chunks, [](const void* c, int k) { (*static_cast<const decltype(fn)*>(c))(k); }, &fn);
+    for (int k = 0; k < chunks; ++k) ASSERT_EQ(runs[k].load(), 1) << threads << " threads, chunk " << k;
+  };
+  const int chunk_counts[] = {64, 3, 1, 17};
+  for (const std::uint64_t boundary : {1ull << 30, 1ull << 31, 3ull << 30, 1ull << 32}) {
+    team.skip_to_loop_for_test(static_cast<std::uint32_t>(boundary - 40));
+    for (int i = 0; i < 80; ++i) loop(i < 20 || i >= 60 ? 4 : 2, chunk_counts[i % 4]);
+  }
+}
+
 // The chunks sleep, so a worker gets some even on one core.
 std::vector<pthread_t> threads_of_a_sleepy_loop(int threads) {
   std::vector<pthread_t> who(16);
