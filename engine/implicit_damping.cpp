@@ -121,13 +121,13 @@ double for_solved_blocks(const Model& m, const State& s, Fn&& fn) {
 
 // The blocks' lists of pairs with dashpots where marked, the velocities v* integrate()
 // gives without the dashpots (prescribed blocks keep theirs, fixed and frozen blocks are
-// at rest), the preconditioner when `refresh`, and the first
-// residual. The preconditioner only steers the iterations (any symmetric positive definite
-// one leads to the same solution): refreshed every kPreconditionerRefreshSteps steps, it
-// costs a tenth, for a tenth more iterations (model F). The first guess is last step's
-// delta, so the first residual dt F_d(v*) - (M + dt C) x = dt F_d(v* + x) - M x is one pass
-// over the pairs. Returns r.z and sets *scale2 to the dashpots' impulse at the first
-// guess, squared in D^-1's norm.
+// at rest), the preconditioner when `refresh`, and the first residual. The preconditioner
+// only steers the iterations (any symmetric positive definite one leads to the same
+// solution): refreshed every kPreconditionerRefreshSteps steps, it costs a tenth, for a
+// tenth more iterations (model F). The first guess is last step's delta, so the first
+// residual dt F_d(v*) - (M + dt C) x = dt F_d(v* + x) - M x is one pass over the pairs.
+// Returns r.z and sets *scale2 to the dashpots' impulse at the first guess, squared in
+// D^-1's norm.
 double first_residual(const Model& m, State& s, double dt, bool refresh, double* scale2) {
   ImplicitDamping& w = s.implicit;
   std::vector<Vec6>& x = w.delta;

@@ -80,10 +80,10 @@ void Team::run(int threads, int chunk_count, ChunkFn chunk, const void* context)
   }
 
   // The ranges' claim words are not reset here: each is a cache line its owner's claims
-  // left in its own core, and 15 stores to them held up every posting on 16 threads. A
-  // claim that finds an older loop's word starts the range afresh (claim()). Only every
-  // 2^30 loops are they all reset, so that no word falls 2^31 loops behind, where the
-  // generations' comparison wraps.
+  // left in its own core (on 16 threads, 15 lines to fetch before the loop could start,
+  // and each owner's first claim fetched its own back). A claim that finds an older
+  // loop's word starts the range afresh (claim()). Only every 2^30 loops are they all
+  // reset, so that no word falls 2^31 loops behind, where the generations' comparison wraps.
   if (++generation_ % (1u << 30) == 0)
     for (Slot& slot : slots_) slot.range.store(std::uint64_t{generation_} << 32, std::memory_order_relaxed);
   // Relaxed: posted_'s store publishes them (the workers read it with acquire), and is

@@ -17,7 +17,6 @@
 #include <pthread.h>
 
 #include <algorithm>
-
 #include <atomic>
 #include <chrono>
 #include <cstdio>
