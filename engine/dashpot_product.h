@@ -19,7 +19,7 @@ inline bool has_dashpots(const ImplicitDamping& w, std::ptrdiff_t p) { return w.
 // the blocks whose lists are out of date (ImplicitDamping::relist). Then, before any pass
 // reads them, update_dashpot_lists(s, i) makes block i's anew if marked: the solve's first
 // pass over the blocks calls it for each (a block's lists need no other block's, so the
-// team shares the work, which one thread did between the passes: model F, about 25 us a step).
+// team shares the work, which one thread did between the passes: model F, about 30 us a step).
 void mark_stale_dashpot_lists(const Model& m, State& s);
 void update_dashpot_lists(State& s, std::ptrdiff_t i);
 
