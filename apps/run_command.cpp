@@ -56,13 +56,17 @@ void print_profile(const SeismicRun& run, const SeismicRunResult& r) {
     return;
   }
   if (run.first_step() > 0) std::printf("the %ld steps since the checkpoint (step %ld):\n", steps, run.first_step());
-  std::printf("stage                  seconds   share   work µs/step   working  waiting   serial  imbalance  stolen\n");
+  std::printf("stage                    seconds   share   work µs/step   working  waiting   serial  imbalance  stolen\n");
   for (int k = 0; k < kStageCount; ++k) {
     const StageTime& t = p.stages[k];
     if (t.wall_s == 0) continue;
-    std::printf("%-21s %8.2f %6.1f %%   %12.1f  %6.1f %%  %5.1f %%  %5.1f %%  %9.2f  %4.1f %%\n", kStageNames[k], t.wall_s,
+    std::printf("%-23s %8.2f %6.1f %%   %12.1f  %6.1f %%  %5.1f %%  %5.1f %%  %9.2f  %4.1f %%\n", kStageNames[k], t.wall_s,
                 100 * t.wall_s / total, 1e6 * t.work_s / steps, 100 * t.work_s / t.team_s, 100 * t.wait_s() / t.team_s,
                 100 * t.serial_s / t.wall_s, t.imbalance(), 100 * t.stolen_share());
+    if (static_cast<Stage>(k) == Stage::narrowphase_law) {  // its work by part, from the law's own clock
+      std::printf("  narrowphase part                         %12.1f\n", 1e6 * (t.work_s - t.law_work_s) / steps);
+      std::printf("  contact law part                         %12.1f\n", 1e6 * t.law_work_s / steps);
+    }
   }
   std::printf("steps %ld, broadphase rebuilds %ld, contact regroups %ld, %.1f steps/s, mean team %.2f of %d threads\n", steps,
               p.broadphase_rebuilds, p.contact_regroups, steps / total, double(p.thread_steps) / steps,
@@ -70,7 +74,8 @@ void print_profile(const SeismicRun& run, const SeismicRunResult& r) {
   std::printf("  work: thread-seconds claiming and running the stage's chunks, and its serial parts (growing with the\n"
               "  threads: they slow each other through memory); waiting: the rest of the team's time in the stage; serial:\n"
               "  share of the stage one thread runs alone; imbalance: the busiest thread's chunks against the mean;\n"
-              "  stolen: chunks a thread took from another's range, whose data lay in another core's cache\n");
+              "  stolen: chunks a thread took from another's range, whose data lay in another core's cache; each chunk of\n"
+              "  pairs runs its contact law in the narrowphase's pass, and its parts' work is split by the law's own clock\n");
   std::printf("frames: %.1f s of the run's %.1f s wall (%.1f %%) recording the counts, ParaView files and history.csv "
               "(--output-interval sets how often)\n", r.output_wall_s, r.wall_s, 100 * r.output_wall_s / r.wall_s);
   if (world.model().options.damping == Damping::implicit)

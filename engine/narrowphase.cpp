@@ -36,7 +36,7 @@ constexpr int kDeadShare = 256;
 // loop of its own after this one, it ran in a third of model F's steps and in most of a
 // cracked bridge's. The pairs whose counts changed are listed per chunk, their new
 // sub-contacts from the buffer's start, in pair order. Returns how the layout changed.
-Layout build_manifolds(const Model& m, State& s, bool first_detection, double dt_s) {
+Layout build_manifolds(const Model& m, State& s, bool first_detection, double dt_s, ContactLaw* law) {
   const int chunks = static_cast<int>(s.pair_chunk_begin.size()) - 1;
   s.chunk_contacts.resize(chunks);
   s.chunk_rebuilt.resize(chunks);
@@ -74,6 +74,7 @@ Layout build_manifolds(const Model& m, State& s, bool first_detection, double dt
       append_rebuilt(m, s, pair, manifold, first_detection, dt_s, out, used);
       used += manifold.size();
     }
+    if (law && rebuilt.empty()) law->run_chunk(k);
   });
   bool changed = s.pairs_changed;
   for (const std::vector<int>& rebuilt : s.chunk_rebuilt) changed |= !rebuilt.empty();
@@ -155,6 +156,14 @@ void regroup(State& s) {
   s.contacts_dead = 0;
 }
 
+// The layout mended where pairs changed their counts (Layout::regroup).
+void mend_layout(State& s, bool pair_list_changed) {
+  ++s.profile.contact_regroups;
+  if (pair_list_changed) return regroup(s);
+  append_changed(s);
+  if (std::int64_t{s.contacts_dead} * kDeadShare > sub_contact_count(s)) regroup(s);  // nothing rebuilt left: a compaction
+}
+
 }  // namespace
 
 void compact_contacts(const Model& m, State& s) {
@@ -164,20 +173,20 @@ void compact_contacts(const Model& m, State& s) {
   regroup(s);
 }
 
-void update_contacts(const Model& m, State& s, bool first_detection, double dt_s) {
+void update_contacts(const Model& m, State& s, bool first_detection, double dt_s, ContactLaw* law) {
   if (!s.pair_index_valid) update_pair_index(m, s);  // the pair list changed: its chunks
   const bool pair_list_changed = s.pairs_changed;
-  const Layout layout = build_manifolds(m, s, first_detection, dt_s);
+  const Layout layout = build_manifolds(m, s, first_detection, dt_s, law);
   s.step_motion_read = true;  // the pairs' bounds have taken the blocks' motions in
-  switch (layout) {
-    case Layout::unchanged: return;  // every pair updated or rebuilt in place (or still apart)
-    case Layout::regroup:
-      ++s.profile.contact_regroups;
-      if (pair_list_changed) return regroup(s);
-      append_changed(s);
-      if (std::int64_t{s.contacts_dead} * kDeadShare > sub_contact_count(s)) regroup(s);  // nothing rebuilt left: a compaction
-      return;
-  }
+  if (layout == Layout::unchanged) return;  // every pair updated or rebuilt in place (or still apart)
+  mend_layout(s, pair_list_changed);
+  // The chunks with a pair of a new count: their law on its new range. (A regroup moved
+  // the others' sub-contacts with what their law wrote.)
+  if (law)
+    parallel_ranges(s.pair_chunk_begin.data(), static_cast<int>(s.chunk_rebuilt.size()),
+                    [&](std::ptrdiff_t, std::ptrdiff_t, int k) {
+                      if (!s.chunk_rebuilt[k].empty()) law->run_chunk(k);
+                    });
 }
 
 }  // namespace ishibashi

@@ -1,12 +1,14 @@
 // The stages of one time step, in the order World::step calls them. Each stage reads the
 // Model and updates part of the State; each lives in its own .cpp file.
 #pragma once
+#include <array>
 #include <cmath>
 #include <cstddef>
 #include <limits>
 #include <vector>
 
 #include "engine/model.h"
+#include "engine/parallel.h"
 #include "engine/state.h"
 
 namespace ishibashi {
@@ -53,11 +55,17 @@ bool spheres_overlap(const Model& model, const State& state, int a, int b);
 // Brute-force oracle of the broadphase: all pairs a < b whose inflated spheres overlap.
 std::vector<Pair> brute_force_pairs(const Model& model, const State& state);
 
+class ContactLaw;
+
 // narrowphase.cpp: sub-contacts of every candidate pair, with the history (springs, bond)
 // of each key that already existed. `first_detection` marks the joints originally in
 // contact, the only ones that may carry a bond. dt_s: the step that led to the current
 // pose (s), for how far re-clipped points moved.
-void update_contacts(const Model& model, State& state, bool first_detection, double dt_s);
+// With `law`, each chunk of pairs runs its contact law right after its narrowphase, in
+// the same loop (one end-of-loop wait a step fewer), or, where a pair of the chunk changed
+// its count, once the layout is mended: every chunk's law runs once.
+void update_contacts(const Model& model, State& state, bool first_detection, double dt_s,
+                     ContactLaw* law = nullptr);
 // The sub-contact arrays laid out densely in pair order, without dead entries (the
 // narrowphase does it itself when they pile up; what it moves changes no result).
 void compact_contacts(const Model& model, State& state);
@@ -71,13 +79,43 @@ int form_bonds(const Model& model, State& state);
 // (SubContacts::constants).
 SpringConstants spring_constants(const Model& model, int a, int b, double lever_a_m, double lever_b_m, double area_m2);
 
-// contact_law.cpp: spring, dashpot and failure update of every sub-contact over dt;
-// accumulates dissipated energy and returns the elastic energy now stored (J).
+// contact_law.cpp: spring, dashpot and failure update of every sub-contact over dt, then
+// the tie rods (apply_ties); accumulates dissipated energy and returns the elastic energy
+// now stored in both (J).
 double apply_contact_law(const Model& model, State& state, double dt_s);
+// The same law chunk by chunk of the pair loops (State::pair_chunk_begin), so that the
+// narrowphase can run each chunk's law in its own pass (update_contacts): made once the
+// pair list is final for the step, then every chunk run once, on any thread, then
+// finish(). The same numbers either way: the chunks' energies are added in chunk order.
+struct LawEnergy {
+  double elastic_j = 0, damping_j = 0, friction_j = 0, bond_j = 0;
+};
+class ContactLaw {
+ public:
+  // Sizes the per-pair outputs. `clocked`: each chunk and finish() time themselves (two
+  // clock reads a chunk, for the profile's split of a pass shared with the narrowphase).
+  ContactLaw(const Model& model, State& state, double dt_s, bool clocked = false);
+  void run_chunk(int k);
+  // Adds the dissipated energies to State::energy, then the tie rods (ties.cpp); returns
+  // the elastic energy stored in the sub-contacts and ties (J).
+  double finish();
+  // Clocked: the thread-seconds its chunks and finish() took.
+  double seconds() const;
 
-// ties.cpp, after the contact law: each tie rod's tension at the current pose (tension only,
-// yielding at its yield force: State::tie_plastic_m grows and Energy::tie_yield_j books the
-// work), its force on b and moments for the gather. Returns the elastic energy of the ties (J).
+ private:
+  const Model& m_;
+  State& s_;
+  double dt_s_;
+  bool clocked_;
+  std::array<LawEnergy, kStageChunks> parts_{};
+  std::array<double, kStageChunks> chunk_s_{};
+  double finish_s_ = 0;
+};
+
+// ties.cpp, at the contact law's end (ContactLaw::finish): each tie rod's tension at the
+// current pose (tension only, yielding at its yield force: State::tie_plastic_m grows and
+// Energy::tie_yield_j books the work), its force on b and moments for the gather. Returns
+// the elastic energy of the ties (J).
 double apply_ties(const Model& model, State& state);
 // ties.cpp: adds each tie's axial stiffness to its blocks' diagonal stiffness (N/m, N m/rad in
 // the principal frame; (nb)), for the stability limit.

@@ -8,12 +8,16 @@
 namespace ishibashi {
 
 // The stages of World::step in the order it calls them.
+// narrowphase_law: each chunk of pairs runs its contact law in the narrowphase's pass;
+// only where the damping caps must come between them (capped dashpots, on a step that
+// rebuilt the pair list) are they the stages narrowphase and contact_law.
 // gather_integrate: both in one pass (explicit dashpots); with implicit ones the solve
 // comes between them. Either integrate poses the blocks for the next step (pose.cpp), so
 // the pose stage runs only on a run's first step and after a restore.
 enum class Stage : std::uint8_t {
   pose,
   broadphase,
+  narrowphase_law,
   narrowphase,
   damping_caps,
   contact_law,
@@ -22,10 +26,10 @@ enum class Stage : std::uint8_t {
   integrate,
   gather_integrate
 };
-constexpr int kStageCount = 9;
+constexpr int kStageCount = 10;
 constexpr std::array<const char*, kStageCount> kStageNames = {
-    "pose", "broadphase", "narrowphase", "damping caps", "contact law", "gather", "damping solve", "integrate+pose",
-    "gather+integrate+pose"};
+    "pose", "broadphase", "narrowphase+contact law", "narrowphase", "damping caps", "contact law", "gather",
+    "damping solve", "integrate+pose", "gather+integrate+pose"};
 
 // One stage's time, summed over the steps. The thread times (Team::set_timing) are
 // measured only while a run profiles or traces; wall_s always.
@@ -38,6 +42,10 @@ struct StageTime {
   double slowest_s = 0;  // sum over calls of the busiest thread's work
   double chunks = 0;     // chunks run, summed over calls
   double stolen = 0;     // of them, chunks a thread took from another's range (its data in another core's cache)
+  // narrowphase_law: the thread-seconds of work in the contact law's part (its chunks'
+  // own clock, and the serial end: energies summed, ties); the rest of work_s is the
+  // narrowphase's.
+  double law_work_s = 0;
   // Threads' time waiting (at the loops' ends, or while the caller runs serial parts).
   double wait_s() const { return team_s - work_s; }
   // The busiest thread against the mean: 1 when the chunks spread evenly.
@@ -46,7 +54,7 @@ struct StageTime {
   double stolen_share() const { return chunks > 0 ? stolen / chunks : 0.0; }
   StageTime& operator-=(const StageTime& e) {
     wall_s -= e.wall_s, team_s -= e.team_s, work_s -= e.work_s, serial_s -= e.serial_s;
-    mean_s -= e.mean_s, slowest_s -= e.slowest_s, chunks -= e.chunks, stolen -= e.stolen;
+    mean_s -= e.mean_s, slowest_s -= e.slowest_s, chunks -= e.chunks, stolen -= e.stolen, law_work_s -= e.law_work_s;
     return *this;
   }
 };

@@ -15,6 +15,7 @@ shift 4
 COPY=$(mktemp -d)
 trap 'rm -rf "$COPY"' EXIT
 echo "program,round,threads,steps,regroups,steps_per_s,narrowphase_us,contact_law_us,solve_us"
+# (narrowphase and law: their rows, or their parts of the shared pass since session 74)
 for round in $(seq "$ROUNDS"); do
   for t in $THREADS; do
     for program in "$@"; do
@@ -23,7 +24,8 @@ for round in $(seq "$ROUNDS"); do
         --fixed-threads --profile > "$COPY/log" 2>&1 || true
       grep -q '^steps' "$COPY/log" || { echo "$program failed:" >&2; tail -3 "$COPY/log" >&2; exit 1; }
       awk -v p="$program" -v r="$round" -v t="$t" '
-        /^narrowphase/ {n = $5} /^contact law/ {l = $6} /^damping solve/ {s = $6}
+        /^narrowphase / {n += $5} /^  narrowphase part/ {n += $3} /^contact law/ {l += $6} /^  contact law part/ {l += $4}
+        /^damping solve/ {s = $6}
         /^steps/ {steps = $2; sub(",", "", steps); regroups = $8; sub(",", "", regroups); rate = $9}
         END {printf "%s,%s,%s,%s,%s,%s,%s,%s,%s\n", p, r, t, steps, regroups, rate, n, l, s}' "$COPY/log"
     done

@@ -5,10 +5,14 @@
 # perf/window_ab.sh and perf/device_cracked.sh.
 # With explicit dashpots the gather and integrate are one pass ("gather+integrate", since
 # session 72 "gather+integrate+pose" and the pose on a run's first step alone): its work
-# goes in the gather column, integrate's is 0.
+# goes in the gather column, integrate's is 0. Since session 74 the narrowphase and contact
+# law share a pass ("narrowphase+contact law", its two parts on the rows below it), and are
+# separate stages only on a capped run's rebuild steps: each column adds both.
 /^pose/ {pose = $5}
-/^narrowphase/ {narrowphase = $5}
-/^contact law/ {law = $6}
+/^narrowphase / {narrowphase += $5}
+/^contact law/ {law += $6}
+/^  narrowphase part/ {narrowphase += $3}
+/^  contact law part/ {law += $4}
 /^gather / {gather = $5}
 /^gather\+integrate/ {gather = $5; integrate = 0}
 /^damping solve/ {solve = $6; solve_serial = $11}

@@ -40,7 +40,7 @@ int main(int argc, char** argv) {
   const Model model = make_wall_model(spec);
 
   std::printf("threads,blocks,pairs,subcontacts,steps,seconds,steps_per_s,ns_per_subcontact_step,"
-              "pose_s,broadphase_s,narrowphase_s,contact_law_s,gather_integrate_s,rebuilds,regroups\n");
+              "pose_s,broadphase_s,narrowphase_and_law_s,gather_integrate_s,rebuilds,regroups\n");
   double one_thread = 0;
   for (int threads = one_row ? max_threads : 1; threads <= max_threads; threads *= 2) {
     omp_set_num_threads(threads);
@@ -57,9 +57,9 @@ int main(int argc, char** argv) {
     if (threads == 1) one_thread = rate;
     const auto spent = [&](Stage stage) { return p[stage].wall_s - before[stage].wall_s; };
     const double mean_team = double(p.thread_steps - before.thread_steps) / steps;
-    std::printf("%.2f,%d,%zu,%zu,%ld,%.3f,%.1f,%.1f,%.3f,%.3f,%.3f,%.3f,%.3f,%ld,%ld\n", mean_team, model.block_count,
+    std::printf("%.2f,%d,%zu,%zu,%ld,%.3f,%.1f,%.1f,%.3f,%.3f,%.3f,%.3f,%ld,%ld\n", mean_team, model.block_count,
                 s.pairs.size(), s.contacts.size(), steps, seconds, rate, 1e9 * seconds / (steps * double(s.contacts.size())),
-                spent(Stage::pose), spent(Stage::broadphase), spent(Stage::narrowphase), spent(Stage::contact_law),
+                spent(Stage::pose), spent(Stage::broadphase), spent(Stage::narrowphase_law),  // one pass (World::step)
                 spent(Stage::gather_integrate),  // one pass with explicit dashpots (integrate.cpp)
                 p.broadphase_rebuilds - before.broadphase_rebuilds, p.contact_regroups - before.contact_regroups);
     if (threads > 1 && !one_row) std::printf("# speed-up %d threads / 1 thread: %.2f\n", threads, rate / one_thread);

@@ -271,6 +271,7 @@ void RunRecorder::write_summary(const RunDescription& run, const SeismicRunResul
     stage["serial_s"] = t.serial_s;
     stage["imbalance"] = t.imbalance();
     stage["stolen_share"] = t.stolen_share();
+    if (static_cast<Stage>(k) == Stage::narrowphase_law) stage["contact_law_work_s"] = t.law_work_s;
   }
   if (run.member.index >= 0) {
     Json& member = j["member"];

@@ -295,7 +295,8 @@ TEST(Run, ProfileTableAndTraceOfAShortRun) {
                                                    out.string(), &status);
   ASSERT_EQ(status, 0) << output;
   EXPECT_NE(output.find("working  waiting   serial  imbalance"), std::string::npos) << output;
-  for (const char* stage : {"\npose ", "\nnarrowphase ", "\ncontact law ", "\ngather+integrate+pose "})
+  for (const char* stage : {"\npose ", "\nnarrowphase+contact law ", "\n  narrowphase part ", "\n  contact law part ",
+                            "\ngather+integrate+pose "})
     EXPECT_NE(output.find(stage), std::string::npos) << stage;
   EXPECT_NE(output.find("trace of 5 steps (10:15 asked)"), std::string::npos) << output;
   const nlohmann::json doc = nlohmann::json::parse(std::ifstream(trace));
@@ -303,7 +304,10 @@ TEST(Run, ProfileTableAndTraceOfAShortRun) {
   for (const auto& e : doc["traceEvents"]) steps += e.value("cat", "") == "step";
   EXPECT_EQ(steps, 5);
   const nlohmann::json summary = nlohmann::json::parse(std::ifstream(out / "summary.json"));
-  EXPECT_GE(summary["stages"]["contact law"]["imbalance"].get<double>(), 1.0);
+  const nlohmann::json& shared = summary["stages"]["narrowphase+contact law"];
+  EXPECT_GE(shared["imbalance"].get<double>(), 1.0);
+  EXPECT_GT(shared["contact_law_work_s"].get<double>(), 0.0);
+  EXPECT_LT(shared["contact_law_work_s"].get<double>(), shared["work_s"].get<double>());
   // The frames' share of the run's wall: some time, less than all of it.
   EXPECT_NE(output.find("\nframes: "), std::string::npos) << output;
   const double frames_s = summary["output_wall_s"].get<double>();
