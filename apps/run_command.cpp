@@ -64,8 +64,8 @@ void print_profile(const SeismicRun& run, const SeismicRunResult& r) {
                 100 * t.wall_s / total, 1e6 * t.work_s / steps, 100 * t.work_s / t.team_s, 100 * t.wait_s() / t.team_s,
                 100 * t.serial_s / t.wall_s, t.imbalance(), 100 * t.stolen_share());
     if (static_cast<Stage>(k) == Stage::narrowphase_law) {  // its work by part, from the law's own clock
-      std::printf("  narrowphase part                         %12.1f\n", 1e6 * (t.work_s - t.law_work_s) / steps);
-      std::printf("  contact law part                         %12.1f\n", 1e6 * t.law_work_s / steps);
+      std::printf("  %-21s %8s %6s     %12.1f\n", "narrowphase part", "", "", 1e6 * (t.work_s - t.law_work_s) / steps);
+      std::printf("  %-21s %8s %6s     %12.1f\n", "contact law part", "", "", 1e6 * t.law_work_s / steps);
     }
   }
   std::printf("steps %ld, broadphase rebuilds %ld, contact regroups %ld, %.1f steps/s, mean team %.2f of %d threads\n", steps,
