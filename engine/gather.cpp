@@ -127,16 +127,4 @@ double carried_prescribed_power(State& s) {
   return power;
 }
 
-double gather_forces(const Model& m, State& s) {
-  const int nb = m.block_count;
-  std::array<double, kStageChunks> parts{};
-  parallel_chunks(nb, stage_chunks(nb), [&](std::ptrdiff_t begin, std::ptrdiff_t end, int k) {
-    for (std::ptrdiff_t b = begin; b < end; ++b) gather_block(m, s, b);
-    parts[k] = prescribed_power_of_chunk(s, k);
-  });
-  double power = carried_prescribed_power(s);
-  for (double p : parts) power += p;
-  return power;
-}
-
 }  // namespace ishibashi

@@ -10,7 +10,7 @@
 // (pair_damping.h, summed by the contact law as it leaves each sub-contact) and a gather.
 // Backward Euler never amplifies a damped mode, so dt is limited by the springs alone
 // (explicit dashpots with h = 1 on a block held by many joints: a tenth of that or less).
-// The change is handed to integrate() as the force M delta / dt.
+// The change is handed to integrate_with_dashpots() as the force M delta / dt.
 // Every sum runs in fixed chunks in a fixed order: the result is the same for any team.
 #include <array>
 #include <cassert>
@@ -119,39 +119,48 @@ double for_solved_blocks(const Model& m, const State& s, Fn&& fn) {
   return sums_over_solved_blocks<1>(m, s, [&](std::ptrdiff_t b) { return std::array<double, 1>{fn(b)}; })[0];
 }
 
-// The blocks' lists of pairs with dashpots where marked, the velocities v* integrate()
-// gives without the dashpots (prescribed blocks keep theirs, fixed and frozen blocks are
-// at rest), the preconditioner when `refresh`, and the first residual. The preconditioner
-// only steers the iterations (any symmetric positive definite one leads to the same
-// solution): refreshed every kPreconditionerRefreshSteps steps, it costs a tenth, for a
-// tenth more iterations (model F). The first guess is last step's delta, so the first
-// residual dt F_d(v*) - (M + dt C) x = dt F_d(v* + x) - M x is one pass over the pairs.
-// Returns r.z and sets *scale2 to the dashpots' impulse at the first guess, squared in
-// D^-1's norm.
-double first_residual(const Model& m, State& s, double dt, bool refresh, double* scale2) {
+// The blocks' forces (gathered: gather.cpp), their lists of pairs with dashpots where marked,
+// the velocities v* integrate() gives without the dashpots (prescribed blocks keep theirs,
+// fixed and frozen blocks are at rest), the preconditioner when `refresh`, and the first
+// residual. The preconditioner only steers the iterations (any symmetric positive definite
+// one leads to the same solution): refreshed every kPreconditionerRefreshSteps steps, it
+// costs a tenth, for a tenth more iterations (model F). The first guess is last step's
+// delta, so the first residual dt F_d(v*) - (M + dt C) x = dt F_d(v* + x) - M x is one pass
+// over the pairs. Returns r.z, sets *scale2 to the dashpots' impulse at the first guess,
+// squared in D^-1's norm, and *contact_power_w to the power the prescribed blocks put in
+// against the contacts (gather.cpp's trapezoid rule).
+double first_residual(const Model& m, State& s, double dt, bool refresh, double* scale2, double* contact_power_w) {
   ImplicitDamping& w = s.implicit;
   std::vector<Vec6>& x = w.delta;
-  parallel_for(m.block_count, [&](std::ptrdiff_t b) {
-    update_dashpot_lists(s, b);
-    Vec6& v = w.velocity[b];
-    if (solved(m, s, b)) {
-      const Mat3& r = s.rotation[b];
-      const Vec3& inertia = m.inertia_kg_m2[b];
-      Vec3 wb = r.transpose() * s.angular_velocity[b];
-      wb += (r.transpose() * s.torque[b] - wb.cross(inertia.cwiseProduct(wb))).cwiseQuotient(inertia) * dt;
-      v = stacked(s.velocity[b] + (s.force[b] / m.mass_kg[b] + m.gravity_m_s2) * dt, r * wb);
-      w.product[b] = v + x[b];
-    } else {
-      if (m.motion[b] == Motion::prescribed)
-        v = stacked(s.velocity[b], s.angular_velocity[b]);
-      else
-        v.setZero();
-      x[b].setZero();
-      w.preconditioned[b].setZero();  // zero where not solved: the products read them
-      w.direction[b].setZero();
-      w.product[b] = v;
+  // The gather in this pass: a loop of its own cost a team post and a tail a step.
+  std::array<double, kStageChunks> power{};
+  parallel_chunks(m.block_count, stage_chunks(m.block_count), [&](std::ptrdiff_t begin, std::ptrdiff_t end, int k) {
+    power[k] = prescribed_power_of_chunk(s, k);
+    for (std::ptrdiff_t b = begin; b < end; ++b) {
+      gather_block(m, s, b);
+      update_dashpot_lists(s, b);
+      Vec6& v = w.velocity[b];
+      if (solved(m, s, b)) {
+        const Mat3& r = s.rotation[b];
+        const Vec3& inertia = m.inertia_kg_m2[b];
+        Vec3 wb = r.transpose() * s.angular_velocity[b];
+        wb += (r.transpose() * s.torque[b] - wb.cross(inertia.cwiseProduct(wb))).cwiseQuotient(inertia) * dt;
+        v = stacked(s.velocity[b] + (s.force[b] / m.mass_kg[b] + m.gravity_m_s2) * dt, r * wb);
+        w.product[b] = v + x[b];
+      } else {
+        if (m.motion[b] == Motion::prescribed)
+          v = stacked(s.velocity[b], s.angular_velocity[b]);
+        else
+          v.setZero();
+        x[b].setZero();
+        w.preconditioned[b].setZero();  // zero where not solved: the products read them
+        w.direction[b].setZero();
+        w.product[b] = v;
+      }
     }
   });
+  *contact_power_w = carried_prescribed_power(s);
+  for (double p : power) *contact_power_w += p;
   assert(dashpot_lists_are_current(s, m.block_count));
   pair_products_at(m, s, w.product);
   const auto [rz, impulse2] = sums_over_solved_blocks<2>(m, s, [&](std::ptrdiff_t b) {
@@ -200,21 +209,13 @@ int conjugate_gradients(const Model& m, State& s, double dt, double rz, double t
   return iterations;
 }
 
-// The dashpots' impulse on the free blocks is M delta: the force integrate() takes, and its
-// work over the step at the mean of the velocities before and after (the form in which
-// the step balances kinetic energy). The dashpots on the prescribed blocks, at the new
-// velocities (their pairs only): the power those put in against them, and their share of
-// the work (energy only: the order of these sums moves no block).
-void book(const Model& m, State& s, double dt, DampingSolve& result) {
-  ImplicitDamping& w = s.implicit;
-  result.work_j = for_solved_blocks(m, s, [&](std::ptrdiff_t b) {
-    const Vec6 impulse = mass_times(m, s, b, w.delta[b]);
-    const Vec6 before = stacked(s.velocity[b], s.angular_velocity[b]);
-    w.velocity[b] += w.delta[b];
-    s.force[b] += linear(impulse) / dt;
-    s.torque[b] += angular(impulse) / dt;
-    return 0.5 * impulse.dot(before + w.velocity[b]);
-  });
+// The dashpots on the prescribed blocks, at the new velocities v* + delta (their pairs
+// only): the power those put in against them, and their share of the work (energy only: the
+// order of these sums moves no block). The free blocks' impulse and its work are added as
+// each block moves (apply_dashpot_impulse), so here the new velocities are made on the fly.
+void book_prescribed(const Model& m, State& s, double dt, DampingSolve& result) {
+  const ImplicitDamping& w = s.implicit;
+  const auto velocity_after = [&](int b) { return solved(m, s, b) ? Vec6(w.velocity[b] + w.delta[b]) : w.velocity[b]; };
   // Over the pair sides that touch a prescribed block (State::prescribed_entry, in the pair
   // loops' chunks and pair order), summed in chunk order; a loop over every pair to find
   // them took 8 % of a solve of two iterations (model F).
@@ -227,8 +228,9 @@ void book(const Model& m, State& s, double dt, DampingSolve& result) {
                       const int p = entry >> 1;
                       if (!has_dashpots(w, p)) continue;
                       const auto [a, b] = w.blocks[p];
+                      const Vec6 va = velocity_after(a), vb = velocity_after(b);
                       Vec6 on_a = Vec6::Zero(), on_b;
-                      pair_resultant(s, w.velocity[a].data(), w.velocity[b].data(), p, on_a.data(), on_b.data());
+                      pair_resultant(s, va.data(), vb.data(), p, on_a.data(), on_b.data());
                       const Vec6 v = stacked(s.velocity[block], s.angular_velocity[block]);
                       power += ((entry & 1) ? on_b : on_a).dot(v);
                     }
@@ -236,7 +238,7 @@ void book(const Model& m, State& s, double dt, DampingSolve& result) {
                   });
   for (double power : parts) {
     result.prescribed_power_w -= power;
-    result.work_j += dt * power;
+    result.prescribed_work_j += dt * power;
   }
 }
 
@@ -260,13 +262,24 @@ DampingSolve solve_implicit_damping(const Model& m, State& s, double dt) {
   mark_stale_dashpot_lists(m, s);
   DampingSolve result;
   double scale2 = 0;
-  const double rz = first_residual(m, s, dt, fresh || s.step % kPreconditionerRefreshSteps == 0, &scale2);
+  const bool refresh = fresh || s.step % kPreconditionerRefreshSteps == 0;
+  const double rz = first_residual(m, s, dt, refresh, &scale2, &result.contact_power_w);
   // Converged when the residual is a small share of the dashpots' impulse.
   const double tolerance = m.options.damping_solve_tolerance;
   const double target = tolerance * tolerance * scale2;
   result.iterations = conjugate_gradients(m, s, dt, rz, target, &result.converged);
-  book(m, s, dt, result);
+  book_prescribed(m, s, dt, result);
   return result;
+}
+
+double apply_dashpot_impulse(const Model& m, State& s, double dt, std::ptrdiff_t b) {
+  if (!solved(m, s, b)) return 0.0;
+  const ImplicitDamping& w = s.implicit;
+  const Vec6 impulse = mass_times(m, s, b, w.delta[b]);
+  const Vec6 before = stacked(s.velocity[b], s.angular_velocity[b]);
+  s.force[b] += linear(impulse) / dt;
+  s.torque[b] += angular(impulse) / dt;
+  return 0.5 * impulse.dot(before + (w.velocity[b] + w.delta[b]));  // the order book() summed them in
 }
 
 }  // namespace ishibashi

@@ -4,7 +4,9 @@
 // model (Model::leave_depth_m) is frozen there and its kinetic energy booked as lost.
 // With explicit dashpots each block's forces are gathered just before it moves, in the
 // same pass: as loops of their own gather and integrate each cost a team post and a tail
-// (model F on 16 threads: 24 and 23 us a step for 9 and 11 us of work a thread). For the
+// (model F on 16 threads: 24 and 23 us a step for 9 and 11 us of work a thread); with
+// implicit ones the solve's impulse is added there (and the gather is the solve's first
+// pass), where the booking of that impulse was a loop of its own. For the
 // same reason each chunk's blocks are posed for the next step once they have moved
 // (pose.cpp): the pose's own loop took 22 us a step on 16 threads for 5 us of work a thread
 // (perf/results, session 72).
@@ -53,13 +55,17 @@ bool integrate_block(const Model& m, State& s, double dt, const Vec3& down, std:
          s.orientation[b].coeffs().allFinite();
 }
 
+// What a pass adds to each block's forces just before it moves.
+enum class Forces { gathered, dashpot_impulse };
+
 // The pass over the blocks in the stage chunks (those of the gather and the pair loops),
-// gathering each block's forces first when `gather`, and posing the chunk's blocks once
-// they have moved; the chunks' sums added in chunk order. A block's gather, step and pose read and write its
-// own entries alone (its pairs' forces, which the contact law wrote, aside).
-ForcesAndMotion integrate_blocks(const Model& m, State& s, double dt, bool gather) {
+// adding `forces` to each block's before it moves, and posing the chunk's blocks once they
+// have moved; the chunks' sums added in chunk order. A block's forces, step and pose read and
+// write its own entries alone (its pairs' forces, which the contact law wrote, aside).
+ForcesAndMotion integrate_blocks(const Model& m, State& s, double dt, Forces forces) {
+  const bool gather = forces == Forces::gathered;
   std::array<BlockEnergy, kStageChunks> parts{};
-  std::array<double, kStageChunks> power{};
+  std::array<double, kStageChunks> power{};  // gathered: the prescribed blocks'; otherwise the dashpots' work
   std::array<PoseChunk, kStageChunks> poses;
   std::array<int, kStageChunks> first_not_finite;
   first_not_finite.fill(-1);
@@ -73,7 +79,10 @@ ForcesAndMotion integrate_blocks(const Model& m, State& s, double dt, bool gathe
     BlockEnergy e;
     PoseChunk pose;
     for (std::ptrdiff_t b = begin; b < end; ++b) {
-      if (gather) gather_block(m, s, b);
+      if (gather)
+        gather_block(m, s, b);
+      else
+        power[k] += apply_dashpot_impulse(m, s, dt, b);
       if (!integrate_block(m, s, dt, down, b, e) && first_not_finite[k] < 0) first_not_finite[k] = static_cast<int>(b);
     }
     // A loop of its own over the chunk's blocks, still in the cache: interleaved with the
@@ -94,20 +103,25 @@ ForcesAndMotion integrate_blocks(const Model& m, State& s, double dt, bool gathe
   s.moved_ahead = finish_pose(m, s, poses.data(), chunks);
   s.posed_ahead = true;
   ForcesAndMotion total;
-  if (gather) total.prescribed_power_w = carried_prescribed_power(s);
+  double& sum = gather ? total.prescribed_power_w : total.dashpot_work_j;
+  if (gather) sum = carried_prescribed_power(s);
   for (int k = 0; k < chunks; ++k) {
     total.energy.kinetic_j += parts[k].kinetic_j;
     total.energy.gravitational_j += parts[k].gravitational_j;
     total.energy.left_model_j += parts[k].left_model_j;
-    total.prescribed_power_w += power[k];
+    sum += power[k];
   }
   return total;
 }
 
 }  // namespace
 
-BlockEnergy integrate(const Model& m, State& s, double dt) { return integrate_blocks(m, s, dt, false).energy; }
+ForcesAndMotion gather_and_integrate(const Model& m, State& s, double dt) {
+  return integrate_blocks(m, s, dt, Forces::gathered);
+}
 
-ForcesAndMotion gather_and_integrate(const Model& m, State& s, double dt) { return integrate_blocks(m, s, dt, true); }
+ForcesAndMotion integrate_with_dashpots(const Model& m, State& s, double dt) {
+  return integrate_blocks(m, s, dt, Forces::dashpot_impulse);
+}
 
 }  // namespace ishibashi

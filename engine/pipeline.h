@@ -144,11 +144,9 @@ void update_damping_caps(const Model& model, State& state, double dt_s);
 // and the implicit dashpots that follow it in a step read them.
 void update_pair_index(const Model& model, State& state);
 
-// gather.cpp: resultant force and torque on each block, race-free (block -> contacts index).
-// Returns the mean power the prescribed blocks put in over the step that moved them here (W),
-// as gather_and_integrate does.
-double gather_forces(const Model& model, State& state);
-// The same for block b alone (State::force and torque).
+// gather.cpp: block b's resultant force and torque (State::force and torque), race-free
+// (block -> contacts index). A pass over the blocks in stage chunks calls it for each of
+// its blocks: integrate's with explicit dashpots, the implicit solve's first.
 void gather_block(const Model& model, State& state, std::ptrdiff_t b);
 // The ground's work over a step by the trapezoid rule: the mean of the prescribed blocks'
 // contact forces at the pose before and at this one, times the velocities that moved them.
@@ -163,24 +161,31 @@ double prescribed_power_of_chunk(State& state, int k);
 // list changed (State::prescribed_force_carried); serial, over the prescribed blocks.
 double carried_prescribed_power(State& state);
 
-// implicit_damping.cpp (Damping::implicit), between gather and integrate: the
-// dashpot forces at the end-of-step velocities (backward Euler), added to State::force and
-// torque. Conjugate gradients stop when the preconditioned residual is below
-// ModelOptions::damping_solve_tolerance of the right-hand side's.
+// implicit_damping.cpp (Damping::implicit), between the contact law and integrate: the
+// dashpot forces at the end-of-step velocities (backward Euler), as the change delta
+// (State::implicit) they make to the velocities. Its first pass over the blocks gathers
+// their forces (gather_block). Conjugate gradients stop when the preconditioned residual
+// is below ModelOptions::damping_solve_tolerance of the right-hand side's.
 constexpr int kDampingSolveMaxIterations = 200;
 constexpr long kPreconditionerRefreshSteps = 10;
 struct DampingSolve {
   int iterations = 0;
   bool converged = true;
-  double work_j = 0.0;             // work of the dashpots over the step (<= 0 up to the solve's tolerance)
+  double contact_power_w = 0.0;     // of the contacts on the prescribed blocks, as prescribed_power_of_chunk
   double prescribed_power_w = 0.0;  // power the prescribed blocks put in against the dashpots
+  double prescribed_work_j = 0.0;   // the dashpots' work on the prescribed blocks' side over the step
 };
 DampingSolve solve_implicit_damping(const Model& model, State& state, double dt_s);
+// Adds the solve's impulse on free block b, M delta, to its force and torque as M delta /
+// dt; returns its work on b over the step (J, <= 0 up to the solve's tolerance), at the mean
+// of the velocities before and after (the form in which the step balances kinetic energy).
+// Called by integrate_with_dashpots just before the block moves.
+double apply_dashpot_impulse(const Model& model, State& state, double dt_s, std::ptrdiff_t b);
 
-// integrate.cpp: semi-implicit Euler with Euler's rotation equations in the principal frame;
-// reads State::rotation, so update_pose must have run on the current orientations. Then
-// poses each block it moved, for the next step (State::posed_ahead, pose.cpp).
-// Returns the kinetic and gravitational energy of the free blocks before the update (J),
+// integrate.cpp: semi-implicit Euler with Euler's rotation equations in the principal frame,
+// a pass over the blocks that reads State::rotation (the pose of this step) and then poses
+// each block it moved, for the next step (State::posed_ahead, pose.cpp). The energy it
+// returns: the kinetic and gravitational energy of the free blocks before the update (J),
 // and the kinetic energy of blocks that left the model in this step and were frozen.
 // Throws ModelError naming the block when its state becomes NaN or infinite.
 struct BlockEnergy {
@@ -188,13 +193,15 @@ struct BlockEnergy {
   double gravitational_j = 0.0;  // -m g . x, zero at the origin
   double left_model_j = 0.0;     // energy taken from the blocks frozen in this step
 };
-BlockEnergy integrate(const Model& model, State& state, double dt_s);
-// integrate.cpp: the gather and integrate in one pass over the blocks, each block's
-// forces gathered just before it moves (explicit dashpots: nothing comes between them).
 struct ForcesAndMotion {
   BlockEnergy energy;
-  double prescribed_power_w = 0.0;  // as gather_forces returns it
+  double prescribed_power_w = 0.0;  // gather_and_integrate: as prescribed_power_of_chunk's, summed
+  double dashpot_work_j = 0.0;      // integrate_with_dashpots: apply_dashpot_impulse's, summed
 };
+// Explicit dashpots: each block's forces gathered just before it moves (nothing comes
+// between them).
 ForcesAndMotion gather_and_integrate(const Model& model, State& state, double dt_s);
+// Implicit dashpots: each free block's impulse from the solve added just before it moves.
+ForcesAndMotion integrate_with_dashpots(const Model& model, State& state, double dt_s);
 
 }  // namespace ishibashi

@@ -11,9 +11,10 @@ namespace ishibashi {
 // narrowphase_law: each chunk of pairs runs its contact law in the narrowphase's pass;
 // only where the damping caps must come between them (capped dashpots, on a step that
 // rebuilt the pair list) are they the stages narrowphase and contact_law.
-// gather_integrate: both in one pass (explicit dashpots); with implicit ones the solve
-// comes between them. Either integrate poses the blocks for the next step (pose.cpp), so
-// the pose stage runs only on a run's first step and after a restore.
+// gather_integrate: both in one pass (explicit dashpots); with implicit ones the gather is
+// the solve's first pass (gather_damping_solve) and integrate adds the solve's impulse.
+// Either integrate poses the blocks for the next step (pose.cpp), so the pose stage runs
+// only on a run's first step and after a restore.
 enum class Stage : std::uint8_t {
   pose,
   broadphase,
@@ -21,15 +22,14 @@ enum class Stage : std::uint8_t {
   narrowphase,
   damping_caps,
   contact_law,
-  gather,
-  damping_solve,
+  gather_damping_solve,
   integrate,
   gather_integrate
 };
-constexpr int kStageCount = 10;
+constexpr int kStageCount = 9;
 constexpr std::array<const char*, kStageCount> kStageNames = {
-    "pose", "broadphase", "narrowphase+contact law", "narrowphase", "damping caps", "contact law", "gather",
-    "damping solve", "integrate+pose", "gather+integrate+pose"};
+    "pose", "broadphase", "narrowphase+contact law", "narrowphase", "damping caps", "contact law",
+    "gather+damping solve", "integrate+pose", "gather+integrate+pose"};
 
 // One stage's time, summed over the steps. The thread times (Team::set_timing) are
 // measured only while a run profiles or traces; wall_s always.

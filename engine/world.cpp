@@ -144,13 +144,14 @@ void World::step() {
   double prescribed_power = 0;
   BlockEnergy before;
   if (m.options.damping == Damping::implicit) {
-    prescribed_power = timed(Stage::gather, [&] { return gather_forces(m, s); });
-    const DampingSolve solve = timed(Stage::damping_solve, [&] { return solve_implicit_damping(m, s, dt_s_); });
-    s.energy.damping_j -= solve.work_j;
-    s.energy.prescribed_work_j += solve.prescribed_power_w * dt_s_;
+    const DampingSolve solve = timed(Stage::gather_damping_solve, [&] { return solve_implicit_damping(m, s, dt_s_); });
     p.damping_iterations += solve.iterations;
     if (!solve.converged) ++p.damping_unconverged;
-    before = timed(Stage::integrate, [&] { return integrate(m, s, dt_s_); });
+    const ForcesAndMotion pass = timed(Stage::integrate, [&] { return integrate_with_dashpots(m, s, dt_s_); });
+    prescribed_power = solve.contact_power_w;
+    s.energy.damping_j -= pass.dashpot_work_j + solve.prescribed_work_j;
+    s.energy.prescribed_work_j += solve.prescribed_power_w * dt_s_;
+    before = pass.energy;
   } else {
     const ForcesAndMotion pass = timed(Stage::gather_integrate, [&] { return gather_and_integrate(m, s, dt_s_); });
     prescribed_power = pass.prescribed_power_w;

@@ -13,7 +13,7 @@ f_run() {
   timeout 120 "$D/bin/$bin" run scenarios/bench_f.toml --start 7.3 --duration 0.05 --threads "$t" --fixed-threads --quiet \
     --profile --out "/tmp/$label" --damping implicit --dt 4e-5 > "/tmp/$label.log" 2>&1
   { echo "=== $label: $bin, $t threads"; cat "/tmp/$label.log"; } >> "$O/profiles.log"
-  echo "$label,$bin,$t,$(grep -o '[0-9.]* steps/s' /tmp/$label.log | head -1 | cut -d' ' -f1),$(grep '^damping solve' /tmp/$label.log | awk '{print $3}'),$(grep '^contact law' /tmp/$label.log | awk '{print $4}'),$(grep -o '"state_hash": "[0-9a-f]*"' /tmp/$label/summary.json | cut -d'"' -f4)" >> "$O/runs.csv"
+  echo "$label,$bin,$t,$(grep -o '[0-9.]* steps/s' /tmp/$label.log | head -1 | cut -d' ' -f1),$(grep -E '^(gather[+])?damping solve' /tmp/$label.log | awk '{print $3}'),$(grep '^contact law' /tmp/$label.log | awk '{print $4}'),$(grep -o '"state_hash": "[0-9a-f]*"' /tmp/$label/summary.json | cut -d'"' -f4)" >> "$O/runs.csv"
 }
 echo "label,program,threads,steps_per_s,solve_s,contact_law_s,state_hash" > "$O/runs.csv"
 for rep in 1 2; do for t in 1 16; do for b in ishibashi_before ishibashi; do f_run $b $t "${b}_${t}_$rep"; done; done; done

@@ -15,7 +15,7 @@ run() {  # label program extra-flags...
   local label=$1 program=$2; shift 2
   "$program" run "$SCENARIO" --settle-max 0.02 --start 7.3 --duration 0.03 --threads 1 --fixed-threads --profile --quiet --out "$OUT/run" "$@" > "$OUT/log" 2>&1
   awk -v label="$label" -v round="$round" '
-    /^contact law/ {law += $6} /^  contact law part/ {law += $4} /^damping solve/ {solve = $6}
+    /^contact law/ {law += $6} /^  contact law part/ {law += $4} /^(gather\+)?damping solve/ {solve = $6}
     /steps\/s/ {for (i = 1; i <= NF; ++i) if ($i == "steps/s,") rate = $(i - 1)}
     /iterations per step/ {iterations = $3}
     END {printf "%s,%s,%s,%s,%s,%s\n", label, round, rate, law, solve, iterations}' "$OUT/log"

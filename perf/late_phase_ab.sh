@@ -25,7 +25,7 @@ for round in $(seq "$ROUNDS"); do
       grep -q '^steps' "$COPY/log" || { echo "$program failed:" >&2; tail -3 "$COPY/log" >&2; exit 1; }
       awk -v p="$program" -v r="$round" -v t="$t" '
         /^narrowphase / {n += $5} /^  narrowphase part/ {n += $3} /^contact law/ {l += $6} /^  contact law part/ {l += $4}
-        /^damping solve/ {s = $6}
+        /^(gather\+)?damping solve/ {s = $6}
         /^steps/ {steps = $2; sub(",", "", steps); regroups = $8; sub(",", "", regroups); rate = $9}
         END {printf "%s,%s,%s,%s,%s,%s,%s,%s,%s\n", p, r, t, steps, regroups, rate, n, l, s}' "$COPY/log"
     done

@@ -7,7 +7,9 @@
 # session 72 "gather+integrate+pose" and the pose on a run's first step alone): its work
 # goes in the gather column, integrate's is 0. Since session 74 the narrowphase and contact
 # law share a pass ("narrowphase+contact law", its two parts on the rows below it), and are
-# separate stages only on a capped run's rebuild steps: each column adds both.
+# separate stages only on a capped run's rebuild steps: each column adds both. Since session
+# 75 the implicit solve's first pass gathers the forces ("gather+damping solve"): its gather
+# is in the solve's column, the gather column 0.
 /^pose/ {pose = $5}
 /^narrowphase / {narrowphase += $5}
 /^contact law/ {law += $6}
@@ -15,7 +17,7 @@
 /^  contact law part/ {law += $4}
 /^gather / {gather = $5}
 /^gather\+integrate/ {gather = $5; integrate = 0}
-/^damping solve/ {solve = $6; solve_serial = $11}
+/^(gather\+)?damping solve/ {solve = $6; solve_serial = $11}
 /^integrate( |\+pose)/ {integrate = $5}
 /steps\/s/ {
   for (i = 1; i <= NF; ++i) {

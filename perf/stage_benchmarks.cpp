@@ -193,18 +193,16 @@ void BM_ContactLaw(benchmark::State& st) {
 }
 BENCHMARK(BM_ContactLaw);
 
-// One solve of the implicit dashpots from the same state and first guess each time, at a
-// step that refreshes the preconditioner (Arg 1, one in kPreconditionerRefreshSteps) or not.
+// One solve of the implicit dashpots (its first pass gathers the forces) from the same
+// state and first guess each time, at a step that refreshes the preconditioner (Arg 1,
+// one in kPreconditionerRefreshSteps) or not.
 void BM_ImplicitDampingSolve(benchmark::State& st) {
   World& w = implicit_wall();
   State& s = w.state();
   s.step = kPreconditionerRefreshSteps * 1000 + (st.range(0) ? 0 : 1);
-  const std::vector<Vec3> force = s.force, torque = s.torque;
   const std::vector<Vec6> first_guess = s.implicit.delta;
   double iterations = 0;
   for (auto _ : st) {
-    s.force = force;
-    s.torque = torque;
     s.implicit.delta = first_guess;
     iterations += solve_implicit_damping(w.model(), s, 4e-5).iterations;
   }
@@ -213,21 +211,7 @@ void BM_ImplicitDampingSolve(benchmark::State& st) {
 }
 BENCHMARK(BM_ImplicitDampingSolve)->Arg(0)->Arg(1);
 
-void BM_Gather(benchmark::State& st) {
-  World& w = wall();
-  for (auto _ : st) benchmark::DoNotOptimize(gather_forces(w.model(), w.state()));
-  st.SetItemsProcessed(st.iterations() * w.state().pairs.size());
-}
-BENCHMARK(BM_Gather);
-
-void BM_Integrate(benchmark::State& st) {
-  World& w = wall();
-  for (auto _ : st) integrate(w.model(), w.state(), 0.0);
-  st.SetItemsProcessed(st.iterations() * w.model().block_count);
-}
-BENCHMARK(BM_Integrate);
-
-// The two as one pass (explicit dashpots, World::step).
+// Explicit dashpots: the gather and integrate as one pass (World::step).
 void BM_GatherAndIntegrate(benchmark::State& st) {
   World& w = wall();
   for (auto _ : st) benchmark::DoNotOptimize(gather_and_integrate(w.model(), w.state(), 0.0));
