@@ -54,8 +54,8 @@ void update_pair_index(const Model& m, State& s) {
     while (p < np && s.pairs[p].a < first_block) ++p;
     s.pair_chunk_begin[k] = k == chunks ? np : p;
   }
-  // The sides of pairs that touch a prescribed block, for the work it puts in (the contact
-  // law's, and the implicit dashpots' in implicit_damping.cpp).
+  // The sides of pairs that touch a prescribed block, for the power it puts in against
+  // implicit dashpots (implicit_damping.cpp).
   std::vector<std::array<int, 2>>& listed = s.prescribed_entry;
   listed.clear();
   s.prescribed_entry_begin.resize(chunks + 1);
@@ -68,7 +68,6 @@ void update_pair_index(const Model& m, State& s) {
     }
   }
   s.prescribed_entry_begin[chunks] = static_cast<int>(listed.size());
-  s.prescribed_rest_before.resize(listed.size());
   s.implicit.lists_stale = true;  // the solve's lists of pairs with dashpots follow block_pair
   s.pair_index_valid = true;
 }

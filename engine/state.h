@@ -284,9 +284,6 @@ struct State {
   std::vector<std::array<int, 2>> prescribed_entry;  // {entry (as in block_pair), its
   std::vector<int> prescribed_entry_begin;  // block} where that block is prescribed, in pair
                                          // order; chunk k's from prescribed_entry_begin[k]
-  std::vector<std::array<Vec3, 2>> prescribed_rest_before;  // each entry's pair, the contact
-                                         // law's scratch: its shear springs and dashpots as
-                                         // the step began (force on b, moment about x_a)
   std::vector<int> prescribed_block;     // the prescribed blocks, in order (make_initial_state)
   bool pair_index_valid = false;
   std::vector<double> damping_scale;     // (nb) factor on the dashpots of a block's sub-contacts
