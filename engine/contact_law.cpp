@@ -85,61 +85,6 @@ std::uint8_t soften_bond(const PairLaw& law, const SpringConstants& k, double ar
   return capped;
 }
 
-// A pair on the ground (a prescribed block) as the law leaves it: the resultant on b, and its
-// moment about x_a, of what its sub-contacts store. `normal`: the normal springs, -K_n u_n n,
-// made from the gap at this pose. Otherwise the rest, the shear springs K_s u_s and the
-// dashpots' forces (explicit dashpots), whose increments the law takes from this step's
-// velocities.
-inline void sum_stored(const SubContacts& c, const Pair& pair, const Vec3& xa, bool normal, Vec3& force, Vec3& torque) {
-  force = torque = Vec3::Zero();
-  for (int i = pair.sub_begin; i < pair.sub_begin + pair.sub_count; ++i) {
-    const Vec3 f = normal ? Vec3(-c.normal_stiffness_n_m[i] * c.normal_stretch_m[i] * c.normal[i])
-                          : Vec3(c.shear_stiffness_n_m[i] * c.shear_stretch_m[i] + c.damping_force_n[i]);
-    force += f;
-    torque += (c.point[i] - xa).cross(f);
-  }
-}
-
-// A pair's resultant as the force on each side and its moment about that side's centroid:
-// side 0 is a, side 1 b; (force on b, its moment about x_a), d = x_b - x_a.
-inline void on_side(int side, const Vec3& force, const Vec3& torque, const Vec3& d, Vec3& f, Vec3& moment) {
-  f = side ? force : Vec3(-force);
-  moment = side ? Vec3(torque - d.cross(force)) : Vec3(-torque);
-}
-
-// The work a prescribed block of the pair puts into it over this step (J), from the pair's
-// resultant at this pose (force on b `force`, its moment about x_a `torque`), its normal
-// springs' part, and the rest's part last step (`rest_before`). Each force paired with the
-// velocities as the law made it, so that the balance closes step by step:
-// * the normal springs come from the gap at each pose: each move's work by the trapezoid
-//   rule, -(F_n + F_{n+1}) v_n dt / 2, split between its two ends, so that each pose's force
-//   takes the mean of the velocities of the steps before and after it;
-// * the shear springs' stretch and the dashpots' forces of step n take the prescribed
-//   block's velocity of step n, the one that moves it on: the mean of last step's force and
-//   this one's, times this step's velocity.
-// (Everything as the second, the rule until session 75, drifted by about dt m a^2 / 2 a
-// second under a ground shaken normal to a joint: a stone driven up and down below its
-// joint's resonance, tests/engine/implicit_damping_test.cpp. Everything as the first drifts
-// as much under a ground shaken along the joint: tests/analysis/seismic_run_test.cpp.)
-double ground_work(const Model& m, const State& s, const Pair& pair, const Vec3& d, const Vec3& force,
-                   const Vec3& torque, const Vec3& normal_force, const Vec3& normal_torque, const Vec3& rest_before,
-                   const Vec3& rest_torque_before, double dt) {
-  double work = 0.0;
-  for (int side = 0; side < 2; ++side) {
-    const int g = side ? pair.b : pair.a;
-    if (m.motion[g] != Motion::prescribed) continue;
-    Vec3 f, moment, fn, mn, f_before, m_before;
-    on_side(side, force, torque, d, f, moment);
-    on_side(side, normal_force, normal_torque, d, fn, mn);
-    on_side(side, rest_before, rest_torque_before, d, f_before, m_before);
-    const Vec3 &v = s.velocity[g], &w = s.angular_velocity[g];
-    work -= 0.5 * dt *
-            (fn.dot(s.prescribed_velocity_before[g] + v) + mn.dot(s.prescribed_angular_velocity_before[g] + w) +
-             (f_before + f - fn).dot(v) + (m_before + moment - mn).dot(w));
-  }
-  return work;
-}
-
 }  // namespace
 
 ContactLaw::ContactLaw(const Model& m, State& s, double dt_s, bool clocked)
@@ -178,7 +123,7 @@ void ContactLaw::run_chunk(int k) {
   // Pair by pair: what the sub-contacts of a pair share (blocks, velocities, law) is
   // loaded once, and their resultant is summed here so that the gather works on pairs.
   // The chunk's energy sums, J: plain locals, each kept in its own register (in_own_register).
-  double elastic_j = 0, damping_j = 0, friction_j = 0, bond_j = 0, ground_j = 0;
+  double elastic_j = 0, damping_j = 0, friction_j = 0, bond_j = 0;
   const std::ptrdiff_t begin = s.pair_chunk_begin[k], end = s.pair_chunk_begin[k + 1];
   for (std::ptrdiff_t pi = begin; pi < end; ++pi) {
     const Pair& pair = s.pairs[pi];
@@ -190,11 +135,6 @@ void ContactLaw::run_chunk(int k) {
     const int a = pair.a, b = pair.b;
     // Relative velocity at r = p - x_a: v_b + w_b x (r - d) - v_a - w_a x r, d = x_b - x_a.
     const Vec3 xa = s.position[a], d = s.position[b] - xa;
-    // A pair on the ground (a prescribed block): its shear springs' and dashpots' part of last
-    // step, before the loop below replaces it, for the ground's work.
-    const bool on_ground = m.motion[a] == Motion::prescribed || m.motion[b] == Motion::prescribed;
-    Vec3 rest_before, rest_torque_before;
-    if (on_ground) sum_stored(c, pair, xa, /*normal=*/false, rest_before, rest_torque_before);
     const Vec3 v0 = s.velocity[b] - s.velocity[a] - s.angular_velocity[b].cross(d);
     const Vec3 w_rel = s.angular_velocity[b] - s.angular_velocity[a];
     const PairLaw& law = m.law(m.material[a], m.material[b]);
@@ -350,14 +290,8 @@ void ContactLaw::run_chunk(int k) {
     s.pair_force_n[pi] = pair_force;
     s.pair_moment_nm[2 * pi] = -pair_torque;                         // on a, about x_a
     s.pair_moment_nm[2 * pi + 1] = pair_torque - d.cross(pair_force);  // on b, about x_b
-    if (on_ground) {
-      Vec3 normal_force, normal_torque;
-      sum_stored(c, pair, xa, /*normal=*/true, normal_force, normal_torque);
-      ground_j += ground_work(m, s, pair, d, pair_force, pair_torque, normal_force, normal_torque, rest_before,
-                              rest_torque_before, dt);
-    }
   }
-  parts_[k] = {elastic_j, damping_j, friction_j, bond_j, ground_j};
+  parts_[k] = {elastic_j, damping_j, friction_j, bond_j};
   if (clocked_) chunk_s_[k] = seconds_since(start);
 }
 
@@ -369,9 +303,7 @@ double ContactLaw::finish() {
     s_.energy.damping_j += e.damping_j;
     s_.energy.friction_j += e.friction_j;
     s_.energy.bond_j += e.bond_j;
-    s_.energy.prescribed_work_j += e.ground_j;
   }
-  keep_prescribed_velocities(s_);
   if (!m_.ties.empty()) elastic += apply_ties(m_, s_);
   if (clocked_) finish_s_ = seconds_since(start);
   return elastic;
@@ -381,13 +313,6 @@ double ContactLaw::seconds() const {
   double total = finish_s_;
   for (double t : chunk_s_) total += t;
   return total;
-}
-
-void keep_prescribed_velocities(State& s) {
-  for (int b : s.prescribed_block) {
-    s.prescribed_velocity_before[b] = s.velocity[b];
-    s.prescribed_angular_velocity_before[b] = s.angular_velocity[b];
-  }
 }
 
 double apply_contact_law(const Model& m, State& s, double dt) {

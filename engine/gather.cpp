@@ -11,6 +11,20 @@
 namespace ishibashi {
 namespace {
 
+// The list of pair sides on prescribed blocks changed (State::prescribed_entry_next): the
+// previous pose's forces of the sides listed until now are summed per block, since the
+// trapezoid rule needs only each block's total of them, and the new list starts from none.
+void carry_prescribed_forces(State& s) {
+  for (std::size_t q = 0; q < s.prescribed_entry.size(); ++q) {
+    const int block = s.prescribed_entry[q][1];
+    s.prescribed_force_carried[block] += s.prescribed_entry_force_before[q];
+    s.prescribed_moment_carried[block] += s.prescribed_entry_moment_before[q];
+  }
+  s.prescribed_entry.swap(s.prescribed_entry_next);
+  s.prescribed_entry_force_before.assign(s.prescribed_entry.size(), Vec3::Zero());
+  s.prescribed_entry_moment_before.assign(s.prescribed_entry.size(), Vec3::Zero());
+}
+
 // Adds to f and t a block's sides [begin, end) of `sides`: side 2 i, the block is item i's
 // first (a pair's a, a tie's block_a), 2 i + 1 its second; forces[i] is item i's force on
 // its second block, moments[side] its moment about the block's centroid.
@@ -54,9 +68,8 @@ void update_pair_index(const Model& m, State& s) {
     while (p < np && s.pairs[p].a < first_block) ++p;
     s.pair_chunk_begin[k] = k == chunks ? np : p;
   }
-  // The sides of pairs that touch a prescribed block, for the power it puts in against
-  // implicit dashpots (implicit_damping.cpp).
-  std::vector<std::array<int, 2>>& listed = s.prescribed_entry;
+  // The sides of pairs that touch a prescribed block, for the power it puts in.
+  std::vector<std::array<int, 2>>& listed = s.prescribed_entry_next;
   listed.clear();
   s.prescribed_entry_begin.resize(chunks + 1);
   for (int k = 0; k < chunks; ++k) {
@@ -68,6 +81,7 @@ void update_pair_index(const Model& m, State& s) {
     }
   }
   s.prescribed_entry_begin[chunks] = static_cast<int>(listed.size());
+  if (listed != s.prescribed_entry) carry_prescribed_forces(s);
   s.implicit.lists_stale = true;  // the solve's lists of pairs with dashpots follow block_pair
   s.pair_index_valid = true;
 }
@@ -87,6 +101,30 @@ void gather_block(const Model& m, State& s, std::ptrdiff_t b) {
   if (!m.ties.empty()) add_sides(m.block_tie, m.block_tie_begin[b], m.block_tie_begin[b + 1], s.tie_force_n, s.tie_moment_nm, f, t);
   s.force[b] = f + s.applied_force[b];
   s.torque[b] = t + s.applied_torque[b];
+}
+
+double prescribed_power_of_chunk(State& s, int k) {
+  // Side by side over the chunk's pairs, whose forces the same thread's contact law wrote.
+  double power = 0.0;
+  for (int q = s.prescribed_entry_begin[k]; q < s.prescribed_entry_begin[k + 1]; ++q) {
+    const auto [entry, block] = s.prescribed_entry[q];
+    const Vec3 f = (entry & 1) ? s.pair_force_n[entry >> 1] : Vec3(-s.pair_force_n[entry >> 1]);
+    const Vec3& moment = s.pair_moment_nm[entry];
+    power -= 0.5 * ((f + s.prescribed_entry_force_before[q]).dot(s.velocity[block]) +
+                    (moment + s.prescribed_entry_moment_before[q]).dot(s.angular_velocity[block]));
+    s.prescribed_entry_force_before[q] = f;
+    s.prescribed_entry_moment_before[q] = moment;
+  }
+  return power;
+}
+
+double carried_prescribed_power(State& s) {
+  double power = 0.0;
+  for (int b : s.prescribed_block) {
+    power -= 0.5 * (s.prescribed_force_carried[b].dot(s.velocity[b]) + s.prescribed_moment_carried[b].dot(s.angular_velocity[b]));
+    s.prescribed_force_carried[b] = s.prescribed_moment_carried[b] = Vec3::Zero();
+  }
+  return power;
 }
 
 }  // namespace ishibashi

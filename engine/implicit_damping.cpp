@@ -126,13 +126,16 @@ double for_solved_blocks(const Model& m, const State& s, Fn&& fn) {
 // one leads to the same solution): refreshed every kPreconditionerRefreshSteps steps, it
 // costs a tenth, for a tenth more iterations (model F). The first guess is last step's
 // delta, so the first residual dt F_d(v*) - (M + dt C) x = dt F_d(v* + x) - M x is one pass
-// over the pairs. Returns r.z and sets *scale2 to the dashpots' impulse at the first guess,
-// squared in D^-1's norm.
-double first_residual(const Model& m, State& s, double dt, bool refresh, double* scale2) {
+// over the pairs. Returns r.z, sets *scale2 to the dashpots' impulse at the first guess,
+// squared in D^-1's norm, and *contact_power_w to the power the prescribed blocks put in
+// against the contacts (gather.cpp's trapezoid rule).
+double first_residual(const Model& m, State& s, double dt, bool refresh, double* scale2, double* contact_power_w) {
   ImplicitDamping& w = s.implicit;
   std::vector<Vec6>& x = w.delta;
   // The gather in this pass: a loop of its own cost a team post and a tail a step.
-  parallel_chunks(m.block_count, stage_chunks(m.block_count), [&](std::ptrdiff_t begin, std::ptrdiff_t end, int) {
+  std::array<double, kStageChunks> power{};
+  parallel_chunks(m.block_count, stage_chunks(m.block_count), [&](std::ptrdiff_t begin, std::ptrdiff_t end, int k) {
+    power[k] = prescribed_power_of_chunk(s, k);
     for (std::ptrdiff_t b = begin; b < end; ++b) {
       gather_block(m, s, b);
       update_dashpot_lists(s, b);
@@ -156,6 +159,8 @@ double first_residual(const Model& m, State& s, double dt, bool refresh, double*
       }
     }
   });
+  *contact_power_w = carried_prescribed_power(s);
+  for (double p : power) *contact_power_w += p;
   assert(dashpot_lists_are_current(s, m.block_count));
   pair_products_at(m, s, w.product);
   const auto [rz, impulse2] = sums_over_solved_blocks<2>(m, s, [&](std::ptrdiff_t b) {
@@ -258,7 +263,7 @@ DampingSolve solve_implicit_damping(const Model& m, State& s, double dt) {
   DampingSolve result;
   double scale2 = 0;
   const bool refresh = fresh || s.step % kPreconditionerRefreshSteps == 0;
-  const double rz = first_residual(m, s, dt, refresh, &scale2);
+  const double rz = first_residual(m, s, dt, refresh, &scale2, &result.contact_power_w);
   // Converged when the residual is a small share of the dashpots' impulse.
   const double tolerance = m.options.damping_solve_tolerance;
   const double target = tolerance * tolerance * scale2;

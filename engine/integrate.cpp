@@ -65,7 +65,7 @@ enum class Forces { gathered, dashpot_impulse };
 ForcesAndMotion integrate_blocks(const Model& m, State& s, double dt, Forces forces) {
   const bool gather = forces == Forces::gathered;
   std::array<BlockEnergy, kStageChunks> parts{};
-  std::array<double, kStageChunks> dashpot_work{};  // Forces::dashpot_impulse
+  std::array<double, kStageChunks> power{};  // gathered: the prescribed blocks'; otherwise the dashpots' work
   std::array<PoseChunk, kStageChunks> poses;
   std::array<int, kStageChunks> first_not_finite;
   first_not_finite.fill(-1);
@@ -73,13 +73,16 @@ ForcesAndMotion integrate_blocks(const Model& m, State& s, double dt, Forces for
   const bool add = begin_pose(s);
   const int chunks = stage_chunks(m.block_count);
   parallel_chunks(m.block_count, chunks, [&](std::ptrdiff_t begin, std::ptrdiff_t end, int k) {
+    // Before this chunk's blocks move: the power reads the prescribed blocks' velocities
+    // (which no pass changes) and the pair forces.
+    if (gather) power[k] = prescribed_power_of_chunk(s, k);
     BlockEnergy e;
     PoseChunk pose;
     for (std::ptrdiff_t b = begin; b < end; ++b) {
       if (gather)
         gather_block(m, s, b);
       else
-        dashpot_work[k] += apply_dashpot_impulse(m, s, dt, b);
+        power[k] += apply_dashpot_impulse(m, s, dt, b);
       if (!integrate_block(m, s, dt, down, b, e) && first_not_finite[k] < 0) first_not_finite[k] = static_cast<int>(b);
     }
     // A loop of its own over the chunk's blocks, still in the cache: interleaved with the
@@ -100,11 +103,13 @@ ForcesAndMotion integrate_blocks(const Model& m, State& s, double dt, Forces for
   s.moved_ahead = finish_pose(m, s, poses.data(), chunks);
   s.posed_ahead = true;
   ForcesAndMotion total;
+  double& sum = gather ? total.prescribed_power_w : total.dashpot_work_j;
+  if (gather) sum = carried_prescribed_power(s);
   for (int k = 0; k < chunks; ++k) {
     total.energy.kinetic_j += parts[k].kinetic_j;
     total.energy.gravitational_j += parts[k].gravitational_j;
     total.energy.left_model_j += parts[k].left_model_j;
-    total.dashpot_work_j += dashpot_work[k];
+    sum += power[k];
   }
   return total;
 }

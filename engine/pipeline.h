@@ -89,7 +89,6 @@ double apply_contact_law(const Model& model, State& state, double dt_s);
 // finish(). The same numbers either way: the chunks' energies are added in chunk order.
 struct LawEnergy {
   double elastic_j = 0, damping_j = 0, friction_j = 0, bond_j = 0;
-  double ground_j = 0;  // work the prescribed blocks put in (Energy::prescribed_work_j)
 };
 class ContactLaw {
  public:
@@ -149,10 +148,18 @@ void update_pair_index(const Model& model, State& state);
 // (block -> contacts index). A pass over the blocks in stage chunks calls it for each of
 // its blocks: integrate's with explicit dashpots, the implicit solve's first.
 void gather_block(const Model& model, State& state, std::ptrdiff_t b);
-// contact_law.cpp, at its end (ContactLaw::finish), once the law has booked the ground's work
-// with them: this step's velocities of the prescribed blocks become those that moved them to
-// the next pose (State::prescribed_velocity_before).
-void keep_prescribed_velocities(State& state);
+// The ground's work over a step by the trapezoid rule: the mean of the prescribed blocks'
+// contact forces at the pose before and at this one, times the velocities that moved them.
+// (The force at this pose alone, a right Riemann sum, made the ground's work drift by
+// dt m a^2 / 4 a second under a harmonic ground of amplitude a: as much as a stone riding
+// it rigidly exchanges.) Over the sides of the pairs in chunk k of the pair loops
+// (State::prescribed_entry_begin), on the thread whose contact law wrote their forces
+// (a serial pass over every side on one thread cost model F 15 % of its two-thread step);
+// each side's force at this pose is kept for the next step's mean.
+double prescribed_power_of_chunk(State& state, int k);
+// The same for the forces at the pose before of the sides no longer listed since the pair
+// list changed (State::prescribed_force_carried); serial, over the prescribed blocks.
+double carried_prescribed_power(State& state);
 
 // implicit_damping.cpp (Damping::implicit), between the contact law and integrate: the
 // dashpot forces at the end-of-step velocities (backward Euler), as the change delta
@@ -164,6 +171,7 @@ constexpr long kPreconditionerRefreshSteps = 10;
 struct DampingSolve {
   int iterations = 0;
   bool converged = true;
+  double contact_power_w = 0.0;     // of the contacts on the prescribed blocks, as prescribed_power_of_chunk
   double prescribed_power_w = 0.0;  // power the prescribed blocks put in against the dashpots
   double prescribed_work_j = 0.0;   // the dashpots' work on the prescribed blocks' side over the step
 };
@@ -187,7 +195,8 @@ struct BlockEnergy {
 };
 struct ForcesAndMotion {
   BlockEnergy energy;
-  double dashpot_work_j = 0.0;  // integrate_with_dashpots: apply_dashpot_impulse's, summed
+  double prescribed_power_w = 0.0;  // gather_and_integrate: as prescribed_power_of_chunk's, summed
+  double dashpot_work_j = 0.0;      // integrate_with_dashpots: apply_dashpot_impulse's, summed
 };
 // Explicit dashpots: each block's forces gathered just before it moves (nothing comes
 // between them).

@@ -28,8 +28,8 @@ State make_initial_state(const Model& model) {
   s.torque.assign(nb, Vec3::Zero());
   s.left_model.assign(nb, 0);
   s.damping_scale.assign(nb, 1.0);
-  s.prescribed_velocity_before.assign(nb, Vec3::Zero());
-  s.prescribed_angular_velocity_before.assign(nb, Vec3::Zero());
+  s.prescribed_force_carried.assign(nb, Vec3::Zero());
+  s.prescribed_moment_carried.assign(nb, Vec3::Zero());
   for (int b = 0; b < nb; ++b)  // a block's motion never changes: listed once
     if (model.motion[b] == Motion::prescribed) s.prescribed_block.push_back(b);
   const std::size_t nt = model.ties.size();

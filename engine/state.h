@@ -284,6 +284,7 @@ struct State {
   std::vector<std::array<int, 2>> prescribed_entry;  // {entry (as in block_pair), its
   std::vector<int> prescribed_entry_begin;  // block} where that block is prescribed, in pair
                                          // order; chunk k's from prescribed_entry_begin[k]
+  std::vector<std::array<int, 2>> prescribed_entry_next;  // scratch of update_pair_index
   std::vector<int> prescribed_block;     // the prescribed blocks, in order (make_initial_state)
   bool pair_index_valid = false;
   std::vector<double> damping_scale;     // (nb) factor on the dashpots of a block's sub-contacts
@@ -311,10 +312,13 @@ struct State {
 
   // ---- bookkeeping ----
   Energy energy;
-  // (nb) each prescribed block's velocity and angular velocity in the last step, those that
-  // moved it to this pose (zero before the first step), for the ground's work (the contact
-  // law's ground_work); other blocks' entries are unused.
-  std::vector<Vec3> prescribed_velocity_before, prescribed_angular_velocity_before;
+  // The ground's work over a step takes the mean of its contact forces at the pose before and
+  // at this one (prescribed_power_of_chunk, gather.cpp). The pose before's: (prescribed_entry)
+  // each listed pair side's force on its prescribed block (N) and moment about the block's
+  // centroid (N m); (nb) per prescribed block, those of the sides listed before the pair list
+  // last changed.
+  std::vector<Vec3> prescribed_entry_force_before, prescribed_entry_moment_before;
+  std::vector<Vec3> prescribed_force_carried, prescribed_moment_carried;
   double last_gravitational_j = 0.0;     // potentials of the previous step (see World::step)
   double last_elastic_j = 0.0;
   bool energy_started = false;

@@ -141,17 +141,21 @@ void World::step() {
     timed(Stage::damping_caps, [&] { update_damping_caps(m, s, dt_s_); });
     elastic = timed(Stage::contact_law, [&] { return apply_contact_law(m, s, dt_s_); });
   }
+  double prescribed_power = 0;
   BlockEnergy before;
   if (m.options.damping == Damping::implicit) {
     const DampingSolve solve = timed(Stage::gather_damping_solve, [&] { return solve_implicit_damping(m, s, dt_s_); });
     p.damping_iterations += solve.iterations;
     if (!solve.converged) ++p.damping_unconverged;
     const ForcesAndMotion pass = timed(Stage::integrate, [&] { return integrate_with_dashpots(m, s, dt_s_); });
+    prescribed_power = solve.contact_power_w;
     s.energy.damping_j -= pass.dashpot_work_j + solve.prescribed_work_j;
     s.energy.prescribed_work_j += solve.prescribed_power_w * dt_s_;
     before = pass.energy;
   } else {
-    before = timed(Stage::gather_integrate, [&] { return gather_and_integrate(m, s, dt_s_); }).energy;
+    const ForcesAndMotion pass = timed(Stage::gather_integrate, [&] { return gather_and_integrate(m, s, dt_s_); });
+    prescribed_power = pass.prescribed_power_w;
+    before = pass.energy;
   }
 
   // Energy at this step, i.e. of the pose and the velocities integrate started from. v
@@ -171,6 +175,7 @@ void World::step() {
   e.elastic_j = 0.5 * (s.last_elastic_j + elastic);
   s.last_gravitational_j = gravitational;
   s.last_elastic_j = elastic;
+  e.prescribed_work_j += prescribed_power * dt_s_;
   e.left_model_j += before.left_model_j;
 
   const double step_end = team_of_thread.now_s();

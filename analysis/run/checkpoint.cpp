@@ -74,9 +74,7 @@ namespace {
 //     the outputs keep when and which way each stone fell (how_it_fails.h, FallRecord).
 // 25: the ring's hinges until its first stone fell (how_it_fails.h, RingHinges) and the
 //     result's most_ring_hinges.
-// 26: the ground's work pairs each pose's forces with the velocities of the steps on either
-//     side: the prescribed blocks' velocities of the last step, in place of 20's forces.
-constexpr char kCheckpointMagic[] = "ishibashi checkpoint 26\n";
+constexpr char kCheckpointMagic[] = "ishibashi checkpoint 25\n";
 
 template <class Archive, class H>
 void visit_header(Archive& a, H& h) {

@@ -112,7 +112,10 @@ void visit_state(Archive& a, S& s) {
   a.field(s.pairs_valid);
   s.contacts.for_each_array([&](auto& array) { a.field(array); });
   a.field(s.energy), a.field(s.last_gravitational_j), a.field(s.last_elastic_j);
-  a.field(s.prescribed_velocity_before), a.field(s.prescribed_angular_velocity_before);  // the ground's work
+  // The ground's forces at the pose before: the list of sides they follow, so that the
+  // rebuilt list (the same) keeps them.
+  a.field(s.prescribed_entry), a.field(s.prescribed_entry_force_before), a.field(s.prescribed_entry_moment_before);
+  a.field(s.prescribed_force_carried), a.field(s.prescribed_moment_carried);
   a.field(s.energy_started);
   a.field(s.tie_plastic_m), a.field(s.tie_tension_n), a.field(s.tie_peak_tension_n);
   a.field(s.profile);
