@@ -120,7 +120,7 @@ double for_solved_blocks(const Model& m, const State& s, Fn&& fn) {
 }
 
 // The blocks' forces (gathered: gather.cpp), their lists of pairs with dashpots where marked,
-// the velocities v* integrate() gives without the dashpots (prescribed blocks keep theirs,
+// the velocities v* the step gives without the dashpots (prescribed blocks keep theirs,
 // fixed and frozen blocks are at rest), the preconditioner when `refresh`, and the first
 // residual. The preconditioner only steers the iterations (any symmetric positive definite
 // one leads to the same solution): refreshed every kPreconditionerRefreshSteps steps, it
@@ -279,7 +279,7 @@ double apply_dashpot_impulse(const Model& m, State& s, double dt, std::ptrdiff_t
   const Vec6 before = stacked(s.velocity[b], s.angular_velocity[b]);
   s.force[b] += linear(impulse) / dt;
   s.torque[b] += angular(impulse) / dt;
-  return 0.5 * impulse.dot(before + (w.velocity[b] + w.delta[b]));  // the order book() summed them in
+  return 0.5 * impulse.dot(before + (w.velocity[b] + w.delta[b]));  // after: v* + delta, as book_prescribed makes it
 }
 
 }  // namespace ishibashi
