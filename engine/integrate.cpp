@@ -65,7 +65,8 @@ enum class Forces { gathered, dashpot_impulse };
 ForcesAndMotion integrate_blocks(const Model& m, State& s, double dt, Forces forces) {
   const bool gather = forces == Forces::gathered;
   std::array<BlockEnergy, kStageChunks> parts{};
-  std::array<double, kStageChunks> power{};  // gathered: the prescribed blocks'; otherwise the dashpots' work
+  std::array<double, kStageChunks> power{};         // Forces::gathered: the prescribed blocks'
+  std::array<double, kStageChunks> dashpot_work{};  // Forces::dashpot_impulse
   std::array<PoseChunk, kStageChunks> poses;
   std::array<int, kStageChunks> first_not_finite;
   first_not_finite.fill(-1);
@@ -82,7 +83,7 @@ ForcesAndMotion integrate_blocks(const Model& m, State& s, double dt, Forces for
       if (gather)
         gather_block(m, s, b);
       else
-        power[k] += apply_dashpot_impulse(m, s, dt, b);
+        dashpot_work[k] += apply_dashpot_impulse(m, s, dt, b);
       if (!integrate_block(m, s, dt, down, b, e) && first_not_finite[k] < 0) first_not_finite[k] = static_cast<int>(b);
     }
     // A loop of its own over the chunk's blocks, still in the cache: interleaved with the
@@ -103,13 +104,13 @@ ForcesAndMotion integrate_blocks(const Model& m, State& s, double dt, Forces for
   s.moved_ahead = finish_pose(m, s, poses.data(), chunks);
   s.posed_ahead = true;
   ForcesAndMotion total;
-  double& sum = gather ? total.prescribed_power_w : total.dashpot_work_j;
-  if (gather) sum = carried_prescribed_power(s);
+  if (gather) total.prescribed_power_w = carried_prescribed_power(s);
   for (int k = 0; k < chunks; ++k) {
     total.energy.kinetic_j += parts[k].kinetic_j;
     total.energy.gravitational_j += parts[k].gravitational_j;
     total.energy.left_model_j += parts[k].left_model_j;
-    sum += power[k];
+    total.prescribed_power_w += power[k];
+    total.dashpot_work_j += dashpot_work[k];
   }
   return total;
 }

@@ -126,9 +126,9 @@ TEST(ImplicitDamping, CriticallyDampedStoneSinksAsTheClosedFormAndConvergesAsDtH
 // The dashpots' work on a stone riding a base that moves up and down, V0 sin(W t), in steady
 // state: the joint is the critically damped oscillator of worst_sinking_error driven at its
 // base, M z'' + C z' + K z = -M a_b for the stretch z, so a cycle dissipates pi C W Z^2 with
-// Z = M A / |K - M W^2 + i C W| (A = V0 W, the base's acceleration). Half of that work is
+// Z = M A / |K - M W^2 + i C W| (A = V0 W, the base's acceleration). Part of that work is
 // booked on the base's side (the solve's pass over the prescribed blocks' pairs, at the
-// end-of-step velocities), half as the stone moves. Returns the dissipation of `cycles`
+// end-of-step velocities), the rest as the stone moves. Returns the dissipation of `cycles`
 // cycles against the closed form, less 1, at `steps_per_period` steps of the joint's period.
 double driven_stone_dissipation_error(double steps_per_period, int cycles) {
   const Material mat = test::stone(1.0);
