@@ -120,7 +120,7 @@ double for_solved_blocks(const Model& m, const State& s, Fn&& fn) {
 }
 
 // The blocks' forces (gathered: gather.cpp), their lists of pairs with dashpots where marked,
-// the velocities v* the step gives without the dashpots (prescribed blocks keep theirs,
+// the velocities v* the step gives without the dashpots (prescribed blocks the driver's,
 // fixed and frozen blocks are at rest), the preconditioner when `refresh`, and the first
 // residual. The preconditioner only steers the iterations (any symmetric positive definite
 // one leads to the same solution): refreshed every kPreconditionerRefreshSteps steps, it
@@ -148,8 +148,8 @@ double first_residual(const Model& m, State& s, double dt, bool refresh, double*
         v = stacked(s.velocity[b] + (s.force[b] / m.mass_kg[b] + m.gravity_m_s2) * dt, r * wb);
         w.product[b] = v + x[b];
       } else {
-        if (m.motion[b] == Motion::prescribed)
-          v = stacked(s.velocity[b], s.angular_velocity[b]);
+        if (m.motion[b] == Motion::prescribed)  // over the step ahead, as the others' v* + delta
+          v = stacked(s.driven_velocity[b], s.driven_angular_velocity[b]);
         else
           v.setZero();
         x[b].setZero();
@@ -231,7 +231,7 @@ void book_prescribed(const Model& m, State& s, double dt, DampingSolve& result) 
                       const Vec6 va = velocity_after(a), vb = velocity_after(b);
                       Vec6 on_a = Vec6::Zero(), on_b;
                       pair_resultant(s, va.data(), vb.data(), p, on_a.data(), on_b.data());
-                      const Vec6 v = stacked(s.velocity[block], s.angular_velocity[block]);
+                      const Vec6 v = stacked(s.driven_velocity[block], s.driven_angular_velocity[block]);
                       power += ((entry & 1) ? on_b : on_a).dot(v);
                     }
                     parts[k] = power;

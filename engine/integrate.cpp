@@ -25,8 +25,10 @@ namespace {
 bool integrate_block(const Model& m, State& s, double dt, const Vec3& down, std::ptrdiff_t b, BlockEnergy& e) {
   if (m.motion[b] == Motion::fixed) return true;
   if (m.motion[b] == Motion::prescribed) {  // kinematic: velocities come from the driver
-    s.position[b] += s.velocity[b] * dt;
-    s.orientation[b] = (quat_from_rotation_vector(s.angular_velocity[b] * dt) * s.orientation[b]).normalized();
+    // (State::velocity keeps those of the move before until the step ends: the other chunks'
+    // ground work reads them.)
+    s.position[b] += s.driven_velocity[b] * dt;
+    s.orientation[b] = (quat_from_rotation_vector(s.driven_angular_velocity[b] * dt) * s.orientation[b]).normalized();
   } else if (s.left_model[b]) {  // frozen where it left the model: only its weight counts
     e.gravitational_j -= m.mass_kg[b] * m.gravity_m_s2.dot(s.position[b]);
   } else {

@@ -22,6 +22,8 @@ State make_initial_state(const Model& model) {
   s.orientation = model.initial_orientation;
   s.velocity.assign(nb, Vec3::Zero());
   s.angular_velocity.assign(nb, Vec3::Zero());
+  s.driven_velocity.assign(nb, Vec3::Zero());
+  s.driven_angular_velocity.assign(nb, Vec3::Zero());
   s.applied_force.assign(nb, Vec3::Zero());
   s.applied_torque.assign(nb, Vec3::Zero());
   s.force.assign(nb, Vec3::Zero());

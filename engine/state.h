@@ -204,7 +204,7 @@ struct ImplicitDamping {
   std::vector<int> changed_count;                          // (chunks)
   bool lists_stale = true;
   std::vector<std::uint8_t> relist;  // (nb) 1: block i's lists are to be made anew before they are read
-  std::vector<Vec6> velocity;          // (nb) v* (without dashpots); prescribed: theirs
+  std::vector<Vec6> velocity;          // (nb) v* (without dashpots); prescribed: the driver's
   std::vector<Vec6> delta;             // (nb) v_new - v*; last step's is the solve's first guess
   std::vector<Vec6> residual, preconditioned, direction, product;  // (nb) conjugate gradients
   std::vector<Mat6> diagonal;          // (nb) each block's 6x6 block of M + dt C, inverted (the
@@ -220,6 +220,14 @@ struct State {
   std::vector<Quat> orientation;         // principal frame -> world, unit
   std::vector<Vec3> velocity;            // m/s
   std::vector<Vec3> angular_velocity;    // rad/s, world frame
+  // Prescribed blocks: a driver writes into velocity and angular_velocity, between steps, the
+  // velocities that move each over the next step. Within a step the contact law, its dashpots
+  // and the ground's work read there, for every block, the velocities that moved it into its
+  // pose (a free block's at the step's start), so that a joint's shear increments and
+  // dashpots follow the moves that made its gaps; the driver's are kept here meanwhile.
+  // World::step swaps the two at its start and copies these back at its end.
+  std::vector<Vec3> driven_velocity;          // (nb) m/s, prescribed blocks only
+  std::vector<Vec3> driven_angular_velocity;  // (nb) rad/s
   std::vector<Vec3> applied_force;       // external loads set by the driver, N
   std::vector<Vec3> applied_torque;      // N m
   std::vector<Vec3> force, torque;       // resultant of contacts + applied loads (no gravity);

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <sstream>
+#include <utility>
 
 #include "engine/parallel.h"
 #include "engine/pipeline.h"
@@ -108,6 +109,26 @@ void World::trace_steps(long first_step, long last_step) {
   trace_.slices.reserve(std::max(0L, last_step - first_step) * (kStageCount + 1) * tuner_.max_threads());
 }
 
+namespace {
+// State::driven_velocity: within a step the prescribed blocks carry the velocities that moved
+// them into their pose, as the free blocks do, and the driver's for the step ahead wait
+// there (integrate moves the blocks with them). A serial loop: the ground is a few blocks.
+void set_aside_driven_velocities(State& s) {
+  for (int b : s.prescribed_block) {
+    std::swap(s.velocity[b], s.driven_velocity[b]);
+    std::swap(s.angular_velocity[b], s.driven_angular_velocity[b]);
+  }
+}
+
+// Once the step has moved them: the velocities that did so.
+void take_driven_velocities(State& s) {
+  for (int b : s.prescribed_block) {
+    s.velocity[b] = s.driven_velocity[b];
+    s.angular_velocity[b] = s.driven_angular_velocity[b];
+  }
+}
+}  // namespace
+
 void World::step() {
   const Model& m = model_;
   State& s = state_;
@@ -116,6 +137,7 @@ void World::step() {
   Team& team_of_thread = Team::of_this_thread();
   team_of_thread.set_timing(p.threads_timed || time_threads_);  // the team of the thread stepping now
   const double step_begin = team_of_thread.now_s();
+  set_aside_driven_velocities(s);
 
   // The last step's integrate pass posed the blocks as it moved them, unless no step has
   // run since the state was made or restored.
@@ -157,6 +179,7 @@ void World::step() {
     prescribed_power = pass.prescribed_power_w;
     before = pass.energy;
   }
+  take_driven_velocities(s);
 
   // Energy at this step, i.e. of the pose and the velocities integrate started from. v
   // was last updated between the previous pose and this one, so the potential is

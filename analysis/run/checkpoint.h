@@ -105,6 +105,7 @@ template <class Archive, class S>
 void visit_state(Archive& a, S& s) {
   a.field(s.time_s), a.field(s.step);
   a.field(s.position), a.field(s.orientation), a.field(s.velocity), a.field(s.angular_velocity);
+  a.field(s.driven_velocity), a.field(s.driven_angular_velocity);
   a.field(s.applied_force), a.field(s.applied_torque), a.field(s.left_model);
   a.field(s.damping_scale);
   a.field(s.implicit.delta), a.field(s.implicit.diagonal);  // first guess, preconditioner (Damping::implicit)

@@ -107,12 +107,12 @@ TEST(Energy, BalanceClosesWhenStonesFallAndTumble) {
   EXPECT_LT(worst, 0.02 * dissipated);
 }
 
-TEST(Energy, GroundWorkIsTheTrapezoidRuleWhileTheGroundsPairsChange) {
-  // The leaning stack above on a base driven to and fro at 2 Hz: stones topple onto the
-  // base, so the list of pairs on it changes while it works. The engine sums the ground's
-  // work side by side in the passes that wrote the forces and carries the sides it no
-  // longer lists per block; here it is summed from the base's whole contact force at each
-  // pose: the mean of the forces before and after, times the velocity of the step's move.
+TEST(Energy, BalanceClosesWhileTheGroundsPairsChange) {
+  // The leaning stack above on a base driven to and fro at 2 Hz and turning a little: stones
+  // topple onto the base, so its pairs change while it works. The contact law books the
+  // ground's work pair by pair in its chunks, each force paired with the base's velocities
+  // as the law made it (contact_law.cpp, ground_work); the balance closes within 1 % of the
+  // energy dissipated.
   ModelBuilder b = test::block_on_base(Vec3(0.64, 0.64, 0.64), test::stone(0.1));
   for (int k = 1; k < 5; ++k) {
     const Polyhedron p = make_box(Vec3(0.2 * k, 0.05 * k, 0.32 + 0.66 * k), Vec3(0.64, 0.5, 0.64));
@@ -122,32 +122,23 @@ TEST(Energy, GroundWorkIsTheTrapezoidRuleWhileTheGroundsPairsChange) {
   State& s = w.state();
   for (int k = 2; k < 6; ++k) s.angular_velocity[k] = Vec3(0.3 * k, -0.5, 0.2);
   const double pi = std::acos(-1.0);
-  double work = 0;  // J
-  Vec3 force_before = Vec3::Zero(), moment_before = Vec3::Zero();  // on the base, at the pose before
   std::vector<std::array<int, 2>> listed;
   int list_changes = 0;
+  double worst = 0;
   for (int i = 0; i < 75000; ++i) {  // 1.5 s
     s.velocity[0] = Vec3(0.3 * std::sin(2 * pi * 2.0 * s.time_s), 0, 0);
+    s.angular_velocity[0] = Vec3(0, 0, 0.2 * std::cos(2 * pi * 2.0 * s.time_s));
     w.step();
-    Vec3 force = Vec3::Zero(), moment = Vec3::Zero();
-    for (std::size_t p = 0; p < s.pairs.size(); ++p)
-      for (int side = 0; side < 2; ++side)
-        if ((side ? s.pairs[p].b : s.pairs[p].a) == 0) {
-          force += side ? s.pair_force_n[p] : Vec3(-s.pair_force_n[p]);
-          moment += s.pair_moment_nm[2 * p + side];
-        }
-    work -= 0.5 * ((force_before + force).dot(s.velocity[0]) + (moment_before + moment).dot(s.angular_velocity[0])) * w.dt_s();
-    force_before = force;
-    moment_before = moment;
+    worst = std::max(worst, std::abs(s.energy.balance_error_j()));
     if (s.prescribed_entry != listed) ++list_changes;
     listed = s.prescribed_entry;
   }
   EXPECT_LT(s.position[5].z(), 0.5);  // the top stone fell to the base
   EXPECT_GE(list_changes, 2);  // the first listing, then a stone lands on the base
-  ASSERT_GT(std::abs(work), 10.0);
-  EXPECT_NEAR(s.energy.prescribed_work_j, work, 1e-9 * std::abs(work));
+  ASSERT_GT(std::abs(s.energy.prescribed_work_j), 10.0);
   const double dissipated = s.energy.damping_j + s.energy.friction_j + s.energy.bond_j;
   EXPECT_LT(std::abs(s.energy.balance_error_j()), 0.01 * dissipated);
+  EXPECT_LT(worst, 0.02 * dissipated);
 }
 
 }  // namespace
