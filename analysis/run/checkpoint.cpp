@@ -74,6 +74,7 @@ namespace {
 //     the outputs keep when and which way each stone fell (how_it_fails.h, FallRecord).
 // 25: the ring's hinges until its first stone fell (how_it_fails.h, RingHinges) and the
 //     result's most_ring_hinges.
+// 26: the prescribed blocks' velocities for the step ahead (State::driven_velocity).
 constexpr char kCheckpointMagic[] = "ishibashi checkpoint 26\n";
 
 template <class Archive, class H>
