@@ -220,12 +220,9 @@ struct State {
   std::vector<Quat> orientation;         // principal frame -> world, unit
   std::vector<Vec3> velocity;            // m/s
   std::vector<Vec3> angular_velocity;    // rad/s, world frame
-  // Prescribed blocks: a driver writes into velocity and angular_velocity, between steps, the
-  // velocities that move each over the next step. Within a step the contact law, its dashpots
-  // and the ground's work read there, for every block, the velocities that moved it into its
-  // pose (a free block's at the step's start), so that a joint's shear increments and
-  // dashpots follow the moves that made its gaps; the driver's are kept here meanwhile.
-  // World::step swaps the two at its start and copies these back at its end.
+  // A driver sets a prescribed block's velocities for the next step above, between steps;
+  // within a step those hold, for every block, the ones that moved it into its pose (the law's
+  // shear increments and dashpots follow its gaps' moves), the driver's here (World::step).
   std::vector<Vec3> driven_velocity;          // (nb) m/s, prescribed blocks only
   std::vector<Vec3> driven_angular_velocity;  // (nb) rad/s
   std::vector<Vec3> applied_force;       // external loads set by the driver, N
@@ -238,25 +235,22 @@ struct State {
   // ---- world-frame geometry of the current pose ----
   std::vector<Mat3> rotation;            // (nb) principal frame -> world
   // How each block moved since the last narrowphase (pose.cpp), for its bound on a pair's
-  // relative motion: the centroid's displacement (m) and an upper bound on the angle
-  // turned (rad; inf until a narrowphase after the first pose or a restore has read it:
-  // forget_step_motion).
+  // relative motion: the centroid's displacement (m), a bound on the angle turned (rad; inf
+  // until a narrowphase after the first pose or a restore has read it: forget_step_motion).
   std::vector<Vec3> step_shift;          // (nb)
   std::vector<double> step_turn;         // (nb)
   std::vector<Vec3> position_at_pose;    // (nb) the pose they are measured from
   std::vector<Quat> orientation_at_pose; // (nb)
   bool step_motion_read = false;         // a narrowphase has read step_shift and step_turn: the
                                          // next pose starts them anew (else adds to them)
-  // The last step's integrate pass posed the blocks it moved (pose.cpp): the next step
-  // skips its pose stage and takes the broadphase's check from `moved_ahead`. Whoever
-  // moves a block after a step and before the next calls forget_step_motion, which clears
-  // it (a restore does).
+  // The last step's integrate pass posed the blocks it moved (pose.cpp): the next step skips
+  // its pose stage and takes the broadphase's check from `moved_ahead`. Whoever moves a block
+  // between steps calls forget_step_motion, which clears it (a restore does).
   bool posed_ahead = false;
   bool moved_ahead = false;
-  // A bound on how far any point of any block moved relative to any other within the lever
-  // Model::apart_lever_bound_m, summed over the poses (pose.cpp): the spread of the blocks'
-  // step shifts plus the largest step turn times the lever, m. Apart pairs are scheduled
-  // against it. Not valid (and no pair skipped) at a pose whose step turns are not known.
+  // A bound on how far any point moved relative to any other within Model::apart_lever_bound_m,
+  // summed over the poses (pose.cpp): the step shifts' spread plus the largest step turn times
+  // the lever, m; apart pairs are scheduled against it. Invalid where step turns are unknown.
   double apart_clock_m = 0.0;
   double apart_clock_step_m = 0.0;       // the last pose's addition
   bool apart_clock_valid = false;
@@ -265,10 +259,9 @@ struct State {
 
   // ---- contacts ----
   std::vector<Pair> pairs;               // sorted by (a, b)
-  SubContacts contacts;                  // current sub-contacts, grouped by pair (each pair's
-                                         // range at Pair::sub_begin), and contacts_dead entries
-                                         // in no pair's range: read them through
-                                         // for_each_sub_contact, not 0 .. size()
+  SubContacts contacts;                  // current sub-contacts, grouped by pair (range at
+                                         // Pair::sub_begin), and contacts_dead entries in no
+                                         // pair's range: read through for_each_sub_contact
   int contacts_dead = 0;                 // sub-contacts left behind by pairs whose new ones were
                                          // appended (narrowphase.cpp); 0: the arrays are dense,
                                          // in pair order
@@ -296,8 +289,7 @@ struct State {
   std::vector<int> prescribed_block;     // the prescribed blocks, in order (make_initial_state)
   bool pair_index_valid = false;
   std::vector<double> damping_scale;     // (nb) factor on the dashpots of a block's sub-contacts
-                                         // (a pair takes the smaller): 1 unless
-                                         // Damping::capped caps them
+                                         // (a pair takes the smaller): 1 unless Damping::capped
   std::vector<Vec6> cap_stiffness, cap_damping;  // (nb) scratch of update_damping_caps
   ImplicitDamping implicit;              // Damping::implicit
 
