@@ -16,6 +16,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <numbers>
 #include <sstream>
 
 #include "engine/model.h"
@@ -112,6 +113,45 @@ double shared_face_area(const Polyhedron& pa, const std::vector<int>& fa, const 
   return area;
 }
 
+// Why a face is no face of a convex stone, or "": not planar within 1e-4 of the block's
+// size, or not a convex polygon (a reflex corner, or an outline that crosses itself). Asked
+// before CGAL triangulates the faces, whose triangulation of a crossed outline can crash.
+std::string face_fault(const Polyhedron& p, const std::vector<int>& f, double extent) {
+  std::vector<Vec3> corners;  // the outline, repeated points dropped
+  for (int v : f)
+    if (corners.empty() || p.vertices[v] != corners.back()) corners.push_back(p.vertices[v]);
+  while (corners.size() > 1 && corners.back() == corners.front()) corners.pop_back();
+  Vec3 n = Vec3::Zero(), centre = Vec3::Zero();
+  for (std::size_t k = 0; k < corners.size(); ++k) {
+    n += corners[k].cross(corners[(k + 1) % corners.size()]);
+    centre += corners[k] / static_cast<double>(corners.size());
+  }
+  std::ostringstream s;
+  s.precision(4);
+  s << "its face at (" << centre.x() << ", " << centre.y() << ", " << centre.z() << ") ";
+  if (corners.size() < 3 || n.norm() < 2e-12 * extent * extent) return s.str() + "has no area (a degenerate face)";
+  n.normalize();
+  double low = 0, high = 0, turn = 0;
+  bool reflex = false;
+  for (std::size_t k = 0; k < corners.size(); ++k) {
+    const double off = n.dot(corners[k] - corners[0]);
+    low = std::min(low, off), high = std::max(high, off);
+    const Vec3 in = corners[k] - corners[(k + corners.size() - 1) % corners.size()];
+    const Vec3 out = corners[(k + 1) % corners.size()] - corners[k];
+    const double left = n.dot(in.cross(out));
+    reflex = reflex || left < -1e-6 * in.norm() * out.norm();
+    turn += std::atan2(left, in.dot(out));
+  }
+  if (high - low > 1e-4 * extent) {
+    s << "is not planar: its corners lie up to " << high - low << " m off one plane; make them coplanar, or split the face into triangles";
+    return s.str();
+  }
+  if (reflex || std::abs(turn - 2 * std::numbers::pi) > 1e-6)
+    return s.str() + "is not convex" + (reflex ? " (a corner turns inwards)" : " (its outline crosses itself)") +
+           ": a block is one convex stone, each face a convex polygon";
+  return "";
+}
+
 // Why a block is not a sound convex polyhedron (closed, manifold, outward, no degenerate
 // face, its own convex hull); empty when it is, and then `volume` is its volume, m^3.
 std::string block_fault(const Polyhedron& p, double& volume) {
@@ -124,6 +164,10 @@ std::string block_fault(const Polyhedron& p, double& volume) {
   Mesh mesh;
   PMP::polygon_soup_to_polygon_mesh(points, faces, mesh);
   if (!CGAL::is_closed(mesh)) return "the surface is open (a hole in it); a block must be a closed polyhedron";
+  Vec3 lo = p.vertices[0], hi = lo;
+  for (const Vec3& v : p.vertices) lo = lo.cwiseMin(v), hi = hi.cwiseMax(v);
+  for (const auto& f : p.faces)
+    if (std::string fault = face_fault(p, f, (hi - lo).norm()); !fault.empty()) return fault;
   PMP::triangulate_faces(mesh);
   const double extent = CGAL::to_double(CGAL::sqrt(CGAL::squared_distance(points.front(), points.back()))) + 1e-300;
   bool degenerate = false;

@@ -1,8 +1,9 @@
 // Fuzz target of one input reader (ISHIBASHI_FUZZ_READER names it): every input must end
 // in a valid result or a clear error (an exception with a message), never a crash, a hang
-// or an unbounded allocation. Built with libFuzzer (clang, scripts/fuzz.sh), and as a
-// replay program (any compiler; ISHIBASHI_FUZZ_REPLAY): `replay_corpus READER DIR...`
-// runs the committed corpus of a reader as a test.
+// or an unbounded allocation. A block file's blocks are validated too, as `build` does.
+// Built with libFuzzer (clang, scripts/fuzz.sh), and as a replay program (any compiler;
+// ISHIBASHI_FUZZ_REPLAY): `replay_corpus READER DIR...` runs a reader's committed corpus
+// as a test.
 #include <unistd.h>
 
 #include <cstdint>
@@ -16,6 +17,7 @@
 
 #include "analysis/run/checkpoint.h"
 #include "geometry/block_files.h"
+#include "geometry/validate.h"
 #include "io/ground_motion.h"
 #include "io/model_file.h"
 #include "io/scenario_file.h"
@@ -76,7 +78,8 @@ void read_input(const std::string& reader, const std::uint8_t* data, std::size_t
   else if (reader == "scenario") read_scenario(file);
   else if (reader == "study") read_study(file, false);
   else if (reader == "sweep") read_sweep(file);
-  else if (reader == "off" || reader == "obj" || reader == "stl") read_block_file(file);
+  else if (reader == "off" || reader == "obj" || reader == "stl")
+    validate_blocks(read_block_file(file), {});  // what `build` does with a user's blocks next
   else throw std::logic_error("unknown reader " + reader);
 }
 

@@ -110,6 +110,29 @@ TEST(Validate, BlockOnABadBlockIsNotCalledFloating) {
   EXPECT_THAT(r.errors[1], HasSubstr("floats"));
 }
 
+// A corner dragged 2.5 m below its stone's bottom (a mistyped coordinate in an OFF file):
+// three faces are no longer planar, and CGAL's triangulation of one of them projected on
+// its plane crashed (found by fuzzing the example's file). A face that is not planar, or
+// whose outline crosses itself, is named instead, before anything triangulates it.
+TEST(Validate, FaceThatIsNotPlanarIsNamedNotTriangulated) {
+  Polyhedron stone = make_box(Vec3(0.2, 0, 0.75), Vec3(0.6, 0.4, 0.3));
+  for (Vec3& v : stone.vertices)
+    if (v.isApprox(Vec3(-0.1, 0.2, 0.6))) v.z() = -1.9216760180996695;
+  const auto r = validate_blocks({stone}, {"dragged"});
+  ASSERT_EQ(r.errors.size(), 1u);
+  EXPECT_THAT(r.errors[0], HasSubstr("'dragged'"));
+  EXPECT_THAT(r.errors[0], HasSubstr("is not planar: its corners lie up to "));
+
+  // A prism on a pentagram: planar faces, each edge shared by two, every corner of the
+  // star turning the same way, but its outline goes round twice (it crosses itself).
+  std::vector<Vec3> star;
+  for (int k = 0; k < 5; ++k) star.emplace_back(std::cos(0.5 * M_PI + k * 0.8 * M_PI), std::sin(0.5 * M_PI + k * 0.8 * M_PI), 0);
+  const auto crossed = validate_blocks({make_prism(star, 0, 1)}, {"star"});
+  ASSERT_EQ(crossed.errors.size(), 1u);
+  EXPECT_THAT(crossed.errors[0], HasSubstr("'star'"));
+  EXPECT_THAT(crossed.errors[0], HasSubstr("its outline crosses itself"));
+}
+
 // 2,000 slabs 0.5 x 0.5 m, 0.2 mm thick, tilted 45 degrees and stacked face to face: each
 // box overlaps every other's, two million candidate pairs. Validation stops at a million
 // and refuses them, naming a block, instead of exhausting the memory (a ring of 100,000
