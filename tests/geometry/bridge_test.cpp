@@ -315,6 +315,16 @@ TEST(Bridge, ImpossibleParametersAreClearErrors) {
   s = BridgeSpec{};
   s.ground_margin_m = -1.0;
   EXPECT_THAT(error(s), HasSubstr("ground_margin_m must be >= 0"));
+  s = BridgeSpec{};  // two spans and no pier between them: the fill's cut crashed
+  s.spans = 2;
+  s.fill_height_m = 5.8;
+  s.length_m = 40.0;
+  s.pier_width_m = 0.0;
+  EXPECT_THAT(error(s), HasSubstr("pier_width_m (0) must be at least 0.3 stone_m (0.192 m) between spans"));
+  s.pier_width_m = 0.001;  // a sliver above it: a 1 kg stone
+  EXPECT_THAT(error(s), HasSubstr("pier_width_m (0.001) must be at least"));
+  s.pier_width_m = 0.2;
+  EXPECT_EQ(error(s), "no error");
   s = BridgeSpec{};  // stones in millimetres: 10^9 fill blocks, refused before any is made
   s.fill_height_m = 5.8;
   s.length_m = 24.0;
