@@ -13,7 +13,10 @@ if ! command -v clang++ > /dev/null || [ ! -d /usr/lib/llvm-14/lib/clang ]; then
   $sudo apt-get install -y -q --no-install-recommends clang libclang-rt-14-dev
 fi
 build="$root/build-fuzz"
-flags="-fsanitize=address,undefined,fuzzer-no-link -fno-omit-frame-pointer -g"
+# vptr left out, as in the sanitizer build (CMakeLists.txt): CGAL's arrangements (the
+# validation's shared faces) downcast their iterators through a filtering base, which
+# UBSan's vptr check reports at each use, and each report's demangled names leak.
+flags="-fsanitize=address,undefined,fuzzer-no-link -fno-sanitize=vptr -fno-omit-frame-pointer -g"
 CC=clang CXX=clang++ cmake -S "$root" -B "$build" -G Ninja -DCMAKE_BUILD_TYPE=Release -DISHIBASHI_FUZZ=ON \
   -DISHIBASHI_BUILD_PERF=OFF -DCMAKE_CXX_FLAGS="$flags" -DCMAKE_EXE_LINKER_FLAGS="-fsanitize=address,undefined" > /dev/null
 readers=("$@")
