@@ -164,12 +164,13 @@ std::string block_fault(const Polyhedron& p, double& volume) {
   Mesh mesh;
   PMP::polygon_soup_to_polygon_mesh(points, faces, mesh);
   if (!CGAL::is_closed(mesh)) return "the surface is open (a hole in it); a block must be a closed polyhedron";
+  // The block's size (its box's diagonal, m) scales every tolerance below.
   Vec3 lo = p.vertices[0], hi = lo;
   for (const Vec3& v : p.vertices) lo = lo.cwiseMin(v), hi = hi.cwiseMax(v);
+  const double extent = (hi - lo).norm() + 1e-300;
   for (const auto& f : p.faces)
-    if (std::string fault = face_fault(p, f, (hi - lo).norm()); !fault.empty()) return fault;
+    if (std::string fault = face_fault(p, f, extent); !fault.empty()) return fault;
   PMP::triangulate_faces(mesh);
-  const double extent = CGAL::to_double(CGAL::sqrt(CGAL::squared_distance(points.front(), points.back()))) + 1e-300;
   bool degenerate = false;
   for (auto f : mesh.faces()) degenerate = degenerate || PMP::face_area(f, mesh) < 1e-12 * extent * extent;
   if (degenerate) return "has a degenerate (zero-area) face";

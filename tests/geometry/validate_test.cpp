@@ -111,9 +111,10 @@ TEST(Validate, BlockOnABadBlockIsNotCalledFloating) {
 }
 
 // A corner dragged 2.5 m below its stone's bottom (a mistyped coordinate in an OFF file):
-// three faces are no longer planar, and CGAL's triangulation of one of them projected on
-// its plane crashed (found by fuzzing the example's file). A face that is not planar, or
-// whose outline crosses itself, is named instead, before anything triangulates it.
+// three faces are no longer planar. In the example's file (tests/fuzz/corpus/off, found by
+// fuzzing) CGAL's triangulation of such a face crashed; with this box's face order it was
+// called "not convex" by its volume. A face that is not planar, or whose outline crosses
+// itself, is now named as such, before anything triangulates it.
 TEST(Validate, FaceThatIsNotPlanarIsNamedNotTriangulated) {
   Polyhedron stone = make_box(Vec3(0.2, 0, 0.75), Vec3(0.6, 0.4, 0.3));
   for (Vec3& v : stone.vertices)
