@@ -122,6 +122,14 @@ jobs=(
   # be8e1f2's program, whose narrowphase was slower); queued after C.
   "b_tied|dcb7acf|out/ensembles/b_dry_tied_explicit|scenarios/nishida_b_kobe_dry_tied.toml --members 5 --seed 1 --jobs 1 --threads 1"
   "b_dry_ref|dcb7acf|out/ensembles/b_dry_explicit_dcb7acf|scenarios/nishida_b_kobe_dry.toml --members 5 --seed 1 --jobs 1 --threads 1"
+  # Model F, the last of the study's rows still a single run (session 78): dry and with
+  # mortar, five members each, the seed of the other ensembles, on 2a8ffb4's program (the
+  # first with the ground's velocities set aside within a step, 1fd08db). F's single runs
+  # stand far from collapse (crown drop 0.2 mm, no stone falls), so five members bound how
+  # likely a stone falls, where one run's interval is 0-0.79. About 1.5 hours of a quiet
+  # core a member (2.35 million steps at about 500 a second).
+  "f_dry|2a8ffb4|out/ensembles/f_dry_explicit|scenarios/nishida_f_kobe_dry.toml --members 5 --seed 1 --jobs 1 --threads 1"
+  "f_mortar|2a8ffb4|out/ensembles/f_mortar_explicit|scenarios/nishida_f_kobe_mortar.toml --members 5 --seed 1 --jobs 1 --threads 1"
 )
 
 # A run's summary says so; an ensemble's ensemble.json and a probe's probe.json count the
