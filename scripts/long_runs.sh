@@ -280,7 +280,9 @@ for job in "${jobs[@]}"; do
   if [[ $lane == list ]]; then
     state="not started"
     if finished "$out" "$args"; then state=finished; elif [[ -e $out ]]; then state="under way$(progress "$out")"
-    elif [[ -d $parked/$(basename "$out") ]]; then state="parked: $(cd "$parked/$(basename "$out")" && echo member_*)"; fi
+    elif [[ -d $parked/$(basename "$out") ]]; then state="parked: $(cd "$parked/$(basename "$out")" && echo member_*)"
+    elif compgen -G "$kept/$(basename "$out")/member_*" > /dev/null; then  # a new checkout's out/ is empty
+      state="kept: $(cd "$kept/$(basename "$out")" && echo member_*)"; fi
     printf '%-10s %s  %-40s %s\n' "$job_lane" "$commit" "$out" "$state"
     continue
   fi
