@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cerrno>
+#include <cstdint>
 #include <cstring>
 #include <fstream>
 #include <iterator>
@@ -44,8 +45,19 @@ void read_state(CheckpointReader& in, State& s) {
   visit_state(in, s);
   s.pair_index_valid = false;  // the pair indices follow the restored pair list
   forget_step_motion(s);  // the blocks' step motions are not in the checkpoint
-  s.contacts_dead = static_cast<int>(s.contacts.size());  // the entries in no pair's range
-  for (const Pair& pair : s.pairs) s.contacts_dead -= pair.sub_count;
+  // Each pair's range must lie within the sub-contacts read (the checksum guards against
+  // damage, not against a body made by hand): the step indexes them unchecked.
+  const auto contacts = static_cast<std::int64_t>(s.contacts.size());
+  std::int64_t dead = contacts;  // the entries in no pair's range
+  for (std::size_t p = 0; p < s.pairs.size(); ++p) {
+    const std::int64_t begin = s.pairs[p].sub_begin, count = s.pairs[p].sub_count;
+    if (count < 0 || (count > 0 && (begin < 0 || begin + count > contacts)))
+      throw CheckpointError("pair " + std::to_string(p) + " names sub-contacts " + std::to_string(begin) + " to " +
+                            std::to_string(begin + count - 1) + " of the " + std::to_string(contacts) + " written");
+    dead -= count;
+  }
+  if (dead < 0) throw CheckpointError("the pairs' ranges overlap: they name more sub-contacts than the " + std::to_string(contacts) + " written");
+  s.contacts_dead = static_cast<int>(dead);
 }
 
 namespace {
