@@ -45,6 +45,12 @@ void read_state(CheckpointReader& in, State& s) {
   visit_state(in, s);
   s.pair_index_valid = false;  // the pair indices follow the restored pair list
   forget_step_motion(s);  // the blocks' step motions are not in the checkpoint
+  // Each array of the sub-contacts is read with its own length: all must be the keys'.
+  s.contacts.for_each_named_array([&](const char* name, const auto& array) {
+    if (array.size() != s.contacts.size())
+      throw CheckpointError(std::string("the sub-contacts' ") + name + " holds " + std::to_string(array.size()) + " entries, their keys " +
+                            std::to_string(s.contacts.size()));
+  });
   // Each pair's range must lie within the sub-contacts read (the checksum guards against
   // damage, not against a body made by hand): the step indexes them unchecked.
   const auto contacts = static_cast<std::int64_t>(s.contacts.size());
@@ -58,6 +64,78 @@ void read_state(CheckpointReader& in, State& s) {
   }
   if (dead < 0) throw CheckpointError("the pairs' ranges overlap: they name more sub-contacts than the " + std::to_string(contacts) + " written");
   s.contacts_dead = static_cast<int>(dead);
+}
+
+namespace {
+
+// "pair 3 (blocks 4 and 9)" for the messages below.
+std::string pair_label(std::size_t p, const Pair& pair) {
+  return "pair " + std::to_string(p) + " (blocks " + std::to_string(pair.a) + " and " + std::to_string(pair.b) + ")";
+}
+
+}  // namespace
+
+void check_state_fits(const State& s, const Model& m) {
+  const int nb = m.block_count;
+  auto sized = [](const char* what, std::size_t size, std::size_t wanted) {
+    if (size != wanted)
+      throw CheckpointError(std::string(what) + " holds " + std::to_string(size) + " entries where the model has " + std::to_string(wanted));
+  };
+  const std::size_t blocks = static_cast<std::size_t>(nb), ties = m.ties.size();
+  sized("the blocks' positions", s.position.size(), blocks), sized("orientations", s.orientation.size(), blocks);
+  sized("velocities", s.velocity.size(), blocks), sized("angular velocities", s.angular_velocity.size(), blocks);
+  sized("driven velocities", s.driven_velocity.size(), blocks), sized("driven angular velocities", s.driven_angular_velocity.size(), blocks);
+  sized("applied forces", s.applied_force.size(), blocks), sized("applied torques", s.applied_torque.size(), blocks);
+  sized("left_model", s.left_model.size(), blocks), sized("damping scales", s.damping_scale.size(), blocks);
+  sized("positions at the last broadphase", s.position_at_rebuild.size(), blocks);
+  sized("the ground's carried forces", s.prescribed_force_carried.size(), blocks);
+  sized("the ground's carried moments", s.prescribed_moment_carried.size(), blocks);
+  sized("the tie rods' elongations", s.tie_plastic_m.size(), ties), sized("tie tensions", s.tie_tension_n.size(), ties);
+  sized("peak tie tensions", s.tie_peak_tension_n.size(), ties);
+  // The pairs: blocks a < b of the model, in (a, b) order without repeats (the broadphase
+  // merges against that order), the remembered axis a face of its own block, and the
+  // sub-contacts in its range between its own blocks (the step indexes all of these unchecked).
+  for (std::size_t p = 0; p < s.pairs.size(); ++p) {
+    const Pair& pair = s.pairs[p];
+    if (pair.a < 0 || pair.a >= pair.b || pair.b >= nb)
+      throw CheckpointError(pair_label(p, pair) + ": a pair joins two blocks a < b of the model's " + std::to_string(nb));
+    if (p > 0 && std::pair(s.pairs[p - 1].a, s.pairs[p - 1].b) >= std::pair(pair.a, pair.b))
+      throw CheckpointError(pair_label(p, pair) + " follows " + pair_label(p - 1, s.pairs[p - 1]) + ": the pairs are listed once each, in order");
+    if (pair.axis_kind < -1 || pair.axis_kind > 2)
+      throw CheckpointError(pair_label(p, pair) + ": axis kind " + std::to_string(pair.axis_kind) + " where -1 to 2 belong");
+    if (pair.axis_kind == 0 || pair.axis_kind == 1) {
+      const int owner = pair.axis_kind == 0 ? pair.a : pair.b, stone = pair.axis_kind == 0 ? pair.b : pair.a;
+      const int f = pair.axis_feature;
+      if (f < m.face_begin[owner] || f >= m.face_begin[owner + 1])
+        throw CheckpointError(pair_label(p, pair) + ": face " + std::to_string(f) + " is no face of block " + std::to_string(owner));
+      const int lines = m.face_vertex_begin[f + 1] - m.face_vertex_begin[f] + m.direction_begin[stone + 1] - m.direction_begin[stone];
+      if (pair.beside_axis < -1 || pair.beside_axis >= lines)
+        throw CheckpointError(pair_label(p, pair) + ": line " + std::to_string(pair.beside_axis) + " beside its face, of " + std::to_string(lines));
+    }
+    for (int i = pair.sub_begin; i < pair.sub_begin + pair.sub_count; ++i)
+      if (s.contacts.block_a[i] != pair.a || s.contacts.block_b[i] != pair.b)
+        throw CheckpointError(pair_label(p, pair) + ": its sub-contact " + std::to_string(i) + " joins blocks " +
+                              std::to_string(s.contacts.block_a[i]) + " and " + std::to_string(s.contacts.block_b[i]));
+  }
+  sized("the ground's forces before", s.prescribed_entry_force_before.size(), s.prescribed_entry.size());
+  sized("the ground's moments before", s.prescribed_entry_moment_before.size(), s.prescribed_entry.size());
+  for (const auto& [entry, block] : s.prescribed_entry)
+    if (block < 0 || block >= nb || m.motion[block] != Motion::prescribed)
+      throw CheckpointError("the ground's forces name block " + std::to_string(block) + ", which is no prescribed block of the model");
+}
+
+void check_joints_fit(const Joints& read, const Joints& found) {
+  // The joints are found anew from the model's first contacts before a resume: the same
+  // joints, each with its points, or the checkpoint is another model's.
+  if (read.block_a != found.block_a || read.block_b != found.block_b || read.point_begin != found.point_begin)
+    throw CheckpointError("its " + std::to_string(read.size()) + " joints are not the model's " + std::to_string(found.size()));
+  const std::size_t nj = found.block_a.size(), nq = found.point_on_a.size();
+  for (std::size_t size : {read.point_on_a.size(), read.point_on_b.size(), read.reference_on_a.size()})
+    if (size != nq) throw CheckpointError("a joint array holds " + std::to_string(size) + " points of the joints' " + std::to_string(nq));
+  for (std::size_t size : {read.centre_on_a.size(), read.centre_on_b.size(), read.normal_on_a.size(), read.centre_reference_on_a.size(),
+                           read.opening_m.size(), read.slip_m.size(), read.broken_at_reference.size(), read.bond_broken.size(),
+                           read.cracked.size()})
+    if (size != nj) throw CheckpointError("a joint array holds " + std::to_string(size) + " entries for the " + std::to_string(nj) + " joints");
 }
 
 namespace {

@@ -133,6 +133,12 @@ void visit_joints(Archive& a, J& j) {
 void write_state(CheckpointWriter& out, const State& state);
 // Overwrites what write_state stored; marks the derived buffers for rebuilding.
 void read_state(CheckpointReader& in, State& state);
+// Throws CheckpointError unless a state read back fits `model`: its arrays sized for the
+// model's blocks and rods, its pairs, faces and sub-contacts naming the model's (a body
+// made by hand passes the checksum, and the step indexes them unchecked).
+void check_state_fits(const State& state, const Model& model);
+// Likewise unless the joints read back are those `found` in the model (engine/joints.h).
+void check_joints_fit(const Joints& read, const Joints& found);
 
 // What the checkpoint's run was: the program, the input files and the run's settings
 // (command-line overrides included, dt_s the step it used), so that a resume rebuilds the same run.

@@ -8,6 +8,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "analysis/run/checkpoint.h"
 #include "geometry/bridge.h"
 
 namespace ishibashi {
@@ -50,6 +51,14 @@ std::string seconds(double shaking_s) {
 }
 
 }  // namespace
+
+void FallRecord::check_read(std::size_t blocks) const {
+  if (fell_at_s_.size() != blocks || toward_.size() != blocks)
+    throw CheckpointError("its record of fallen stones holds " + std::to_string(fell_at_s_.size()) + " and " +
+                          std::to_string(toward_.size()) + " blocks of the model's " + std::to_string(blocks));
+  for (FallDirection d : toward_)
+    if (d > FallDirection::minus_y) throw CheckpointError("a fall direction of " + std::to_string(static_cast<int>(d)) + " where 0 to 4 belong");
+}
 
 void FallRecord::note(const Model& m, const State& s, const Vec3& ground_displacement_m) {
   for (int b = 0; b < m.block_count; ++b) {

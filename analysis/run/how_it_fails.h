@@ -37,10 +37,13 @@ class FallRecord {
 
   template <class Archive>
   void visit(Archive& a) {
+    const std::size_t blocks = fell_at_s_.size();
     a.field(fell_at_s_), a.field(toward_);
+    if constexpr (Archive::reading) check_read(blocks);
   }
 
  private:
+  void check_read(std::size_t blocks) const;  // throws CheckpointError unless read for as many blocks
   std::vector<double> fell_at_s_;      // (nb) simulated time of the frame that first found it fallen; -1: standing
   std::vector<FallDirection> toward_;  // (nb)
 };

@@ -9,6 +9,7 @@
 #include <string>
 #include <vector>
 
+#include "analysis/run/checkpoint.h"
 #include "analysis/run/how_it_fails.h"
 #include "analysis/run/member_draw.h"
 #include "analysis/run/run_result.h"
@@ -85,7 +86,9 @@ class RunRecorder {
   // What a checkpoint keeps of the outputs so far (CheckpointWriter or CheckpointReader).
   template <class Archive>
   void visit(Archive& a) {
+    const std::size_t blocks = reported_left_.size();
     a.field(reported_left_), a.field(history_), a.field(view_.colour_range_m);
+    if (reported_left_.size() != blocks) throw CheckpointError("its list of the blocks that left the model is another model's");
     falls_.visit(a);
     hinges_.visit(a);
     std::vector<double> times = blocks_.frame_times();
@@ -100,7 +103,6 @@ class RunRecorder {
       if constexpr (Archive::reading) ties_->resume(times);
     }
   }
-  std::size_t block_count() const { return reported_left_.size(); }
   // After the first frame: throws InputError when `frames` more of its size (the smallest a
   // run writes) would not fit on the output's disk.
   void refuse_frames_the_disk_cannot_hold(long frames, double interval_s) const;

@@ -198,17 +198,17 @@ void SeismicRun::restore_checkpoint(Progress& p) {
   std::istringstream body(resume_from_);
   CheckpointReader in(body);
   try {
+    const Joints found = p.joints;
     p.visit(in);
+    check_joints_fit(p.joints, found);
     read_state(in, s);
+    check_state_fits(s, world_->model());
     p.wall_before_s = p.result.wall_s;
     first_step_ = s.step;
     profile_at_first_step_ = s.profile;
   } catch (const CheckpointError& e) {
     throw InputError(file.string() + ": damaged checkpoint (" + e.what() + ")");
   }
-  const std::size_t nb = world_->model().block_count;
-  if (p.recorder.block_count() != nb || s.position.size() != nb || s.damping_scale.size() != nb)
-    throw InputError(file.string() + ": written for a model of another size");
   p.checkpoint_time_s = s.time_s;
 }
 
