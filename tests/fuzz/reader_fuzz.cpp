@@ -15,8 +15,12 @@
 #include <stdexcept>
 #include <string>
 
+#include <omp.h>
+
 #include "analysis/run/checkpoint.h"
+#include "engine/world.h"
 #include "geometry/block_files.h"
+#include "geometry/shapes.h"
 #include "geometry/validate.h"
 #include "io/ground_motion.h"
 #include "io/model_file.h"
@@ -47,14 +51,33 @@ std::filesystem::path input_file(const char* extension) {
   return dir / (std::string("input.") + extension);
 }
 
+// A stone on a prescribed one and a third apart (1 m cubes, one thread): what a checkpoint
+// body is resumed into (`replay_corpus --checkpoint-seed FILE` writes a body of it, ten steps
+// on, as the corpus's seed: the format's version changes it).
+World checkpoint_world() {
+  omp_set_num_threads(1);
+  ModelBuilder b;
+  const int mat = b.add_material(Material{});
+  for (const Vec3& at : {Vec3(0, 0, 0.5), Vec3(0, 0, 1.5), Vec3(3, 0, 0.5)}) {
+    const Polyhedron cube = make_box(at, Vec3(1, 1, 1));
+    b.add_block(cube.vertices, cube.faces, mat, at.z() < 1 && at.x() == 0 ? Motion::prescribed : Motion::free);
+  }
+  return World(b.build(), 1e-5);
+}
+
 void read_input(const std::string& reader, const std::uint8_t* data, std::size_t size) {
-  if (reader == "checkpoint") {  // the checkpoint's body reader (State and joints)
+  if (reader == "checkpoint") {  // the checkpoint's body (joints and State), resumed as a run does
+    static const World fresh = checkpoint_world();
+    static const Joints found = find_original_joints(fresh.state());
     std::istringstream in(std::string(reinterpret_cast<const char*>(data), size));
     CheckpointReader r(in);
-    State state;
     Joints joints;
     visit_joints(r, joints);
-    read_state(r, state);
+    check_joints_fit(joints, found);
+    World world = fresh;
+    read_state(r, world.state());
+    check_state_fits(world.state(), world.model());
+    world.run(3);  // a body that fits must step: nothing it holds may index past an array
     return;
   }
   const char* extension = reader == "at2" ? "AT2" : reader == "knet" ? "EW" : reader == "columns" ? "csv"
@@ -105,6 +128,16 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
 #ifdef ISHIBASHI_FUZZ_REPLAY
 // Replays files (the committed corpus) through the target: a test in every build.
 int main(int argc, char** argv) {
+  if (argc == 3 && std::strcmp(argv[1], "--checkpoint-seed") == 0) {
+    World world = checkpoint_world();
+    world.run(10);
+    std::ofstream file(argv[2], std::ios::binary);
+    CheckpointWriter out(file);
+    Joints joints = find_original_joints(world.state());
+    visit_joints(out, joints);
+    write_state(out, world.state());
+    return 0;
+  }
   if (argc < 3) {
     std::fprintf(stderr, "usage: replay_corpus READER DIR...\n");
     return 2;
