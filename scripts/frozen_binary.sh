@@ -11,6 +11,10 @@ root=$(cd "$(dirname "$0")/.." && pwd)
 cd "$root"
 commit=$1
 bin="out/bin/ishibashi_$commit"
+# One build at a time per commit: two lanes started together share the worktree's folder,
+# and the second would remove the first's tree under its build.
+exec 9> "/tmp/ishibashi_frozen_$commit.lock"
+flock 9
 if [[ ! -x $bin ]]; then
   git rev-parse --verify --quiet "$commit^{commit}" > /dev/null || { echo "frozen_binary.sh: $commit is not a commit of this repository" >&2; exit 1; }
   tree=/tmp/ishibashi_frozen_$commit
