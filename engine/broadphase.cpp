@@ -103,9 +103,14 @@ class CellGrid {
 
  private:
   bool large(int b) const { return m_.radius_m[b] > max_free_radius_; }
+  // Clamped so that a stone thrown absurdly far (a hand-made checkpoint's 1e293 m) still has
+  // a cell: a cell shared far out only adds candidates, which the spheres' test then drops.
   Eigen::Matrix<std::int64_t, 3, 1> cell_of(const Vec3& x) const {
-    return {static_cast<std::int64_t>(std::floor(x.x() / cell_)), static_cast<std::int64_t>(std::floor(x.y() / cell_)),
-            static_cast<std::int64_t>(std::floor(x.z() / cell_))};
+    auto index = [this](double coordinate) {
+      constexpr double kFarthest = 1e15;  // cells each way; the hash's neighbours stay within int64
+      return static_cast<std::int64_t>(std::clamp(std::floor(coordinate / cell_), -kFarthest, kFarthest));
+    };
+    return {index(x.x()), index(x.y()), index(x.z())};
   }
 
   const Model& m_;

@@ -1,6 +1,7 @@
 #include "analysis/run/checkpoint.h"
 
 #include <algorithm>
+#include <cmath>
 #include <cerrno>
 #include <cstdint>
 #include <cstring>
@@ -92,6 +93,17 @@ void check_state_fits(const State& s, const Model& m) {
   sized("the ground's carried moments", s.prescribed_moment_carried.size(), blocks);
   sized("the tie rods' elongations", s.tie_plastic_m.size(), ties), sized("tie tensions", s.tie_tension_n.size(), ties);
   sized("peak tie tensions", s.tie_peak_tension_n.size(), ties);
+  // The blocks' motion: finite, orientations unit (the broadphase bins positions into cells
+  // before the step could find a NaN, and the pose takes each quaternion as a rotation).
+  if (!std::isfinite(s.time_s)) throw CheckpointError("its time is not a finite number");
+  for (int b = 0; b < nb; ++b) {
+    const Quat& q = s.orientation[b];
+    const bool finite = s.position[b].allFinite() && q.coeffs().allFinite() && s.velocity[b].allFinite() &&
+                        s.angular_velocity[b].allFinite();
+    if (!finite || std::abs(q.norm() - 1) > 1e-9)
+      throw CheckpointError(m.block_label(b) + (finite ? "'s orientation is no unit quaternion (norm " + std::to_string(q.norm()) + ")"
+                                                       : "'s position, orientation or velocity is not a finite number"));
+  }
   // The pairs: blocks a < b of the model, in (a, b) order without repeats (the broadphase
   // merges against that order), the remembered axis a face of its own block, and the
   // sub-contacts in its range between its own blocks (the step indexes all of these unchecked).

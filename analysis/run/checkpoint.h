@@ -5,6 +5,7 @@
 // (the caller checks that; analysis/seismic_run.cpp).
 #pragma once
 #include <cstdint>
+#include <cstring>
 #include <filesystem>
 #include <istream>
 #include <ostream>
@@ -43,6 +44,7 @@ class CheckpointWriter {
   }
   // A bool as one byte, 0 or 1 (a damaged byte read back as a bool would be undefined).
   void flag(bool v) { value<std::uint8_t>(v ? 1 : 0); }
+  void flag_read_whole(const bool&, const char*) {}  // the reader checks it
   template <class T>
   void array(const std::vector<T>& v) {
     value<std::uint64_t>(v.size());
@@ -81,6 +83,12 @@ class CheckpointReader {
     return v;
   }
   bool flag();  // throws unless the byte is 0 or 1
+  // A bool inside a struct read whole (the Profile's): its byte too must be 0 or 1.
+  void flag_read_whole(const bool& v, const char* what) {
+    std::uint8_t byte;
+    std::memcpy(&byte, &v, 1);
+    if (byte > 1) throw CheckpointError(std::string(what) + " is the byte " + std::to_string(byte) + " where 0 or 1 belong");
+  }
   template <class T>
   void array(std::vector<T>& v) {
     v.resize(size(sizeof(T)));
@@ -119,7 +127,7 @@ void visit_state(Archive& a, S& s) {
   a.field(s.prescribed_force_carried), a.field(s.prescribed_moment_carried);
   a.field(s.energy_started);
   a.field(s.tie_plastic_m), a.field(s.tie_tension_n), a.field(s.tie_peak_tension_n);
-  a.field(s.profile);
+  a.field(s.profile), a.flag_read_whole(s.profile.threads_timed, "the profile's flag of timed threads");
 }
 
 template <class Archive, class J>

@@ -3,6 +3,8 @@
 // that do not fit the model with what is wrong, instead of stepping past an array's end.
 #include <gtest/gtest.h>
 
+#include <cmath>
+#include <cstddef>
 #include <functional>
 #include <memory>
 #include <sstream>
@@ -86,12 +88,43 @@ TEST(CheckpointForged, StateThatNamesWhatTheModelLacksIsRefused) {
       {"tie tensions holds 1 entries where the model has 0", [](State& f) { f.tie_tension_n.push_back(1.0); }},
       {"the ground's moments before", [](State& f) { f.prescribed_entry_moment_before.clear(); }},
       {"no prescribed block", [](State& f) { f.prescribed_entry[0][1] = 1; }},
+      {"block 1's position, orientation or velocity is not", [](State& f) { f.position[1].x() = std::nan(""); }},
+      {"block 2's position, orientation or velocity is not", [](State& f) { f.angular_velocity[2].z() = INFINITY; }},
+      {"block 1's orientation is no unit quaternion (norm 2", [](State& f) { f.orientation[1].coeffs() *= 2; }},
+      {"its time is not a finite number", [](State& f) { f.time_s = std::nan(""); }},
   };
   for (const auto& [says, forge] : forgeries) {
     State forged = s;
     forge(forged);
     const std::string error = refusal(forged, world->model());
     EXPECT_NE(error.find(says), std::string::npos) << "wanted \"" << says << "\", got \"" << error << "\"";
+  }
+}
+
+// The profile is read whole, as the last of the state: a bool byte other than 0 or 1 in it
+// would be undefined to read (UBSan's bool check found it by fuzzing), so it is refused.
+TEST(CheckpointForged, ProfileFlagOtherThanZeroOrOneIsRefused) {
+  const auto world = two_stones_on_the_ground();
+  std::stringstream written;
+  CheckpointWriter out(written);
+  write_state(out, world->state());
+  std::string bytes = written.str();
+  const std::size_t flag_at = bytes.size() - sizeof(Profile) + offsetof(Profile, threads_timed);
+  for (const unsigned char byte : {0, 1, 2, 191}) {
+    bytes[flag_at] = static_cast<char>(byte);
+    std::stringstream forged(bytes);
+    CheckpointReader in(forged);
+    State read;
+    if (byte <= 1) {
+      EXPECT_NO_THROW(read_state(in, read));
+    } else {
+      try {
+        read_state(in, read);
+        ADD_FAILURE() << "the flag's byte " << int(byte) << " was read";
+      } catch (const CheckpointError& e) {
+        EXPECT_NE(std::string(e.what()).find("timed threads is the byte " + std::to_string(byte)), std::string::npos) << e.what();
+      }
+    }
   }
 }
 

@@ -112,5 +112,24 @@ TEST(Broadphase, CrowdedSpheresAreRefusedBeforeThePairList) {
   EXPECT_LT(t.pairs.size(), 100u * 2000u);
 }
 
+// Stones thrown absurdly far (a hand-made checkpoint's) have cells of their own at the grid's
+// edge: without the clamp their cell index overflows int64 (UBSan's float-cast-overflow, in
+// the sanitizer build), and two far out in one cell are still no pair.
+TEST(Broadphase, StonesFarOutOfRangeGetACellAndNoPartners) {
+  ModelBuilder b;
+  const int mat = b.add_material(test::stone());
+  for (int i = 0; i < 5; ++i) {
+    const Polyhedron p = make_box(Vec3(i, 0, 0.5), Vec3(1, 1, 1));
+    b.add_block(p.vertices, p.faces, mat, Motion::free);
+  }
+  const Model m = b.build();
+  State s = make_initial_state(m);
+  s.position[2] = Vec3(1e293, 0, 0);
+  s.position[3] = Vec3(2e293, 0, 0);
+  s.position[4] = Vec3(-1e300, 5, 1e300);
+  update_pairs(m, s);
+  EXPECT_EQ(as_pairs(s.pairs), (std::vector<std::pair<int, int>>{{0, 1}}));
+}
+
 }  // namespace
 }  // namespace ishibashi
