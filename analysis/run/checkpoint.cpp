@@ -1,8 +1,8 @@
 #include "analysis/run/checkpoint.h"
 
 #include <algorithm>
-#include <cmath>
 #include <cerrno>
+#include <cmath>
 #include <cstdint>
 #include <cstring>
 #include <fstream>
