@@ -1,6 +1,7 @@
-// Contact mechanics against closed forms: a block resting on a base, sliding and
-// tipping on an incline, the vertical natural frequency, bonded joint strength and how
-// much of it a held load uses.
+// Contact mechanics against closed forms: a block resting on a base, sliding (and each
+// sub-contact's slip) and tipping on an incline, the shear spring turned with its joint and
+// released as a dry joint opens, the vertical natural frequency, bonded joint strength and
+// how much of it a held load uses.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -8,6 +9,7 @@
 #include <vector>
 
 #include "engine/joints.h"
+#include "engine/pipeline.h"
 #include "engine/world.h"
 #include "scenes.h"
 
@@ -72,6 +74,85 @@ TEST(Incline, BlockSlidesWithClosedFormAcceleration) {
     const double expected = kG * (std::sin(theta) - std::cos(theta) * std::tan(phi));
     const double acc = slide_acceleration(theta, 33.23, nullptr);
     EXPECT_NEAR(acc, expected, 0.01 * expected) << "theta " << theta_deg;
+  }
+}
+
+// A sub-contact's tangential travel is its shear spring's stretch plus its accumulated slip
+// (the plastic part): for a block sliding without turning, the block's own travel.
+TEST(Incline, EachSubContactSlipsAsFarAsTheBlockSlidesLessItsSpringsStretch) {
+  const double a = 0.64;
+  ModelBuilder b = test::block_on_base(Vec3(a, a, a), test::stone(1.0, 33.23));
+  b.set_gravity(tilted_gravity(deg(40.0)));
+  World w(b.build(), 4e-5);
+  const double x0 = w.state().position[1].x();
+  w.run(10000);  // 0.4 s: about 0.1 m down the slope
+  const State& s = w.state();
+  const double travel = s.position[1].x() - x0;
+  ASSERT_GT(travel, 0.05);
+  ASSERT_EQ(s.contacts.size(), 4u);
+  for (std::size_t i = 0; i < 4; ++i) {
+    EXPECT_GT(s.contacts.slip_m[i], 0.9 * travel) << "sub-contact " << i;
+    EXPECT_NEAR(s.contacts.slip_m[i] + s.contacts.shear_stretch_m[i].norm(), travel, 1e-3 * travel) << "sub-contact " << i;
+  }
+}
+
+// A joint that turns as a rigid body keeps its shear spring's stretch (objectivity): the
+// law turns last step's stretch into the new contact plane at its old length. A turn of
+// 1e-4 rad a step takes the small-angle form (1 + x/2, exact to 3x^2/8), 0.01 rad the
+// square root; dropping either shortens the stretch by about 3e-9 or 3e-5 of its length.
+TEST(ShearSpring, KeepsItsLengthWhenTheJointTurnsRigidly) {
+  const double a = 0.64;
+  ModelBuilder b = test::block_on_base(Vec3(a, a, a), test::stone(1.0, 33.23, 1e9));  // bonded
+  b.set_gravity(Vec3::Zero());
+  World w(b.build(), 4e-5);
+  w.step();  // the joint's four sub-contacts, at rest
+  State& s = w.state();
+  ASSERT_EQ(s.contacts.size(), 4u);
+  const Vec3 stretch(3e-6, 4e-6, 0.0);  // m, in the plane z = 0 of last step's normal
+  for (double angle : {1e-4, 1e-2}) {
+    const Vec3 turned_normal = Eigen::AngleAxisd(angle, Vec3::UnitX()) * Vec3::UnitZ();
+    for (std::size_t i = 0; i < 4; ++i) {
+      s.contacts.normal[i] = turned_normal;
+      s.contacts.shear_stretch_m[i] = stretch;
+    }
+    for (int k = 0; k < 2; ++k) s.velocity[k] = s.angular_velocity[k] = Vec3::Zero();  // no relative motion
+    apply_contact_law(w.model(), s, w.dt_s());
+    for (std::size_t i = 0; i < 4; ++i) {
+      const Vec3& us = s.contacts.shear_stretch_m[i];
+      EXPECT_NEAR(us.norm(), stretch.norm(), 1e-12 * stretch.norm()) << "turn " << angle << ", sub-contact " << i;
+      EXPECT_NEAR(us.dot(turned_normal), 0.0, 1e-15 * stretch.norm()) << "turn " << angle << ", sub-contact " << i;
+    }
+  }
+}
+
+// A dry joint that opens while its shear springs are stretched lets them slip free: the
+// energy they held, K_s |u_s|^2 / 2 each, is dissipated (booked as friction), and an open
+// dry joint stores nothing.
+TEST(ShearSpring, ADryJointThatOpensDissipatesWhatItsShearSpringsHeld) {
+  const double a = 0.64;
+  ModelBuilder b = test::block_on_base(Vec3(a, a, a), test::stone(1.0, 33.23));  // dry
+  b.set_gravity(Vec3::Zero());
+  World w(b.build(), 4e-5);
+  w.step();
+  State& s = w.state();
+  SubContacts& c = s.contacts;
+  ASSERT_EQ(c.size(), 4u);
+  const Vec3 stretch(3e-6, -4e-6, 0.0);  // m, in the joint's plane
+  double held_j = 0;
+  for (std::size_t i = 0; i < 4; ++i) {
+    c.normal_stretch_m[i] = -1e-6;  // loaded in compression last step...
+    c.gap_change_m[i] = 2e-6;       // ...and lifted off by twice that in this one
+    c.gap_m[i] = 1e-6;
+    c.shear_stretch_m[i] = stretch;
+    held_j += 0.5 * c.shear_stiffness_n_m[i] * stretch.squaredNorm();
+  }
+  for (int k = 0; k < 2; ++k) s.velocity[k] = s.angular_velocity[k] = Vec3::Zero();
+  const double friction_before = s.energy.friction_j;
+  EXPECT_EQ(apply_contact_law(w.model(), s, w.dt_s()), 0.0);  // nothing stored
+  EXPECT_NEAR(s.energy.friction_j - friction_before, held_j, 1e-12 * held_j);
+  for (std::size_t i = 0; i < 4; ++i) {
+    EXPECT_TRUE(c.flags[i] & SubContactFlag::open) << i;
+    EXPECT_EQ(c.shear_stretch_m[i], Vec3::Zero()) << i;
   }
 }
 

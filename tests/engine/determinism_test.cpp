@@ -64,15 +64,16 @@ TEST(Determinism, CappedAndImplicitDashpotsSameStateHashForOneToFourThreads) {
 // The tuner changes the team size during the run (it probes 1, 2 and 4 threads): the
 // state stays bit-identical to one thread's. Whether it moves within 3,000 steps depends
 // on the timing (about one run in twelve kept 4 threads throughout on a quiet 2-core
-// machine), so the run is repeated, up to five times, until its team changed; every run
-// must match.
+// machine; with five tries the test failed once beside three busy processes in session 82,
+// most likely so: 190 repeats gave the same hash), so the run is repeated, up to ten times,
+// until its team changed; every run must match.
 TEST(Determinism, SameStateHashWhenTheTeamSizeChangesDuringTheRun) {
   const int saved = omp_get_max_threads();
   const std::uint64_t one = shaken_wall_hash(1);
   long thread_steps = 4 * 3000L;
-  for (int run = 0; run < 5 && thread_steps == 4 * 3000L; ++run)
+  for (int run = 0; run < 10 && thread_steps == 4 * 3000L; ++run)
     EXPECT_EQ(shaken_wall_hash(4, true, &thread_steps), one) << "run " << run;
-  EXPECT_NE(thread_steps, 4 * 3000L) << "the team size never changed in five runs";
+  EXPECT_NE(thread_steps, 4 * 3000L) << "the team size never changed in ten runs";
   omp_set_num_threads(saved);
 }
 
