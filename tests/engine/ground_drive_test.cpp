@@ -1,10 +1,12 @@
 // A block on a base driven kinematically, as the ground drives a bridge: it follows the
-// base when glued, and slides as Newmark's rigid-plastic block when friction gives way.
+// base when glued, and slides as Newmark's rigid-plastic block when friction gives way;
+// a driven block turns about the world's axes.
 #include <gtest/gtest.h>
 
 #include <cmath>
 
 #include "engine/world.h"
+#include "geometry/shapes.h"
 #include "scenes.h"
 
 namespace ishibashi {
@@ -31,6 +33,31 @@ TEST(GroundDrive, HighFrictionBlockFollowsASinusoidalBase) {
   const double base_travel = s.position[0].x() - m.initial_position[0].x();
   EXPECT_GT(base_travel, 0.1);
   EXPECT_LT(worst, 1e-4 * base_travel);  // the joint's elastic give only: < 0.01 % of the travel
+}
+
+// The driver's angular velocity is in the world's frame: a driven block turned about x, then
+// about y, ends turned by R_y R_x (the other order, or turns about its own axes, differ).
+TEST(GroundDrive, DrivenBlockTurnsAboutTheWorldsAxes) {
+  ModelBuilder b;  // a base slab and a stone far from it, weightless
+  const int mat = b.add_material(test::stone());
+  const Polyhedron base = make_box(Vec3(0, 0, -0.32), Vec3(2.0, 1.0, 0.64));
+  b.add_block(base.vertices, base.faces, mat, Motion::fixed, "base");
+  const Polyhedron stone = make_box(Vec3(0, 0, 10.0), Vec3(0.4, 0.4, 0.4));
+  b.add_block(stone.vertices, stone.faces, mat, Motion::free, "stone");
+  b.set_gravity(Vec3::Zero());
+  World w(b.build({.drive_fixed_blocks = true}), 1e-3);
+  State& s = w.state();
+  const int steps = 1000;
+  const double rate = 1.5, angle = rate * steps * w.dt_s();  // rad/s; 1.5 rad each way
+  for (const Vec3& axis : {Vec3::UnitX(), Vec3::UnitY()})
+    for (int i = 0; i < steps; ++i) {
+      s.velocity[0] = Vec3::Zero();
+      s.angular_velocity[0] = rate * axis;
+      w.step();
+    }
+  const Quat expected = Quat(Eigen::AngleAxisd(angle, Vec3::UnitY())) * Quat(Eigen::AngleAxisd(angle, Vec3::UnitX()));
+  const Quat turned = s.orientation[0] * w.model().initial_orientation[0].inverse();
+  EXPECT_LT(turned.angularDistance(expected), 1e-9);
 }
 
 // Newmark's rigid-plastic sliding block, integrated here on a fine grid: relative

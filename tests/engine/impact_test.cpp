@@ -199,8 +199,9 @@ TEST(Impact, StoneSlidingOffATiltedStoneLeavesWithTheSpeedEnergyAllows) {
 }
 
 TEST(Ground, StoneFallingPastTheGroundIsFrozenAndItsEnergyBooked) {
-  // A stone beside a 1 m base (top at z = 0, 0.64 m thick) falls past it: below the base
-  // by more than a block size it is frozen, with the kinetic energy it had booked.
+  // A stone beside a 1 m base (top at z = 0, 0.64 m thick) falls past it, spinning: below
+  // the base by more than a block size it is frozen, with the kinetic energy it had booked
+  // (its fall's and its spin's).
   ModelBuilder b;
   const int mat = b.add_material(test::stone(0.5));
   const Polyhedron base = make_box(Vec3(0, 0, -0.32), Vec3(1.0, 1.0, 0.64));
@@ -211,13 +212,17 @@ TEST(Ground, StoneFallingPastTheGroundIsFrozenAndItsEnergyBooked) {
   const double leave = 0.64 + std::cbrt(1.0 * 1.0 * 0.64);  // the base's bottom plus the largest block size
   EXPECT_NEAR(w.model().leave_depth_m, leave, 1e-12);
   State& s = w.state();
+  const double spin = 3.0;  // rad/s about z; a cube's spin stays as it is
+  s.angular_velocity[1] = Vec3(0, 0, spin);
   while (s.time_s < 2.0) w.step();
   EXPECT_EQ(s.left_model[1], 1);
   EXPECT_EQ(s.velocity[1].norm(), 0.0);
+  EXPECT_EQ(s.angular_velocity[1].norm(), 0.0);
   // It was frozen at the first step below the leave depth, having fallen from z = 0.5.
   EXPECT_NEAR(s.position[1].z(), -leave, 0.01);
-  const double mass = 1.88e3 * 0.4 * 0.4 * 0.4, fall = 0.5 + leave;
-  EXPECT_NEAR(s.energy.left_model_j, mass * kG * fall, 0.01 * mass * kG * fall);
+  const double mass = 1.88e3 * 0.4 * 0.4 * 0.4, fall = 0.5 - s.position[1].z();
+  const double spin_j = 0.5 * (mass * 0.4 * 0.4 / 6) * spin * spin;  // 14.4 J
+  EXPECT_NEAR(s.energy.left_model_j, mass * kG * fall + spin_j, 1e-3 * mass * kG * fall);
   EXPECT_LT(std::abs(s.energy.balance_error_j()), 1e-6 * s.energy.left_model_j);
 }
 
