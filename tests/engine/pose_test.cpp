@@ -1,5 +1,6 @@
 // The pose a step's integrate pass makes for the next step (pose.cpp, integrate.cpp) is the
-// pose stage's own, and a block moved between steps is posed where it is.
+// pose stage's own, a block moved between steps is posed where it is, and the motion bounds
+// add up until a narrowphase reads them.
 #include <gtest/gtest.h>
 #include <omp.h>
 
@@ -68,6 +69,33 @@ TEST(Pose, ABlockMovedBetweenStepsIsPosedAnew) {
   forget_step_motion(s);
   w.step();
   EXPECT_EQ(s.profile.broadphase_rebuilds, rebuilds + 1);
+  omp_set_num_threads(saved);
+}
+
+// Motion that no narrowphase has read yet adds up over the poses (a block moved and posed
+// again before the pairs are searched), and the apart clock grows by a bound on any two
+// blocks' relative shift: the shifts' spread summed over the axes (their 1-norm).
+TEST(Pose, UnreadMotionAddsUpAndTheApartClockBoundsEveryRelativeShift) {
+  const int saved = omp_get_max_threads();
+  World w = shaken_wall(Damping::study, 1);
+  State& s = w.state();
+  for (int i = 0; i < 5; ++i) w.step();
+  ASSERT_FALSE(s.step_motion_read);  // the step's integrate posed the blocks after its narrowphase
+  const int top = w.model().block_count - 1;
+  const Vec3 shift_before = s.step_shift[top], moved(1e-4, -2e-4, 0.0);
+  s.position[top] += moved;
+  update_pose(w.model(), s);
+  EXPECT_LT((s.step_shift[top] - (shift_before + moved)).norm(), 1e-15);
+  ASSERT_TRUE(s.apart_clock_valid);
+  for (int b = 0; b < w.model().block_count; ++b)
+    EXPECT_GE(s.apart_clock_step_m, (s.step_shift[top] - s.step_shift[b]).lpNorm<1>()) << "block " << b;
+  const double turn_before = s.step_turn[top], angle = 1e-3;
+  for (int turns = 0; turns < 2; ++turns) {
+    s.orientation[top] = Quat(Eigen::AngleAxisd(angle, Vec3::UnitZ())) * s.orientation[top];
+    update_pose(w.model(), s);
+  }
+  EXPECT_GE(s.step_turn[top], turn_before + 2 * angle);
+  EXPECT_LT(s.step_turn[top], turn_before + 2 * angle * (1 + 1e-6));
   omp_set_num_threads(saved);
 }
 
