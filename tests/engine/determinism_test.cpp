@@ -64,9 +64,9 @@ TEST(Determinism, CappedAndImplicitDashpotsSameStateHashForOneToFourThreads) {
 // The tuner changes the team size during the run (it probes 1, 2 and 4 threads): the
 // state stays bit-identical to one thread's. Whether it moves within 3,000 steps depends
 // on the timing (about one run in twelve kept 4 threads throughout on a quiet 2-core
-// machine; with five tries the test failed once beside three busy processes in session 82,
-// most likely so: 190 repeats gave the same hash), so the run is repeated, up to ten times,
-// until its team changed; every run must match.
+// machine; the test failed twice beside three or four busy processes in session 82, most
+// likely so: 250 repeats under load gave the one-thread hash), so the run is repeated, up to
+// ten times, until its team changed; every run must match.
 TEST(Determinism, SameStateHashWhenTheTeamSizeChangesDuringTheRun) {
   const int saved = omp_get_max_threads();
   const std::uint64_t one = shaken_wall_hash(1);
