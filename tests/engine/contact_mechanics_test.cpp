@@ -96,16 +96,23 @@ TEST(Incline, EachSubContactSlipsAsFarAsTheBlockSlidesLessItsSpringsStretch) {
   }
 }
 
+// A 0.64 m cube on a base without gravity, after one step: its joint's four sub-contacts,
+// at rest, for the law to be called on by hand (apply_contact_law). bond_pa 0: dry.
+World weightless_block_on_base(double bond_pa) {
+  const double a = 0.64;
+  ModelBuilder b = test::block_on_base(Vec3(a, a, a), test::stone(1.0, 33.23, bond_pa));
+  b.set_gravity(Vec3::Zero());
+  World w(b.build(), 4e-5);
+  w.step();
+  return w;
+}
+
 // A joint that turns as a rigid body keeps its shear spring's stretch (objectivity): the
 // law turns last step's stretch into the new contact plane at its old length. A turn of
 // 1e-4 rad a step takes the small-angle form (1 + x/2, exact to 3x^2/8), 0.01 rad the
 // square root; dropping either shortens the stretch by about 3e-9 or 3e-5 of its length.
 TEST(ShearSpring, KeepsItsLengthWhenTheJointTurnsRigidly) {
-  const double a = 0.64;
-  ModelBuilder b = test::block_on_base(Vec3(a, a, a), test::stone(1.0, 33.23, 1e9));  // bonded
-  b.set_gravity(Vec3::Zero());
-  World w(b.build(), 4e-5);
-  w.step();  // the joint's four sub-contacts, at rest
+  World w = weightless_block_on_base(1e9);  // bonded
   State& s = w.state();
   ASSERT_EQ(s.contacts.size(), 4u);
   const Vec3 stretch(3e-6, 4e-6, 0.0);  // m, in the plane z = 0 of last step's normal
@@ -129,11 +136,7 @@ TEST(ShearSpring, KeepsItsLengthWhenTheJointTurnsRigidly) {
 // energy they held, K_s |u_s|^2 / 2 each, is dissipated (booked as friction), and an open
 // dry joint stores nothing.
 TEST(ShearSpring, ADryJointThatOpensDissipatesWhatItsShearSpringsHeld) {
-  const double a = 0.64;
-  ModelBuilder b = test::block_on_base(Vec3(a, a, a), test::stone(1.0, 33.23));  // dry
-  b.set_gravity(Vec3::Zero());
-  World w(b.build(), 4e-5);
-  w.step();
+  World w = weightless_block_on_base(0.0);  // dry
   State& s = w.state();
   SubContacts& c = s.contacts;
   ASSERT_EQ(c.size(), 4u);
