@@ -1,6 +1,7 @@
 // The cell-list broadphase against the brute-force oracle on random scenes.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <random>
 
 #include "engine/pipeline.h"
@@ -36,6 +37,24 @@ TEST(Broadphase, MatchesBruteForceOnRandomScenes) {
     const auto oracle = brute_force_pairs(m, s);
     EXPECT_GT(oracle.size(), 50u);
     EXPECT_EQ(as_pairs(s.pairs), as_pairs(oracle)) << "seed " << seed;
+
+    // Each block on its own by just under half the margin, the most it moves before a
+    // rebuild: every two blocks whose spheres then overlap (which may touch) are listed
+    // already. The margin inflates each sphere by half of it.
+    const std::vector<Vec3> placed = s.position;
+    for (int i = 0; i < n; ++i) s.position[i] += 0.49 * m.margin_m * Vec3(u(rng) - 0.5, u(rng) - 0.5, u(rng) - 0.5).normalized();
+    EXPECT_FALSE(update_pairs(m, s));
+    const auto listed = as_pairs(s.pairs);
+    int may_touch = 0;
+    for (int a = 0; a < n; ++a)
+      for (int b = a + 1; b < n; ++b)
+        if ((m.motion[a] == Motion::free || m.motion[b] == Motion::free) &&
+            (s.position[a] - s.position[b]).norm() < m.radius_m[a] + m.radius_m[b]) {
+          ++may_touch;
+          EXPECT_TRUE(std::binary_search(listed.begin(), listed.end(), std::make_pair(a, b))) << a << "-" << b << ", seed " << seed;
+        }
+    EXPECT_GT(may_touch, 40);
+    s.position = placed;
 
     // Move every block a little: below half the margin, no rebuild; beyond it, a
     // rebuild that again equals the oracle.

@@ -203,6 +203,45 @@ TEST(Narrowphase, SeparatedBeyondToleranceHasNoContact) {
   EXPECT_EQ(s.contacts.size(), 0u);
 }
 
+// A pair within the broadphase's reach but beyond the tolerance is apart, at the distance
+// its separating axis gives, and has no sub-contact: a cube's corner g above a face (the
+// face a's, then b's) and two crossed bars' edges g apart, g = 5 tolerances. That
+// separation is what lets the search be skipped while b cannot have closed the gap.
+TEST(Narrowphase, PairsBeyondTheToleranceAreApartByTheirTrueDistance) {
+  const Polyhedron base = make_box(Vec3(0, 0, -0.5), Vec3(1, 1, 1));
+  // A unit cube turned so that a body diagonal stands vertical, its lowest corner g above z = 0.
+  const double g = 5e-3;  // 5 tolerances of the cube (1e-3 of its size), 12 of the bars'
+  const Mat3 corner_down = (Eigen::AngleAxisd(std::atan(std::sqrt(0.5)), Vec3::UnitY()) *
+                            Eigen::AngleAxisd(M_PI / 4, Vec3::UnitX())).toRotationMatrix();
+  Polyhedron cube = transformed(make_box(Vec3::Zero(), Vec3(1, 1, 1)), corner_down, Vec3::Zero());
+  double lowest = 1e300;
+  for (const Vec3& v : cube.vertices) lowest = std::min(lowest, v.z());
+  cube = transformed(cube, Mat3::Identity(), Vec3(0, 0, g - lowest));
+  const double h = 0.1 * std::sqrt(2.0);  // the crossed bars of EdgeOnEdge, g apart
+  const Polyhedron lower = transformed(make_box(Vec3::Zero(), Vec3(2, 0.2, 0.2)),
+                                       Eigen::AngleAxisd(M_PI / 4, Vec3::UnitX()).toRotationMatrix(), Vec3(0, 0, -h));
+  const Polyhedron upper = transformed(make_box(Vec3::Zero(), Vec3(0.2, 2, 0.2)),
+                                       Eigen::AngleAxisd(M_PI / 4, Vec3::UnitY()).toRotationMatrix(), Vec3(0, 0, h + g));
+  struct Case {
+    const char* what;
+    Model model;
+  };
+  const Case cases[] = {
+      {"a corner above a's face", test::stones_model({{&base, Motion::fixed}, {&cube, Motion::free}})},
+      {"a corner above b's face", test::stones_model({{&cube, Motion::free}, {&base, Motion::fixed}})},
+      {"crossed edges", test::stones_model({{&lower, Motion::fixed}, {&upper, Motion::free}})},
+  };
+  for (const Case& c : cases) {
+    SCOPED_TRACE(c.what);
+    const State s = test::contacts_found(c.model);
+    ASSERT_EQ(s.pairs.size(), 1u);
+    EXPECT_LT(c.model.contact_tolerance_m(0, 1), g);
+    EXPECT_EQ(s.pairs[0].axis_kind, -1);
+    EXPECT_NEAR(s.pairs[0].separation_m, g, 1e-12);
+    EXPECT_EQ(s.contacts.size(), 0u);
+  }
+}
+
 TEST(Narrowphase, KeysPersistWhileSliding) {
   Model m;
   // A 0.6 m block overhanging one edge of the base: two of its own corners and two
@@ -499,6 +538,43 @@ TEST(Narrowphase, MomentRuleCarriesThePolygonsAreaCentroidAndSecondMoments) {
     bool found = false;
     for (std::size_t i = 0; i < c.size(); ++i) found = found || (c.point[i] - corner).norm() < 1e-12;
     EXPECT_TRUE(found) << "no point at the corner " << corner.transpose();
+  }
+}
+
+// Every point of a face-face manifold has the gap of the incident face over the reference
+// plane where it stands, and stands midway between the two: a prism tilted by 1e-4 rad
+// about x and pressed 20 um into the base has the gap y tan(1e-4) - 20 um at (x, y), for
+// the corner rule's points, the moment rule's (corners, centroid and fan triangles'
+// centroids: those away from the corners take their gap from the incident face's plane)
+// and a subdivision's (sub-triangles' centroids).
+TEST(Narrowphase, EveryPointHasTheIncidentFacesGapWhereItStands) {
+  const std::vector<Vec3> outline{{-0.40, -0.30, 0}, {0.35, -0.42, 0}, {0.44, 0.10, 0}, {0.05, 0.41, 0}, {-0.38, 0.22, 0}};
+  const double tilt = 1e-4, pressed = 2e-5;  // rad, m
+  const Polyhedron bottom = make_box(Vec3(0, 0, -0.5), Vec3(1, 1, 1));
+  const Polyhedron top = transformed(make_prism(outline, 0.0, 0.3), Eigen::AngleAxisd(tilt, Vec3::UnitX()).toRotationMatrix(),
+                                     Vec3(0, 0, -pressed));
+  const struct {
+    const char* what;
+    ModelOptions options;
+    std::size_t points;
+  } rules[] = {{"corners", {.joint_rule = JointRule::corners}, outline.size()},
+               {"moments", {.joint_rule = JointRule::moments}, 2 * outline.size() + 1},
+               {"subdivision 2", {.subdivision = 2}, 4 * outline.size()}};
+  for (const auto& rule : rules) {
+    SCOPED_TRACE(rule.what);
+    const State s = test::contacts_found(test::stones_model({{&bottom, Motion::fixed}, {&top, Motion::free}}, rule.options));
+    const SubContacts& c = s.contacts;
+    ASSERT_EQ(c.size(), rule.points);
+    double lowest = 0, highest = -1;
+    for (std::size_t i = 0; i < c.size(); ++i) {
+      const double gap = c.point[i].y() * std::tan(tilt) - pressed;
+      EXPECT_NEAR(c.gap_m[i], gap, 1e-13) << "point " << i << " at " << c.point[i].transpose();
+      EXPECT_NEAR(c.point[i].z(), 0.5 * gap, 1e-13) << "point " << i;
+      EXPECT_NEAR(c.normal[i].z(), 1.0, 1e-12);
+      lowest = std::min(lowest, c.gap_m[i]), highest = std::max(highest, c.gap_m[i]);
+    }
+    EXPECT_LT(lowest, -5e-5);  // the gaps span the tilt: the check is not of a flat joint
+    EXPECT_GT(highest, 1e-5);
   }
 }
 
