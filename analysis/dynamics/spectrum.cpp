@@ -15,15 +15,19 @@ Spectrum amplitude_spectrum(const std::vector<double>& signal, double dt_s, int 
   double mean = 0;
   for (double v : signal) mean += v / static_cast<double>(n);
   std::vector<double> x(size, 0.0);
-  for (std::size_t i = 0; i < n; ++i)
-    x[i] = (signal[i] - mean) * 0.5 * (1 - std::cos(2 * M_PI * i / std::max<std::size_t>(1, n - 1)));
+  double window_sum = 0;  // the window's gain on a sine is window_sum / 2 of its amplitude
+  for (std::size_t i = 0; i < n; ++i) {
+    const double window = 0.5 * (1 - std::cos(2 * M_PI * i / std::max<std::size_t>(1, n - 1)));
+    x[i] = (signal[i] - mean) * window;
+    window_sum += window;
+  }
   Eigen::FFT<double> fft;
   std::vector<std::complex<double>> out;
   fft.fwd(out, x);
   Spectrum s;
   for (std::size_t k = 0; k <= size / 2; ++k) {
     s.frequency_hz.push_back(k / (size * dt_s));
-    s.amplitude.push_back(std::abs(out[k]) * 2.0 / n);
+    s.amplitude.push_back(window_sum > 0 ? std::abs(out[k]) * 2.0 / window_sum : 0.0);  // a sine's amplitude at its peak
   }
   return s;
 }

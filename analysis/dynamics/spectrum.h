@@ -12,7 +12,9 @@ struct Spectrum {
 };
 
 // One-sided amplitude spectrum of a signal sampled every dt_s, mean removed, Hann
-// window, zero-padded to a power of two at least `pad` times the length.
+// window, zero-padded to a power of two at least `pad` times the length. Scaled by the
+// window's gain, so that a sine of amplitude A reads A at its peak (up to 15 % less where
+// it falls between two bins of the unpadded length).
 Spectrum amplitude_spectrum(const std::vector<double>& signal, double dt_s, int pad = 4);
 
 struct SpectralPeak {

@@ -167,6 +167,42 @@ TEST(Ensemble, AMembersRowLeavesColumnsItsSummaryLacksEmpty) {
   }
 }
 
+// ensemble.json's spreads of two members made by hand: a member's first fall is the first
+// row of its shaking with a fallen stone, in seconds of shaking (its time less the
+// settling; a stone fallen while settling does not count), and a median of two is their mean.
+TEST(Ensemble, FirstFallIsInSecondsOfShakingAndAMedianOfTwoIsTheirMean) {
+  const auto out = tmp_dir() / "ensemble_by_hand";
+  std::filesystem::remove_all(out);
+  const double settle_s = 0.5, fall_s[2] = {1.25, 2.0};
+  const int fallen[2] = {3, 8};
+  OutcomeTable table;
+  for (int k = 0; k < 2; ++k) {
+    const auto folder = out / ("member_" + std::to_string(k));
+    std::filesystem::create_directories(folder);
+    SeismicRunResult r;
+    r.fallen_stones = fallen[k];
+    nlohmann::json summary;
+    for (const ResultColumn& c : result_columns())
+      std::visit([&](const auto& v) {
+        if constexpr (!std::is_same_v<std::decay_t<decltype(v)>, std::monostate>) summary[c.name] = v;
+      }, c.value(r));
+    summary["settle_time_s"] = settle_s;
+    summary["first_opening_s"] = nullptr;  // as a run's summary.json writes "no joint opened"
+    std::ofstream(folder / "summary.json") << summary.dump();
+    std::ofstream(folder / "history.csv") << "time_s,phase,fallen_stones\n0.4,settle,1\n"
+                                           << settle_s + fall_s[k] - 0.25 << ",shake,0\n"
+                                           << settle_s + fall_s[k] << ",shake," << fallen[k] << "\n"
+                                           << settle_s + fall_s[k] + 0.5 << ",shake," << fallen[k] << "\n";
+    table.rows.push_back({k, folder, {}});
+  }
+  nlohmann::ordered_json j;
+  write_outcomes(table, out / "ensemble.csv", j);
+  EXPECT_NEAR(j["first_fall_s"]["min"].get<double>(), 1.25, 1e-12);
+  EXPECT_NEAR(j["first_fall_s"]["max"].get<double>(), 2.0, 1e-12);
+  EXPECT_NEAR(j["first_fall_s"]["median"].get<double>(), 1.625, 1e-12);
+  EXPECT_NEAR(j["fallen_stones"]["median"].get<double>(), 5.5, 1e-12);
+}
+
 // A stone's draws go with where it stands, not with its block number: model A numbered
 // backwards draws the same cut, shift and turn for every stone of member 3.
 TEST(Ensemble, MembersDrawTheSameStonesWhateverTheNumbering) {

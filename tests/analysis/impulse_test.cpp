@@ -2,6 +2,7 @@
 // against the modal analysis.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 
 #include "analysis/dynamics/frequencies.h"
@@ -35,6 +36,29 @@ TEST(Spectrum, EveryPeakOfTwoSinesAndNoneOfTheWindowsSidelobes) {
   EXPECT_NEAR(peaks[0].frequency_hz, 3.1, 0.01);
   EXPECT_NEAR(peaks[1].frequency_hz, 11.7, 0.02);
   EXPECT_NEAR(peaks[1].relative_amplitude, 0.3, 0.03);
+}
+
+// A sine of amplitude A reads A at its peak (the window's gain divided out), its frequency
+// found between the bins to a tenth of one by the parabola, and about an
+// offset ten times its amplitude (a block that settles while it rings) all the same.
+TEST(Spectrum, ASinesPeakHasItsAmplitudeAndItsFrequencyBetweenTheBins) {
+  const double dt = 0.01, amplitude = 2.5e-4;  // s, m
+  for (const double offset : {0.0, 10 * amplitude})
+    for (const double bins : {40.0, 40.25, 40.5}) {
+      const int n = 1000;
+      const double f = bins / (4096 * dt);  // 1000 samples padded to 4096: the bin is 1 / (4096 dt)
+      std::vector<double> x;
+      for (int i = 0; i < n; ++i) x.push_back(offset + amplitude * std::sin(2 * kPi * f * i * dt + 0.7));
+      const Spectrum s = amplitude_spectrum(x, dt);
+      SCOPED_TRACE("offset " + std::to_string(offset) + " m, " + std::to_string(bins) + " bins");
+      const std::vector<SpectralPeak> peaks = spectral_peaks(s);
+      ASSERT_EQ(peaks.size(), 1u);
+      EXPECT_NEAR(peaks[0].frequency_hz, f, 0.1 * s.resolution_hz());
+      EXPECT_EQ(peaks[0].relative_amplitude, 1.0);
+      const double top = *std::max_element(s.amplitude.begin(), s.amplitude.end());
+      // Between two bins the Hann window's peak loses up to 15 % (its scalloping).
+      EXPECT_NEAR(top, amplitude, (bins == 40.0 ? 0.01 : 0.16) * amplitude);
+    }
 }
 
 TEST(Impulse, BlockOnBaseFrequenciesMatchClosedFormsAndModes) {
