@@ -139,17 +139,27 @@ TEST(Ensemble, TieRodsAreSnugInEachMembersPose) {
   EXPECT_EQ(tie.stiffness_n_m, built.ties[0].stiffness_n_m);
 }
 
+// summary.json's result columns of `r`, as a run writes them (RunRecorder::write_summary:
+// a column without a value is null).
+nlohmann::json result_summary(const SeismicRunResult& r) {
+  nlohmann::json summary;
+  for (const ResultColumn& c : result_columns())
+    summary[c.name] = std::visit(
+        [](const auto& v) -> nlohmann::json {
+          if constexpr (std::is_same_v<std::decay_t<decltype(v)>, std::monostate>) return nullptr;
+          else return v;
+        },
+        c.value(r));
+  return summary;
+}
+
 // ensemble.csv's row of a member's summary: every column in order, and an empty field for a
 // column an older program's summary lacks (the rods' columns before session 67) or gives as null.
 TEST(Ensemble, AMembersRowLeavesColumnsItsSummaryLacksEmpty) {
   SeismicRunResult r;
   r.fallen_stones = 7;
   r.collapse = true;
-  nlohmann::json summary;
-  for (const ResultColumn& c : result_columns())
-    std::visit([&](const auto& v) {
-      if constexpr (!std::is_same_v<std::decay_t<decltype(v)>, std::monostate>) summary[c.name] = v;
-    }, c.value(r));
+  nlohmann::json summary = result_summary(r);
   const std::string whole = summary_csv_values(summary);
   EXPECT_EQ(std::count(whole.begin(), whole.end(), ','), static_cast<long>(result_columns().size()) - 1);
   summary.erase("peak_tie_tension_n");
@@ -181,13 +191,8 @@ TEST(Ensemble, FirstFallIsInSecondsOfShakingAndAMedianOfTwoIsTheirMean) {
     std::filesystem::create_directories(folder);
     SeismicRunResult r;
     r.fallen_stones = fallen[k];
-    nlohmann::json summary;
-    for (const ResultColumn& c : result_columns())
-      std::visit([&](const auto& v) {
-        if constexpr (!std::is_same_v<std::decay_t<decltype(v)>, std::monostate>) summary[c.name] = v;
-      }, c.value(r));
-    summary["settle_time_s"] = settle_s;
-    summary["first_opening_s"] = nullptr;  // as a run's summary.json writes "no joint opened"
+    r.settle_time_s = settle_s;
+    const nlohmann::json summary = result_summary(r);
     std::ofstream(folder / "summary.json") << summary.dump();
     std::ofstream(folder / "history.csv") << "time_s,phase,fallen_stones\n0.4,settle,1\n"
                                            << settle_s + fall_s[k] - 0.25 << ",shake,0\n"

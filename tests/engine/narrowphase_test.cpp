@@ -499,11 +499,14 @@ TEST(Narrowphase, FaceWithTooManyCornersIsRefusedByName) {
   }
 }
 
+// An irregular pentagon (m, counter-clockwise in the plane z = 0): a prism on it stands on the base.
+const std::vector<Vec3> kPentagon{{-0.40, -0.30, 0}, {0.35, -0.42, 0}, {0.44, 0.10, 0}, {0.05, 0.41, 0}, {-0.38, 0.22, 0}};
+
 // JointRule::moments on an irregular convex pentagon lying on the cube: the sub-contacts'
 // areas, first and second moments are the polygon's (exact polygon formulas), and every
 // corner of the polygon keeps a point.
 TEST(Narrowphase, MomentRuleCarriesThePolygonsAreaCentroidAndSecondMoments) {
-  const std::vector<Vec3> base{{-0.40, -0.30, 0}, {0.35, -0.42, 0}, {0.44, 0.10, 0}, {0.05, 0.41, 0}, {-0.38, 0.22, 0}};
+  const std::vector<Vec3>& base = kPentagon;
   const Polyhedron bottom = make_box(Vec3(0, 0, -0.5), Vec3(1, 1, 1));
   const Polyhedron top = make_prism(base, 0.0, 0.3);
   const State s = test::contacts_found(
@@ -548,7 +551,7 @@ TEST(Narrowphase, MomentRuleCarriesThePolygonsAreaCentroidAndSecondMoments) {
 // centroids: those away from the corners take their gap from the incident face's plane)
 // and a subdivision's (sub-triangles' centroids).
 TEST(Narrowphase, EveryPointHasTheIncidentFacesGapWhereItStands) {
-  const std::vector<Vec3> outline{{-0.40, -0.30, 0}, {0.35, -0.42, 0}, {0.44, 0.10, 0}, {0.05, 0.41, 0}, {-0.38, 0.22, 0}};
+  const std::vector<Vec3>& outline = kPentagon;
   const double tilt = 1e-4, pressed = 2e-5;  // rad, m
   const Polyhedron bottom = make_box(Vec3(0, 0, -0.5), Vec3(1, 1, 1));
   const Polyhedron top = transformed(make_prism(outline, 0.0, 0.3), Eigen::AngleAxisd(tilt, Vec3::UnitX()).toRotationMatrix(),
