@@ -1,0 +1,174 @@
+// A seismic run's phases and what it measures against closed forms: settling ends at the
+// first check (every kSettleCheckS) whose kinetic energy is below the threshold, bonds that
+// break while settling are counted, a stone riding the ground neither drops nor moves
+// relative to it, and a bridge's monitored block is its crown unit.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <fstream>
+#include <map>
+#include <sstream>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "analysis/model/compile_model.h"
+#include "analysis/run/seismic_run.h"
+#include "command_line.h"
+#include "geometry/bridge.h"
+
+namespace ishibashi {
+namespace {
+
+const std::filesystem::path kRoot = ISHIBASHI_SOURCE_DIR;
+constexpr double kG = 9.80665;  // m/s^2
+
+// A scene in `dir`: a model of 1 x 1 x 0.3 m stones of 2,000 kg/m^3 (600 kg each) and fixed
+// boxes (`model_lines`: its [import] table), shaken along `axis` by `record` (g, samples
+// 1 ms apart); `run_lines` follow the scenario's [model] file line: its other keys, then [run].
+Scenario scene(const std::filesystem::path& dir, const std::string& model_lines, const std::string& run_lines,
+               const std::vector<double>& record, const char* axis = "x") {
+  std::filesystem::create_directories(dir);
+  std::ofstream(dir / "model.toml") << model_lines << "[stone]\ndensity_kg_m3 = 2000\n";
+  std::ofstream samples(dir / "record.txt");
+  samples.precision(17);
+  for (double a : record) samples << a << '\n';
+  samples.close();
+  std::ofstream(dir / "scene.toml") << "[model]\nfile = \"" << (dir / "model.toml").string() << "\"\n"
+                                    << run_lines << "[ground_motion]\nbaseline_correction = false\n"
+                                    << axis << " = { file = \"" << (dir / "record.txt").string()
+                                    << "\", format = \"columns\", unit = \"g\", dt_s = 0.001 }\n";
+  return read_scenario(dir / "scene.toml");
+}
+
+SeismicRunResult run_into(const std::filesystem::path& out, const Scenario& sc) {
+  std::filesystem::remove_all(out);
+  SeismicRunOptions options;
+  options.out = out;
+  return SeismicRun(sc, options).run();
+}
+
+// history.csv's rows as columns by name.
+std::map<std::string, std::vector<std::string>> history(const std::filesystem::path& out) {
+  std::ifstream in(out / "history.csv");
+  std::string line, cell;
+  std::getline(in, line);
+  std::vector<std::string> names;
+  for (std::stringstream header(line); std::getline(header, cell, ',');) names.push_back(cell);
+  std::map<std::string, std::vector<std::string>> columns;
+  while (std::getline(in, line)) {
+    std::size_t k = 0;
+    for (std::stringstream row(line); std::getline(row, cell, ',');) columns[names.at(k++)].push_back(cell);
+  }
+  return columns;
+}
+
+// A lone stone in free fall (no other block: dt given) has the kinetic energy m (g t)^2 / 2
+// after t seconds: 71.9 J at 0.05 s, 289 J at 0.1 s. Rest is judged every 0.05 s, not at
+// every frame (0.01 s here, where the energy is 2.9 J, then 11.5 J): with the threshold a
+// third of the energy at the first check the stone never rests and settles for as long as
+// it may; at 1.5 times that energy it rests at the first check (0.05 s), also with frames
+// 0.03 s apart that step over it; settling that ends between checks is judged at its end.
+TEST(Settling, EndsAtTheFirstCheckWhoseKineticEnergyIsBelowTheThreshold) {
+  const auto dir = test::tmp_dir() / "ishibashi_settling";
+  std::filesystem::create_directories(dir);
+  test::box_off_file(dir / "stone.off", {0, 0, 1}, {1, 1, 0.3});
+  const std::string model = "[import]\nfiles = [\"" + (dir / "stone.off").string() + "\"]\n";
+  const double mass = 600, at_check = 0.5 * mass * std::pow(kG * kSettleCheckS, 2);
+  auto settle = [&](double settle_max_s, double interval_s, double threshold_j) {
+    std::ostringstream run;
+    run << "[run]\ndt_s = 1e-4\nthreads = 1\nduration_s = 0.002\nsettle_max_s = " << settle_max_s
+        << "\noutput_interval_s = " << interval_s << "\nsettle_kinetic_j = " << threshold_j << "\n";
+    return run_into(dir / "out", scene(dir, model, run.str(), {0, 0, 0, 0}));
+  };
+  const SeismicRunResult restless = settle(0.12, 0.01, at_check / 3);
+  EXPECT_FALSE(restless.settled);
+  EXPECT_NEAR(restless.settle_time_s, 0.12, 2e-4);
+  for (double interval : {0.01, 0.03}) {
+    const SeismicRunResult rests = settle(0.12, interval, 1.5 * at_check);
+    EXPECT_TRUE(rests.settled) << "frames " << interval << " s apart";
+    EXPECT_NEAR(rests.settle_time_s, kSettleCheckS, 2e-4) << "frames " << interval << " s apart";
+  }
+  // Settling that may last 0.03 s ends there and is judged then: 25.9 J.
+  const SeismicRunResult short_settling = settle(0.03, 0.01, 1.5 * 0.5 * mass * std::pow(kG * 0.03, 2));
+  EXPECT_TRUE(short_settling.settled);
+  EXPECT_NEAR(short_settling.settle_time_s, 0.03, 2e-4);
+}
+
+// A stone held between two fixed walls only by its two bonded side joints (0.3 m^2 each)
+// loads them in shear with its weight: 600 kg g / 0.6 m^2 = 9.8 kPa, up to twice that as
+// the stone starts to sag. Mortar of 2 kPa breaks both joints while settling (the stone
+// then slides down between the walls); mortar of 100 kPa holds, and none breaks.
+TEST(Settling, BondsThatBreakWhileSettlingAreCounted) {
+  const auto dir = test::tmp_dir() / "ishibashi_settling_bonds";
+  std::filesystem::create_directories(dir);
+  test::box_off_file(dir / "stone.off", {-0.5, -0.5, 0.85}, {1, 1, 0.3});
+  test::box_off_file(dir / "left.off", {-1.5, -0.5, -0.25}, {1, 1, 1.5});
+  test::box_off_file(dir / "right.off", {0.5, -0.5, -0.25}, {1, 1, 1.5});
+  const std::string model = "[import]\nfiles = [\"" + (dir / "stone.off").string() + "\"]\nfixed_files = [\"" +
+                            (dir / "left.off").string() + "\", \"" + (dir / "right.off").string() + "\"]\n";
+  auto settle = [&](double mortar_pa) {
+    std::ostringstream run;
+    run << "mortar_pa = " << mortar_pa << "\nmortar_bonds = \"initial\"\n[run]\nthreads = 1\nsettle_max_s = 0.1\nduration_s = 0.002\n";
+    return run_into(dir / "out", scene(dir, model, run.str(), {0, 0, 0, 0}));
+  };
+  const SeismicRunResult weak = settle(2e3);
+  EXPECT_EQ(weak.joints, 2);
+  EXPECT_EQ(weak.bonds_broken_settling, 2);
+  const SeismicRunResult strong = settle(1e5);
+  EXPECT_EQ(strong.bonds_broken_settling, 0);
+  EXPECT_TRUE(strong.settled);
+}
+
+// A stone on a fixed slab, the ground moved up and down by a = -0.5 g sin(4 pi t) for half a
+// second: the ground sinks by (a0/w) t - (a0/w^2) sin(w t), 0.195 m in all, and the stone
+// (never lighter than half its weight) rides it. Its drop relative to the ground (the
+// crown's drop of a bridge: here the monitored block) stays within its springs' give, well
+// under 0.01 mm, as does its displacement relative to the ground in history.csv.
+TEST(RunMeasures, AStoneRidingTheGroundUpAndDownNeitherDropsNorMovesAgainstIt) {
+  const auto dir = test::tmp_dir() / "ishibashi_riding";
+  std::filesystem::create_directories(dir);
+  test::box_off_file(dir / "stone.off", {1.5, 1.5, 0.5}, {1, 1, 0.3});
+  test::box_off_file(dir / "slab.off", {0, 0, 0}, {4, 4, 0.5});
+  const std::string model = "[import]\nfiles = [\"" + (dir / "stone.off").string() + "\"]\nfixed_files = [\"" +
+                            (dir / "slab.off").string() + "\"]\n";
+  const double a0 = 0.5 * kG, w = 4 * M_PI;
+  std::vector<double> record;
+  for (int k = 0; k <= 500; ++k) record.push_back(-0.5 * std::sin(w * k * 1e-3));
+  const std::string run = "[run]\nthreads = 1\nsettle_max_s = 0.1\nduration_s = 0.5\noutput_interval_s = 0.05\n[monitor]\nblocks = [0]\n";
+  const Scenario sc = scene(dir, model, run, record, "z");
+  ASSERT_EQ(load_model(sc.model, sc.model_file, model_options(sc.settings)).motion[0], Motion::free) << "block 0 is the stone";
+  const SeismicRunResult r = run_into(dir / "out", sc);
+  ASSERT_TRUE(r.settled);
+  EXPECT_NEAR(r.shaking_time_s, 0.5, 1e-3);
+  EXPECT_LT(r.largest_crown_drop_m, 1e-5);
+  auto columns = history(dir / "out");
+  int shaking_rows = 0;
+  for (std::size_t k = 0; k < columns["time_s"].size(); ++k) {
+    if (columns["phase"][k] != "shake") continue;
+    ++shaking_rows;
+    const double t = std::stod(columns["time_s"][k]) - r.settle_time_s;
+    EXPECT_NEAR(std::stod(columns["ground_dz_m"][k]), -(a0 / w) * t + (a0 / (w * w)) * std::sin(w * t), 1e-4) << t << " s";
+    EXPECT_NEAR(std::stod(columns["block0_dz_m"][k]), 0, 1e-5) << t << " s";
+  }
+  EXPECT_GE(shaking_rows, 10);
+}
+
+// A bridge's run monitors its crown unit (the highest ring stone) unless the scenario names
+// blocks: its history has the crown's columns and its summary names it.
+TEST(RunMeasures, ABridgesRunMonitorsItsCrownUnit) {
+  Scenario sc = read_scenario(kRoot / "scenarios/nishida_a_kobe_dry.toml");
+  sc.settings.settle_max_s = 0.002;
+  sc.settings.duration_s = 0.002;
+  sc.settings.threads = 1;
+  const auto out = test::tmp_dir() / "ishibashi_crown_monitor";
+  run_into(out, sc);
+  const int crown = crown_unit(load_model(sc.model, sc.model_file, model_options(sc.settings)));
+  ASSERT_GE(crown, 0);
+  std::ifstream summary(out / "summary.json");
+  EXPECT_EQ(nlohmann::json::parse(summary)["monitored_block"].get<int>(), crown);
+  EXPECT_TRUE(history(out).count("block" + std::to_string(crown) + "_dz_m"));
+}
+
+}  // namespace
+}  // namespace ishibashi
