@@ -221,9 +221,15 @@ void ContactLaw::run_chunk(int k) {
       if (!bonded && un >= 0) {
         // Open: no spring, no dashpot. A bond that broke just now releases its springs'
         // energy; a dry joint's shear spring slips free (a dry gap stores nothing).
-        if (c.flags[i] & SubContactFlag::bonded)
-          bond_j += 0.5 * (en * un + es.dot(us));
-        else
+        // A brittle bond releases the mean of its springs' energy before this step and
+        // now, as the elastic energy is reported: the mean over two poses (World::step).
+        // The balance then closes to second order in dt; the energy now alone left half
+        // the last step's change of it out (first order). A softening bond has released
+        // all but a vanishing rest on its way (soften_bond).
+        if (c.flags[i] & SubContactFlag::bonded) {
+          const double now = 0.5 * (en * un + es.dot(us)), un_before = c.normal_stretch_m[i];
+          bond_j += law.bond_softens() ? now : 0.5 * now + 0.25 * (k.kn * un_before * un_before + k.ks * us_old2);
+        } else
           friction_j += 0.5 * k.ks * us_old2;
         un = 0;
         us = Vec3::Zero();

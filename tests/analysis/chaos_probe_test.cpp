@@ -49,6 +49,7 @@ fs::path sliding_block_scenario() {
   const fs::path scenario = tmp_dir() / "probe_sliding.toml";
   std::ofstream(scenario) << "[model]\nfile = \"" << model.string() << "\"\n"
                           << "[run]\nsettle_max_s = 0.1\nduration_s = 0.9\noutput_interval_s = 0.02\nthreads = 1\n"
+                          << "dt_s = 2.5e-5\n"  // (0.7 of the stability limit) divides the frames and the settling's checks
                           << "[ground_motion]\nbaseline_correction = false\n"
                           << "x = { file = \"" << record.string() << "\", format = \"columns\", unit = \"g\", dt_s = 0.01 }\n";
   return scenario;
@@ -65,6 +66,9 @@ TEST(ChaosProbe, BlockSlidingToRestKeepsItsMembersTogether) {
   const nlohmann::json probe = nlohmann::json::parse(text_of(out / "probe.json"));
   ASSERT_EQ(probe["finished"].get<int>(), 3) << printed;
   EXPECT_NEAR(probe["branch_shaking_s"].get<double>(), 0.1, 1e-12);
+  // The branch stops at its frame at 0.1 s of shaking (frames 0.02 s apart, on the step's
+  // multiples: settling ends at a check, 0.05 s), not at the next.
+  EXPECT_NEAR(nlohmann::json::parse(text_of(out / "branch" / "summary.json"))["shaking_time_s"].get<double>(), 0.1, 1e-9);
   const PositionSeries reference = read_positions(out / "member_000" / "positions.bin");
   ASSERT_GT(reference.time_s.size(), 40u);
   ASSERT_EQ(reference.blocks, 2u);
