@@ -6,6 +6,7 @@
 
 #include <cmath>
 #include <fstream>
+#include <iterator>
 #include <map>
 #include <sstream>
 #include <vector>
@@ -13,6 +14,7 @@
 #include <nlohmann/json.hpp>
 
 #include "analysis/model/compile_model.h"
+#include "analysis/run/run_recorder.h"
 #include "analysis/run/seismic_run.h"
 #include "command_line.h"
 #include "geometry/bridge.h"
@@ -213,6 +215,58 @@ TEST(RunMeasures, ABondPulledByTheGroundOpensWhenItsTensionReachesTheStrength) {
   EXPECT_NEAR(r.first_opening_s, opens_s, 0.005);
   EXPECT_GT(r.bond_utilisation_peak, 0.95);
   EXPECT_LE(r.bond_utilisation_peak, 1.0);
+}
+
+// A run asked for a checkpoint every 0.02 s of simulated time, its frames 0.01 s apart,
+// writes one at every other frame (the frames are where it may), counted by the file's
+// changes between the frames' callbacks (each called before its frame's checkpoint).
+TEST(RunMeasures, ACheckpointIsWrittenEveryCheckpointIntervalOfSimulatedTime) {
+  const auto dir = test::tmp_dir() / "ishibashi_checkpoint_cadence";
+  std::filesystem::create_directories(dir);
+  test::box_off_file(dir / "stone.off", {1.5, 1.5, 0.5}, {1, 1, 0.3});
+  test::box_off_file(dir / "slab.off", {0, 0, 0}, {4, 4, 0.5});
+  const std::string model = "[import]\nfiles = [\"" + (dir / "stone.off").string() + "\"]\nfixed_files = [\"" +
+                            (dir / "slab.off").string() + "\"]\n";
+  const std::string run = "[run]\nthreads = 1\nsettle_max_s = 0.1\nduration_s = 0.1\noutput_interval_s = 0.01\n";
+  const Scenario sc = scene(dir, model, run, std::vector<double>(200, 0.0));
+  SeismicRunOptions options;
+  options.out = dir / "out";
+  options.checkpoint_every_s = 0.02;
+  std::string last;
+  int frames = 0, written = 0;
+  options.on_frame = [&](const State&, double) {
+    ++frames;
+    std::ifstream in(options.out / "checkpoint.bin", std::ios::binary);
+    const std::string now((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    written += !last.empty() && now != last;
+    last = now;
+  };
+  std::filesystem::remove_all(options.out);
+  SeismicRun(sc, options).run();
+  EXPECT_EQ(frames, 10);
+  // Settling's last checkpoint at 0.04 s (it rests at 0.05 s), then after the 1st, 3rd,
+  // 5th, 7th and 9th frames of shaking, each seen at the next frame's callback.
+  EXPECT_EQ(written, 5);
+}
+
+// README ("the bridge has collapsed when a ring stone fell or more than 5 % of the blocks
+// did"): of a model of 100 blocks, one ring stone is a collapse, five other stones are not,
+// six are.
+TEST(RunMeasures, ABridgeCollapsesWhenARingStoneOrMoreThanOneBlockInTwentyFalls) {
+  Model m;
+  m.block_count = 100;
+  auto collapse = [&](int fallen, int fallen_ring) {
+    RunCounts c;
+    c.fallen = fallen;
+    c.fallen_ring = fallen_ring;
+    SeismicRunResult r;
+    take_counts(m, c, r);
+    return r.collapse;
+  };
+  EXPECT_TRUE(collapse(1, 1));
+  EXPECT_FALSE(collapse(5, 0));
+  EXPECT_TRUE(collapse(6, 0));
+  EXPECT_FALSE(collapse(0, 0));
 }
 
 // A bridge's run monitors its crown unit (the highest ring stone) unless the scenario names
