@@ -18,6 +18,7 @@
 #include "analysis/run/seismic_run.h"
 #include "command_line.h"
 #include "geometry/bridge.h"
+#include "scenes.h"
 
 namespace ishibashi {
 namespace {
@@ -267,6 +268,26 @@ TEST(RunMeasures, ABridgeCollapsesWhenARingStoneOrMoreThanOneBlockInTwentyFalls)
   EXPECT_FALSE(collapse(5, 0));
   EXPECT_TRUE(collapse(6, 0));
   EXPECT_FALSE(collapse(0, 0));
+}
+
+// A stone has fallen when it dropped more than its size (is_fallen); the ring's fallen
+// stones are those of the ring alone: a wall stone that drops 2 m is one fallen stone and
+// no ring stone, and the ring stone beside it, dropped too, makes one of each.
+TEST(RunMeasures, FallenRingStonesAreTheRingsAlone) {
+  const Polyhedron ring_stone = make_box(Vec3(0, 0, 5), Vec3(1, 1, 1)), wall_stone = make_box(Vec3(3, 0, 5), Vec3(1, 1, 1));
+  Model m = test::stones_model({{&ring_stone, Motion::free}, {&wall_stone, Motion::free}});
+  m.block_tag[0].part = static_cast<int>(Part::ring);
+  m.block_tag[1].part = static_cast<int>(Part::wall);
+  State s = make_initial_state(m);
+  Joints joints;
+  s.position[1].z() -= 2;
+  RunCounts c = count_damage(m, s, JointThresholds(), joints);
+  EXPECT_EQ(c.fallen, 1);
+  EXPECT_EQ(c.fallen_ring, 0);
+  s.position[0].z() -= 2;
+  c = count_damage(m, s, JointThresholds(), joints);
+  EXPECT_EQ(c.fallen, 2);
+  EXPECT_EQ(c.fallen_ring, 1);
 }
 
 // A bridge's run monitors its crown unit (the highest ring stone) unless the scenario names
