@@ -192,6 +192,8 @@ TEST(RunMeasures, AStoneRidingTheGroundUpAndDownNeitherDropsNorMovesAgainstIt) {
   EXPECT_GT(sag, 0);
   EXPECT_LT(sag, 1e-6);
   EXPECT_LT(r.largest_crown_drop_m, sag);
+  std::ifstream summary(dir / "out" / "summary.json");
+  EXPECT_EQ(nlohmann::json::parse(summary)["mean_team_size"].get<double>(), 1.0) << "threads = 1: one thread every step";
 }
 
 // A stone bonded on a slab (0.3 m thick: 600 kg/m^2 of its joint) whose ground drops ever
