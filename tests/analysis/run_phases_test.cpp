@@ -45,6 +45,15 @@ Scenario scene(const std::filesystem::path& dir, const std::string& model_lines,
   return read_scenario(dir / "scene.toml");
 }
 
+// The [import] table of a 1 x 1 x 0.3 m stone (block 0) from z = stone_z and a fixed
+// 4 x 4 x 0.5 m slab under (or over) it from z = slab_z (m), their OFF files in `dir`.
+std::string stone_and_slab(const std::filesystem::path& dir, double stone_z = 0.5, double slab_z = 0) {
+  std::filesystem::create_directories(dir);
+  test::box_off_file(dir / "stone.off", {1.5, 1.5, stone_z}, {1, 1, 0.3});
+  test::box_off_file(dir / "slab.off", {0, 0, slab_z}, {4, 4, 0.5});
+  return "[import]\nfiles = [\"" + (dir / "stone.off").string() + "\"]\nfixed_files = [\"" + (dir / "slab.off").string() + "\"]\n";
+}
+
 SeismicRunResult run_into(const std::filesystem::path& out, const Scenario& sc) {
   std::filesystem::remove_all(out);
   SeismicRunOptions options;
@@ -132,11 +141,7 @@ TEST(Settling, BondsThatBreakWhileSettlingAreCounted) {
 // as its springs' energy at the step it broke, the error only halved (29 %, 12 %, 6.3 %).
 TEST(Settling, ABrittleBondsBreakClosesTheEnergyBalanceToSecondOrderInDt) {
   const auto dir = test::tmp_dir() / "ishibashi_hung_stone";
-  std::filesystem::create_directories(dir);
-  test::box_off_file(dir / "stone.off", {1.5, 1.5, 0.7}, {1, 1, 0.3});
-  test::box_off_file(dir / "slab.off", {0, 0, 1.0}, {4, 4, 0.5});
-  const std::string model = "[import]\nfiles = [\"" + (dir / "stone.off").string() + "\"]\nfixed_files = [\"" +
-                            (dir / "slab.off").string() + "\"]\n";
+  const std::string model = stone_and_slab(dir, 0.7, 1.0);
   const std::string run = "mortar_pa = 9000\nmortar_bonds = \"initial\"\n[run]\nthreads = 1\nsettle_max_s = 0.01\nduration_s = 0.002\n";
   const Scenario sc = scene(dir, model, run, {0, 0, 0, 0}, "x", "damping_normal = 0\ndamping_shear = 0\n");
   std::vector<double> error;
@@ -161,11 +166,7 @@ TEST(Settling, ABrittleBondsBreakClosesTheEnergyBalanceToSecondOrderInDt) {
 // ground in history.csv stay within its springs' give, a fraction of a micrometre.
 TEST(RunMeasures, AStoneRidingTheGroundUpAndDownNeitherDropsNorMovesAgainstIt) {
   const auto dir = test::tmp_dir() / "ishibashi_riding";
-  std::filesystem::create_directories(dir);
-  test::box_off_file(dir / "stone.off", {1.5, 1.5, 0.5}, {1, 1, 0.3});
-  test::box_off_file(dir / "slab.off", {0, 0, 0}, {4, 4, 0.5});
-  const std::string model = "[import]\nfiles = [\"" + (dir / "stone.off").string() + "\"]\nfixed_files = [\"" +
-                            (dir / "slab.off").string() + "\"]\n";
+  const std::string model = stone_and_slab(dir);
   const double a0 = 0.5 * kG, w = 4 * M_PI;
   std::vector<double> record;
   for (int k = 0; k <= 500; ++k) record.push_back(-0.5 * std::sin(w * k * 1e-3));
@@ -204,11 +205,7 @@ TEST(RunMeasures, AStoneRidingTheGroundUpAndDownNeitherDropsNorMovesAgainstIt) {
 // between its looks), and the bond's utilisation reached 1 by then.
 TEST(RunMeasures, ABondPulledByTheGroundOpensWhenItsTensionReachesTheStrength) {
   const auto dir = test::tmp_dir() / "ishibashi_pulled_bond";
-  std::filesystem::create_directories(dir);
-  test::box_off_file(dir / "stone.off", {1.5, 1.5, 0.5}, {1, 1, 0.3});
-  test::box_off_file(dir / "slab.off", {0, 0, 0}, {4, 4, 0.5});
-  const std::string model = "[import]\nfiles = [\"" + (dir / "stone.off").string() + "\"]\nfixed_files = [\"" +
-                            (dir / "slab.off").string() + "\"]\n";
+  const std::string model = stone_and_slab(dir);
   std::vector<double> record;
   for (int k = 0; k <= 600; ++k) record.push_back(-5.0 * k * 1e-3);
   const std::string run = "mortar_pa = 6000\n[run]\nthreads = 1\nsettle_max_s = 0.1\nduration_s = 0.6\n";
@@ -225,11 +222,7 @@ TEST(RunMeasures, ABondPulledByTheGroundOpensWhenItsTensionReachesTheStrength) {
 // changes between the frames' callbacks (each called before its frame's checkpoint).
 TEST(RunMeasures, ACheckpointIsWrittenEveryCheckpointIntervalOfSimulatedTime) {
   const auto dir = test::tmp_dir() / "ishibashi_checkpoint_cadence";
-  std::filesystem::create_directories(dir);
-  test::box_off_file(dir / "stone.off", {1.5, 1.5, 0.5}, {1, 1, 0.3});
-  test::box_off_file(dir / "slab.off", {0, 0, 0}, {4, 4, 0.5});
-  const std::string model = "[import]\nfiles = [\"" + (dir / "stone.off").string() + "\"]\nfixed_files = [\"" +
-                            (dir / "slab.off").string() + "\"]\n";
+  const std::string model = stone_and_slab(dir);
   const std::string run = "[run]\nthreads = 1\nsettle_max_s = 0.1\nduration_s = 0.1\noutput_interval_s = 0.01\n";
   const Scenario sc = scene(dir, model, run, std::vector<double>(200, 0.0));
   SeismicRunOptions options;
