@@ -107,7 +107,8 @@ nlohmann::ordered_json how_it_fails(const Model& m, const FallRecord& falls, con
 // plane, 190 toward -y) and 48 fell along the span (in plane, 28 toward -x)"; then, for a
 // model with a ring, "; ring hinges from 4.20 s of shaking, at most 5 at once (at -85, -55, 0,
 // 55 and 85 degrees from the crown, 4.40 s of shaking) before its first stone fell" or
-// "; no ring joint hinged".
+// "; no ring joint hinged". A part's side is named where four in five of its fallen stones
+// or more (at least two) stood on it.
 std::string how_it_fails_text(const nlohmann::ordered_json& how);
 
 // A run's failure in a few words, from a summary's how_it_fails (its "parts" and "toward"):

@@ -17,6 +17,7 @@
 #include "analysis/run/run_recorder.h"
 #include "analysis/run/seismic_run.h"
 #include "command_line.h"
+#include "run_scenes.h"
 #include "geometry/bridge.h"
 #include "scenes.h"
 
@@ -26,55 +27,10 @@ namespace {
 const std::filesystem::path kRoot = ISHIBASHI_SOURCE_DIR;
 constexpr double kG = 9.80665;  // m/s^2
 
-// A scene in `dir`: a model of 1 x 1 x 0.3 m stones of 2,000 kg/m^3 (600 kg each) and fixed
-// boxes (`model_lines`: its [import] table; `stone_lines`: more of the stone's [stone] keys),
-// shaken along `axis` by `record` (g, samples 1 ms apart); `run_lines` follow the scenario's
-// [model] file line: its other keys, then [run].
-Scenario scene(const std::filesystem::path& dir, const std::string& model_lines, const std::string& run_lines,
-               const std::vector<double>& record, const char* axis = "x", const std::string& stone_lines = "") {
-  std::filesystem::create_directories(dir);
-  std::ofstream(dir / "model.toml") << model_lines << "[stone]\ndensity_kg_m3 = 2000\n" << stone_lines;
-  std::ofstream samples(dir / "record.txt");
-  samples.precision(17);
-  for (double a : record) samples << a << '\n';
-  samples.close();
-  std::ofstream(dir / "scene.toml") << "[model]\nfile = \"" << (dir / "model.toml").string() << "\"\n"
-                                    << run_lines << "[ground_motion]\nbaseline_correction = false\n"
-                                    << axis << " = { file = \"" << (dir / "record.txt").string()
-                                    << "\", format = \"columns\", unit = \"g\", dt_s = 0.001 }\n";
-  return read_scenario(dir / "scene.toml");
-}
-
-// The [import] table of a 1 x 1 x 0.3 m stone (block 0) from z = stone_z and a fixed
-// 4 x 4 x 0.5 m slab under (or over) it from z = slab_z (m), their OFF files in `dir`.
-std::string stone_and_slab(const std::filesystem::path& dir, double stone_z = 0.5, double slab_z = 0) {
-  std::filesystem::create_directories(dir);
-  test::box_off_file(dir / "stone.off", {1.5, 1.5, stone_z}, {1, 1, 0.3});
-  test::box_off_file(dir / "slab.off", {0, 0, slab_z}, {4, 4, 0.5});
-  return "[import]\nfiles = [\"" + (dir / "stone.off").string() + "\"]\nfixed_files = [\"" + (dir / "slab.off").string() + "\"]\n";
-}
-
-SeismicRunResult run_into(const std::filesystem::path& out, const Scenario& sc) {
-  std::filesystem::remove_all(out);
-  SeismicRunOptions options;
-  options.out = out;
-  return SeismicRun(sc, options).run();
-}
-
-// history.csv's rows as columns by name.
-std::map<std::string, std::vector<std::string>> history(const std::filesystem::path& out) {
-  std::ifstream in(out / "history.csv");
-  std::string line, cell;
-  std::getline(in, line);
-  std::vector<std::string> names;
-  for (std::stringstream header(line); std::getline(header, cell, ',');) names.push_back(cell);
-  std::map<std::string, std::vector<std::string>> columns;
-  while (std::getline(in, line)) {
-    std::size_t k = 0;
-    for (std::stringstream row(line); std::getline(row, cell, ',');) columns[names.at(k++)].push_back(cell);
-  }
-  return columns;
-}
+using test::history;
+using test::run_into;
+using test::scene;
+using test::stone_and_slab;
 
 // A lone stone in free fall (no other block: dt given) has the kinetic energy m (g t)^2 / 2
 // after t seconds: 71.9 J at 0.05 s, 289 J at 0.1 s. Rest is judged every 0.05 s, not at

@@ -7,6 +7,7 @@
 #include <cmath>
 #include <cstdlib>
 #include <fstream>
+#include <sstream>
 
 #include "io/ground_motion.h"
 
@@ -131,17 +132,25 @@ TEST(GroundMotion, ColumnsOfSeveralComponentsReadOneAtATime) {
   EXPECT_THAT(later, ::testing::Not(HasSubstr("header")));
 }
 
-// x: a 2 Hz sine of 1 m/s^2 plus `offset_m_s2`, 2 s (four periods) sampled at 0.01 s.
-GroundMotionSpec sine_spec(double offset_m_s2, bool baseline_correction) {
-  std::string text;
-  for (int i = 0; i <= 200; ++i) text += std::to_string(offset_m_s2 + std::sin(2 * M_PI * 2.0 * i * 0.01)) + "\n";
-  GroundMotionSpec spec;
+// A one-column file of `values` (m/s^2) sampled every `dt_s`, as a motion's component.
+ComponentSpec column_component(const std::string& name, const std::vector<double>& values, double dt_s) {
+  std::ostringstream text;
+  text.precision(17);
+  for (double v : values) text << v << "\n";
   ComponentSpec cs;
-  cs.file = write("gm_sine.txt", text);
+  cs.file = write(name, text.str());
   cs.format = "columns";
   cs.unit = AccelerationUnit::m_s2;
-  cs.layout.dt_s = 0.01;
-  spec.component[0] = cs;
+  cs.layout.dt_s = dt_s;
+  return cs;
+}
+
+// x: a 2 Hz sine of 1 m/s^2 plus `offset_m_s2`, 2 s (four periods) sampled at 0.01 s.
+GroundMotionSpec sine_spec(double offset_m_s2, bool baseline_correction) {
+  std::vector<double> values;
+  for (int i = 0; i <= 200; ++i) values.push_back(offset_m_s2 + std::sin(2 * M_PI * 2.0 * i * 0.01));
+  GroundMotionSpec spec;
+  spec.component[0] = column_component("gm_sine.txt", values, 0.01);
   spec.baseline_correction = baseline_correction;
   return spec;
 }
@@ -173,6 +182,87 @@ TEST(GroundMotion, BaselineCorrectionRemovesAConstantOffset) {
   // Without the correction the offset stays (what the check above must catch).
   const GroundMotion raw = prepare_ground_motion(sine_spec(0.3, false), 1e-3);
   EXPECT_NEAR(raw.velocity_m_s[2000].x(), 0.3 * 2.0, 0.01);
+}
+
+// Motions whose integrals the stream must reproduce to rounding: a constant acceleration
+// and a ramp, both exactly linear between samples, resampled to a step that never meets
+// the samples (0.1 s / 0.003 s is not whole).
+TEST(GroundMotion, ConstantAndRampAccelerationsIntegrateExactly) {
+  const double dt = 0.003;
+  GroundMotionSpec constant;
+  constant.component[0] = column_component("gm_constant.txt", std::vector<double>(11, 2.0), 0.1);
+  constant.baseline_correction = false;
+  const GroundMotion c = prepare_ground_motion(constant, dt);
+  ASSERT_EQ(c.accel_m_s2.size(), 334u);  // floor(1 s / 0.003 s) steps, and the start
+  for (std::size_t k = 0; k < c.accel_m_s2.size(); ++k) {
+    const double t = k * dt;
+    EXPECT_NEAR(c.velocity_m_s[k].x(), 2.0 * t, 1e-12) << t;
+    EXPECT_NEAR(c.displacement_m[k].x(), t * t, 1e-12) << t;  // a t^2 / 2: the trapezoid's, not t (t + dt)
+  }
+  std::vector<double> ramp;  // a = t m/s^2, sampled every 0.1 s
+  for (int i = 0; i <= 10; ++i) ramp.push_back(0.1 * i);
+  GroundMotionSpec rising;
+  rising.component[1] = column_component("gm_ramp.txt", ramp, 0.1);
+  rising.baseline_correction = false;
+  const GroundMotion r = prepare_ground_motion(rising, dt);
+  for (std::size_t k = 0; k < r.accel_m_s2.size(); ++k) {
+    const double t = k * dt;
+    EXPECT_NEAR(r.accel_m_s2[k].y(), t, 1e-12) << t;  // between the samples, not the sample before
+    EXPECT_NEAR(r.velocity_m_s[k].y(), t * t / 2, 1e-12) << t;
+    EXPECT_EQ(r.accel_m_s2[k].x(), 0.0);
+  }
+}
+
+// The header's peaks and the PGA a sweep scales to: magnitudes, whichever way the ground
+// moves, and the PGA is the larger horizontal one, never the vertical.
+TEST(GroundMotion, PeaksAreMagnitudesAndThePgaIsTheLargerHorizontalOne) {
+  GroundMotionSpec spec;
+  spec.component[0] = column_component("gm_peak_x.txt", std::vector<double>(11, 2.0), 0.1);
+  spec.component[1] = column_component("gm_peak_y.txt", std::vector<double>(11, -3.0), 0.1);
+  spec.component[2] = column_component("gm_peak_z.txt", std::vector<double>(11, 5.0), 0.1);
+  spec.baseline_correction = false;
+  const GroundMotionPeaks p = ground_motion_peaks(spec);
+  // 1 s of constant acceleration a: |v| = |a| t and |d| = |a| t^2 / 2 at its end (to a step of 5 ms).
+  EXPECT_NEAR(p.accel_m_s2.y(), 3.0, 1e-12);
+  EXPECT_NEAR(p.velocity_m_s.y(), 3.0, 3.0 * 0.0051);
+  EXPECT_NEAR(p.displacement_m.y(), 1.5, 3.0 * 0.0051);
+  EXPECT_NEAR(p.velocity_m_s.x(), 2.0, 2.0 * 0.0051);
+  EXPECT_NEAR(horizontal_pga_m_s2(spec), 3.0, 1e-12);
+  std::swap(spec.component[0], spec.component[1]);
+  EXPECT_NEAR(horizontal_pga_m_s2(spec), 3.0, 1e-12);
+}
+
+TEST(GroundMotion, AStartAtTheRecordsEndIsRefused) {
+  GroundMotionSpec spec;
+  spec.component[0] = column_component("gm_start.txt", std::vector<double>(11, 1.0), 0.1);  // 1 s long
+  spec.start_s = 1.0;
+  EXPECT_THAT(error_of([&] { GroundMotionStream(spec, 0.003); }), HasSubstr("start_s = 1 s"));
+  EXPECT_THAT(error_of([&] { GroundMotionStream(spec, 0.003); }), HasSubstr("it must lie in [0, 1) s"));
+  spec.start_s = 0.99;
+  EXPECT_EQ(GroundMotionStream(spec, 0.003).steps(), 3);  // floor(0.01 s / 0.003 s)
+}
+
+// What the readers' headers say is what they read: AT2 in cm/s^2, any K-NET sampling rate,
+// exactly NPTS values, and a time column's steps.
+TEST(GroundMotion, HeadersUnitsRatesCountsAndTimesAreTheRecords) {
+  const std::string peer = "PEER\nevent\nACCELERATION TIME SERIES IN UNITS OF ";
+  const Record gal = read_at2(write("gm_gal.AT2", peer + "CM/S/S\nNPTS = 2, DT = .01 SEC\n 100 -50\n"));
+  EXPECT_DOUBLE_EQ(gal.accel_m_s2[0], 1.0);
+  EXPECT_DOUBLE_EQ(gal.accel_m_s2[1], -0.5);
+  EXPECT_THAT(error_of([&] { read_at2(write("gm_ft.AT2", peer + "FT/S/S\nNPTS = 2, DT = .01 SEC\n 1 2\n")); }),
+              HasSubstr("gm_ft.AT2:3: unknown acceleration units (expected 'UNITS OF G' or 'CM/S/S')"));
+  EXPECT_THAT(error_of([&] { read_at2(write("gm_more.AT2", peer + "G\nNPTS = 2, DT = .01 SEC\n 1 2 3\n")); }),
+              HasSubstr("NPTS = 2 but the file holds 3 values"));
+  for (const double hz : {200.0, 50.0}) {
+    const Record k = read_knet(write("gm_rate.knet", "Sampling Freq(Hz) " + std::to_string(int(hz)) +
+                                                         "Hz\nScale Factor 7845(gal)/8223790\nMemo.\n 1 2\n"));
+    EXPECT_DOUBLE_EQ(k.dt_s, 1.0 / hz);
+  }
+  // Times uneven by half a per cent of the step are refused (resampled as uniform, the record
+  // would shift); decimal times' rounding (0.1 + 0.2 is not 0.3) is not.
+  EXPECT_THAT(error_of([&] { read_columns(write("gm_jitter.csv", "0,1\n0.01,2\n0.02005,3\n"), AccelerationUnit::gal); }),
+              HasSubstr("time steps are not uniform (near t = 0.020050 s)"));
+  EXPECT_EQ(read_columns(write("gm_decimal.csv", "0.1,1\n0.2,2\n0.3,3\n0.4,4\n"), AccelerationUnit::gal).accel_m_s2.size(), 4u);
 }
 
 GroundMotionSpec kobe_spec(double start_s, double duration_s) {
