@@ -44,6 +44,20 @@ TEST(ArchRing, VolumeEqualsTheAnnularSectorMinusChordLosses) {
   EXPECT_EQ(ring.size(), static_cast<std::size_t>(along * 5));
 }
 
+// Without a voussoir count, the ring has the nearest whole number of stones of stone_m
+// along its arc at mid-thickness, and across its width: 3.0 m / 0.64 m = 4.7, five across.
+TEST(ArchRing, StonesAlongAndAcrossAreTheNearestWholeNumbersOfStoneLengths) {
+  ArchRingSpec spec;
+  spec.width_m = 3.0;
+  const auto ring = make_arch_ring(spec);
+  const double half = spec.span_m / 2, r_in = (half * half + spec.rise_m * spec.rise_m) / (2 * spec.rise_m);
+  const long along = std::lround(2 * std::asin(half / r_in) * (r_in + spec.thickness_m / 2) / spec.stone_m);  // 27
+  int most_along = 0;
+  for (const Voussoir& v : ring) most_along = std::max(most_along, v.ring_index + 1);
+  EXPECT_EQ(most_along, along);
+  EXPECT_EQ(ring.size(), static_cast<std::size_t>(along * 5));
+}
+
 TEST(ArchRing, ImpossibleParametersAreClearErrors) {
   using ::testing::HasSubstr;
   auto error = [](ArchRingSpec s) {
