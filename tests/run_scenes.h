@@ -14,6 +14,8 @@
 
 namespace ishibashi::test {
 
+constexpr double kG = 9.80665;  // standard gravity, m/s^2
+
 // A scene in `dir`: a model of 1 x 1 x 0.3 m stones of 2,000 kg/m^3 (600 kg each) and fixed
 // boxes (`model_lines`: its [import] table; `stone_lines`: more of the stone's [stone] keys),
 // shaken along `axis` by `record` (g, samples 1 ms apart); `run_lines` follow the scenario's

@@ -25,7 +25,7 @@ namespace ishibashi {
 namespace {
 
 const std::filesystem::path kRoot = ISHIBASHI_SOURCE_DIR;
-constexpr double kG = 9.80665;  // m/s^2
+using test::kG;
 
 using test::history;
 using test::run_into;

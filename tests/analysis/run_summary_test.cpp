@@ -13,15 +13,16 @@
 namespace ishibashi {
 namespace {
 
-constexpr double kG = 9.80665;  // m/s^2
+using test::kG;
 
 // A beam (2.5 x 1 x 0.3 m) lies across two fixed pillars; a 0.5 m cube (250 kg) hangs under
 // its middle, touching it, on rod 1 (0.2 m long), whose yield force is half the cube's
-// weight; a stone rests on the beam, tied to it by rod 2, which stays slack. Rod 1 stretches elastically while the
-// cube falls at g, x = (g / w^2)(1 - cos w t) with w^2 = k / m, until its tension reaches
-// F_y = k x at w t1 = pi / 3 (cos = 1 - F_y / m g = 1/2), the cube then at v1 = (g / w)
-// sin(pi / 3); from there the rod pulls F_y and lengthens for good while the cube falls at
-// g - F_y / m: its plastic elongation after t is v1 (t - t1) + (g / 4)(t - t1)^2.
+// weight; a stone rests on the beam, tied to it by rod 2, which stays slack. Rod 1
+// stretches elastically while the cube falls at g, x = (g / w^2)(1 - cos w t) with
+// w^2 = k / m, until its tension reaches F_y = k x at w t1 = pi / 3 (cos = 1 - F_y / m g
+// = 1/2), the cube then at v1 = (g / w) sin(pi / 3); from there the rod pulls F_y and
+// lengthens for good while the cube falls at g - F_y / m: its plastic elongation after t
+// is v1 (t - t1) + (g / 4)(t - t1)^2.
 TEST(RunSummary, ATieRodsLargestPlasticElongationIsTheYieldingRodsClosedForm) {
   const auto dir = test::tmp_dir() / "ishibashi_summary_ties";
   std::filesystem::remove_all(dir);

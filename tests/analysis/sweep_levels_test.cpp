@@ -15,7 +15,7 @@
 namespace ishibashi {
 namespace {
 
-constexpr double kG = 9.80665;  // m/s^2
+using test::kG;
 
 // A stone on a slab under accelerations held constant: x at 0.1 g, y at -0.15 g (the larger
 // horizontal peak: a magnitude) and z at 0.5 g (vertical: not counted). Swept at 0.3 g, the
