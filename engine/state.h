@@ -52,6 +52,8 @@ enum SubContactFlag : std::uint8_t {
   /* e_s = K_s u_s (in the contact plane).                                                             */ \
   X(double, normal_stretch_m, "u_n")                                                                     \
   X(Vec3, shear_stretch_m, "u_s")                                                                        \
+  /* Read only by the energy balance; after a re-clip, the pair's old dashpots' power                  */ \
+  /* at this step's velocities, shared along its new points' (contact_history.cpp).                    */ \
   X(Vec3, damping_force_n, "dashpot part of the force on b (for the energy balance)")                    \
   X(double, slip_m, "accumulated sliding (plastic shear displacement)")                                  \
   X(double, bond_damage, "softening bond: share of its strength lost, 0-1 (fracture work / G_f S_i)")   \

@@ -73,8 +73,8 @@ nlohmann::json run(const fs::path& scenario, const fs::path& out, const std::str
 }
 
 // At a quarter of the step: the block's impact on the slab (about 4.5 m/s, a corner first)
-// then misses the energy balance by 0.6 % of the energy exchanged (2.9 % at the whole step,
-// 1.3 % at half: halving with dt, as README says of dropped stones).
+// then misses the energy balance by 0.7 % of the energy exchanged (2.8 % at the whole step,
+// 1.4 % at half: halving with dt; README, "Energy", the open note).
 nlohmann::json tip(const std::string& name, char axis, double g_share) {
   const fs::path scenario = tip_scenario(name, axis, g_share);
   return run(scenario, scenario.parent_path() / "out", " --dt-factor 0.25");
