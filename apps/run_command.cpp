@@ -297,10 +297,14 @@ int run_scenario(const RunOptions& o) {
               crown, r.first_opening_s < 0 ? "none" : (std::to_string(r.first_opening_s) + " s").c_str());
   // A bridge that stands with its ring hinged came near a mechanism: say where, as for a collapse.
   if (r.fallen_stones > 0 || r.most_ring_hinges > 0) std::printf("how it fails: %s\n", how_it_fails_of(options.out).c_str());
-  std::printf("energy balance error %.3g %% of the energy exchanged\n", 100 * r.balance_error_relative);
+  std::printf("energy balance error %.3g %% of the energy exchanged; re-clipped contacts made %.3g %%\n",
+              100 * r.balance_error_relative, 100 * r.reclip_relative);
   if (std::abs(r.balance_error_relative) > kBalanceWarning)
     std::printf("warning: the energy balance misses by more than %.0f %%: a step too coarse for this run's impacts (try "
                 "--dt-factor 0.5 and compare), or a fault worth reporting\n", 100 * kBalanceWarning);
+  if (std::abs(r.reclip_relative) > kBalanceWarning)  // first order in dt (Energy::reclip_j)
+    std::printf("warning: contacts re-clipped during impacts made more than %.0f %% of the energy exchanged: a step too "
+                "coarse for this run's impacts (try --dt-factor 0.5 and compare)\n", 100 * kBalanceWarning);
   if (const long unconverged = run.world().state().profile.damping_unconverged; unconverged > 0)
     std::printf("warning: in %ld steps the implicit dashpots' solve stopped at its iteration limit before its tolerance; "
                 "a smaller dt (--dt) makes it converge\n", unconverged);

@@ -118,8 +118,8 @@ void edge_manifold(const Model& m, const State& s, const PairWorld& w, int a, in
 void update_in_place(State& s, const Pair& pair);
 // Writes the new manifold of a pair into `out` from index `first` (growing it when it is
 // too short), each point with the history (springs, bond, slip) of its match among the
-// pair's current sub-contacts.
-void append_rebuilt(const Model& m, const State& s, const Pair& pair, const Manifold& manifold, bool first_detection,
-                    double dt_s, SubContacts& out, std::size_t first);
+// pair's current sub-contacts. Returns the energy the re-clip makes (J, Energy::reclip_j).
+double append_rebuilt(const Model& m, const State& s, const Pair& pair, const Manifold& manifold, bool first_detection,
+                      double dt_s, SubContacts& out, std::size_t first);
 
 }  // namespace ishibashi

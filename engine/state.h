@@ -52,9 +52,7 @@ enum SubContactFlag : std::uint8_t {
   /* e_s = K_s u_s (in the contact plane).                                                             */ \
   X(double, normal_stretch_m, "u_n")                                                                     \
   X(Vec3, shear_stretch_m, "u_s")                                                                        \
-  /* Read only by the energy balance; after a re-clip, the pair's old dashpots' power                  */ \
-  /* at this step's velocities, shared along its new points' (contact_history.cpp).                    */ \
-  X(Vec3, damping_force_n, "dashpot part of the force on b (for the energy balance)")                    \
+  X(Vec3, damping_force_n, "dashpot part of the force on b, a re-clip's power carried (for the energy balance)") \
   X(double, slip_m, "accumulated sliding (plastic shear displacement)")                                  \
   X(double, bond_damage, "softening bond: share of its strength lost, 0-1 (fracture work / G_f S_i)")   \
   X(Vec3, incident_local, "face contacts: the point on the incident face, in the incident block's frame") \
@@ -153,8 +151,8 @@ struct Energy {
   double bond_j = 0.0;           // spring energy released when bonds broke
   double tie_yield_j = 0.0;      // dissipated by tie rods yielding (ties.cpp)
   double prescribed_work_j = 0.0;  // work done on the system by prescribed blocks so far
-  double left_model_j = 0.0;     // mechanical energy taken from blocks that left the model
-                                 // when they were frozen (Model::leave_depth_m; integrate.cpp)
+  double left_model_j = 0.0;     // mechanical energy taken from blocks that left the model when frozen (integrate.cpp)
+  double reclip_j = 0.0;         // made by re-clipped pairs' springs: the model's, first order in dt (contact_history.cpp)
   double initial_total_j = 0.0;  // mechanical energy at the first step
 
   double mechanical_j() const { return kinetic_j + gravitational_j + elastic_j; }
@@ -162,9 +160,9 @@ struct Energy {
   double exchanged_j() const {
     return std::abs(prescribed_work_j) + std::abs(damping_j) + std::abs(friction_j) + std::abs(bond_j) + std::abs(tie_yield_j);
   }
-  // (mechanical + dissipated - work in) - initial; zero for an exact integrator.
+  // (mechanical + dissipated - work in - made by re-clips) - initial; zero for an exact integrator.
   double balance_error_j() const {
-    return mechanical_j() + damping_j + friction_j + bond_j + tie_yield_j + left_model_j - prescribed_work_j - initial_total_j;
+    return mechanical_j() + damping_j + friction_j + bond_j + tie_yield_j + left_model_j - prescribed_work_j - reclip_j - initial_total_j;
   }
 };
 

@@ -148,7 +148,9 @@ def draw(folder, title):
     a.plot(t, [(number(r["gravitational_j"]) - potential0) / 1000 for r in shake], lw=0.9, label="gravitational (change, the ground's own sinking too)")
     # The tie rods' yielding, where a run's rods yielded (older runs have no such column).
     yielded = ("tie_yield_j",) if any(number(r.get("tie_yield_j") or 0) for r in shake) else ()
-    for term in ENERGY_TERMS + yielded:
+    # The energy re-clipped contacts made, where they made any (older runs have no such column).
+    reclipped = ("reclip_j",) if any(number(r.get("reclip_j") or 0) for r in shake) else ()
+    for term in ENERGY_TERMS + yielded + reclipped:
         a.plot(t, [number(r[term]) / 1000 for r in shake], lw=0.9, label=term[:-2].replace("_", " "))
     a.set_ylabel("energy [kJ]")
     a.set_title("energy (dissipated and ground work since the start; balance error: what the terms leave unexplained)",

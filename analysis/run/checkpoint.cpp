@@ -177,7 +177,8 @@ namespace {
 // 25: the ring's hinges until its first stone fell (how_it_fails.h, RingHinges) and the
 //     result's most_ring_hinges.
 // 26: the prescribed blocks' velocities for the step ahead (State::driven_velocity).
-constexpr char kCheckpointMagic[] = "ishibashi checkpoint 26\n";
+// 27: the energy made by re-clipped pairs' springs (Energy::reclip_j); the result's share.
+constexpr char kCheckpointMagic[] = "ishibashi checkpoint 27\n";
 
 template <class Archive, class H>
 void visit_header(Archive& a, H& h) {

@@ -84,6 +84,7 @@ const HistoryColumn kHistoryColumns[] = {
     {"tie_yield_j", [](const F& f) -> V { return f.e.tie_yield_j; }},
     {"left_model_j", [](const F& f) -> V { return f.e.left_model_j; }},
     {"ground_work_j", [](const F& f) -> V { return f.e.prescribed_work_j; }},  // the prescribed blocks' work
+    {"reclip_j", [](const F& f) -> V { return f.e.reclip_j; }},  // made by re-clips (Energy::reclip_j)
     {"balance_error_j", [](const F& f) -> V { return f.e.balance_error_j(); }},
     {"joints_open", [](const F& f) -> V { return (long long)f.c.joints.open; }},
     {"joints_cracked", [](const F& f) -> V { return (long long)f.c.joints.cracked; }},

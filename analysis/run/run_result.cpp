@@ -58,6 +58,8 @@ const std::vector<ResultColumn>& result_columns() {
       {"largest_crown_drop_m", [](const R& r) -> OutputValue { return r.largest_crown_drop_m; }},
       {"energy_balance_error_j", [](const R& r) -> OutputValue { return r.balance_error_j; }},
       {"energy_balance_error_relative", [](const R& r) -> OutputValue { return r.balance_error_relative; }},
+      {"energy_reclip_j", [](const R& r) -> OutputValue { return r.reclip_j; }},
+      {"energy_reclip_relative", [](const R& r) -> OutputValue { return r.reclip_relative; }},
       {"steps", [](const R& r) -> OutputValue { return (long long)r.steps; }},
       {"state_hash", [](const R& r) -> OutputValue { return hex(r.state_hash); }},
       {"motion_hash", [](const R& r) -> OutputValue { return hex(r.motion_hash); }},

@@ -33,6 +33,8 @@ namespace ishibashi {
   X(JointCounts, joint_counts, {})     /* at the end */                                                    \
   X(double, balance_error_j, 0)                                                                            \
   X(double, balance_error_relative, 0) /* of the energy exchanged */                                       \
+  X(double, reclip_j, 0)               /* made by re-clipped pairs' springs (Energy::reclip_j) */          \
+  X(double, reclip_relative, 0)        /* of the energy exchanged */                                       \
   X(long, steps, 0)                                                                                        \
   X(std::uint64_t, state_hash, 0)                                                                          \
   X(std::uint64_t, motion_hash, 0)     /* the blocks' part of state_hash (World::motion_hash) */         \

@@ -164,6 +164,7 @@ void SeismicRun::write_summary(Progress& p, bool finished) {
   r.shaking_time_s = p.shaking ? s.time_s - r.settle_time_s : 0;  // none while settling
   r.balance_error_j = e.balance_error_j();
   r.balance_error_relative = relative_balance_error(e);
+  r.reclip_j = e.reclip_j, r.reclip_relative = e.exchanged_j() > 0 ? e.reclip_j / e.exchanged_j() : 0.0;
   r.steps = s.step;
   r.state_hash = world_->state_hash();
   r.motion_hash = world_->motion_hash();
