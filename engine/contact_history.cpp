@@ -47,63 +47,50 @@ void update_in_place(State& s, const Pair& pair) {
   }
 }
 
-// The relative velocity of a pair's blocks (b against a) at a point, at this step's
-// velocities (m/s), with levers from the centroids of this pose or of the last one: the
-// last step's forces acted there (x moved by v dt since, integrate.cpp).
-class RelativeMotion {
- public:
-  RelativeMotion(const State& s, const Pair& pair, double dt_s)
-      : s_(s), a_(pair.a), b_(pair.b),
-        xa_before_(s.position[pair.a] - s.velocity[pair.a] * dt_s), xb_before_(s.position[pair.b] - s.velocity[pair.b] * dt_s) {}
-  Vec3 now(const Vec3& p) const { return at(p, s_.position[a_], s_.position[b_]); }
-  Vec3 last_pose(const Vec3& p) const { return at(p, xa_before_, xb_before_); }
-
- private:
-  Vec3 at(const Vec3& p, const Vec3& xa, const Vec3& xb) const {
-    return s_.velocity[b_] + s_.angular_velocity[b_].cross(p - xb) - s_.velocity[a_] - s_.angular_velocity[a_].cross(p - xa);
-  }
-  const State& s_;
-  int a_, b_;
-  Vec3 xa_before_, xb_before_;
-};
+// The relative velocity of a pair's blocks (b against a) at point p, at this step's pose
+// and velocities (m/s).
+Vec3 relative_velocity(const State& s, const Pair& pair, const Vec3& p) {
+  const int a = pair.a, b = pair.b;
+  return s.velocity[b] + s.angular_velocity[b].cross(p - s.position[b]) - s.velocity[a] - s.angular_velocity[a].cross(p - s.position[a]);
+}
 
 // Spring force of sub-contact i on b (N): -e_n n + e_s.
 Vec3 spring_force(const SubContacts& c, std::size_t i) { return -c.normal_spring(i) * c.normal[i] + c.shear_spring(i); }
 
-// Semi-implicit Euler changes the kinetic energy over a step by F . (v + v') dt / 2 for the
-// force F of the last pose, and the law books each force in two such halves (contact_law.cpp):
-// the springs' through their energy, K u^2 / 2 with u grown by this step's motion, the
-// dashpots' as this step's force and the last step's (SubContacts::damping_force_n), both at
-// this step's velocity. A re-clipped pair's old points are gone with their last forces,
-// so its new points take over that half of the dashpots' work as a whole: the power of the
-// old forces at this step's velocities, each at its point with the levers where it acted,
-// shared among the new points along their relative velocities. (Passing each old force on
-// to its nearest new point booked another power.) Only the balance reads the field.
-void carry_dashpot_power(const SubContacts& old, const Pair& pair, const RelativeMotion& motion, SubContacts& out,
-                         std::size_t first, std::size_t last) {
+// The law books each force's work over two steps (contact_law.cpp), as semi-implicit Euler
+// changes the kinetic energy, F . (v + v') dt / 2: the dashpots' as this step's force and
+// the last step's (SubContacts::damping_force_n), both at this step's relative velocity at
+// the point; the springs' through their energy, K u^2 / 2 with u grown by this step's
+// motion. A re-clipped pair's old points are gone with their last forces, so its new
+// points take over the dashpots' half as a whole: the power the old forces would have had
+// at this step's velocities, shared among the new points along their relative
+// velocities. (Passing each old force on to its nearest new point booked another power.)
+// Only the balance reads the field.
+void carry_dashpot_power(const State& s, const Pair& pair, SubContacts& out, std::size_t first, std::size_t last) {
+  const SubContacts& old = s.contacts;
   double power = 0;  // W
   for (int q = pair.sub_begin; q < pair.sub_begin + pair.sub_count; ++q)
-    if (old.damping_force_n[q] != Vec3::Zero()) power += old.damping_force_n[q].dot(motion.last_pose(old.point[q]));
+    if (old.damping_force_n[q] != Vec3::Zero()) power += old.damping_force_n[q].dot(relative_velocity(s, pair, old.point[q]));
   double speed2 = 0;  // (m/s)^2
   for (std::size_t j = first; j < last; ++j) {
     out.damping_force_n[j] = Vec3::Zero();
-    speed2 += motion.now(out.point[j]).squaredNorm();
+    speed2 += relative_velocity(s, pair, out.point[j]).squaredNorm();
   }
   if (power == 0 || !(speed2 > 0)) return;
-  for (std::size_t j = first; j < last; ++j) out.damping_force_n[j] = (power / speed2) * motion.now(out.point[j]);
+  for (std::size_t j = first; j < last; ++j) out.damping_force_n[j] = (power / speed2) * relative_velocity(s, pair, out.point[j]);
 }
 
 // The springs' half cannot be carried: the new springs store the old ones' energy, but
 // their forces differ, and so does their power at this step's velocities. The energy the
-// re-clip makes (J): dt / 2 times the old springs' power (levers where they acted) less the
-// new ones'. A corner dug into a face, re-clipped at each step of its impact, makes an
-// amount first order in dt (Energy::reclip_j).
-double reclip_spring_energy(const SubContacts& old, const Pair& pair, const RelativeMotion& motion, const SubContacts& out,
-                            std::size_t first, std::size_t last, double dt_s) {
+// re-clip makes (J): dt / 2 times the old springs' power less the new ones'. A corner dug
+// into a face, re-clipped at each step of its impact, makes an amount first order in dt
+// (Energy::reclip_j).
+double reclip_spring_energy(const State& s, const Pair& pair, const SubContacts& out, std::size_t first, std::size_t last,
+                            double dt_s) {
   double old_power = 0, new_power = 0;  // W
   for (int q = pair.sub_begin; q < pair.sub_begin + pair.sub_count; ++q)
-    old_power += spring_force(old, q).dot(motion.last_pose(old.point[q]));
-  for (std::size_t j = first; j < last; ++j) new_power += spring_force(out, j).dot(motion.now(out.point[j]));
+    old_power += spring_force(s.contacts, q).dot(relative_velocity(s, pair, s.contacts.point[q]));
+  for (std::size_t j = first; j < last; ++j) new_power += spring_force(out, j).dot(relative_velocity(s, pair, out.point[j]));
   return 0.5 * dt_s * (old_power - new_power);
 }
 
@@ -181,8 +168,7 @@ double append_rebuilt(const Model& m, const State& s, const Pair& pair, const Ma
       out.bond_damage[j] = 0.0;
     }
   }
-  const RelativeMotion motion(s, pair, dt_s);
-  carry_dashpot_power(old, pair, motion, out, first, last);
+  carry_dashpot_power(s, pair, out, first, last);
   // A re-clipped pair keeps the spring energy it stored: its springs, passed on or new,
   // are scaled together to it. Otherwise a corner contact (small area, soft) that turns
   // into a face contact (large area, stiff) would turn the stresses it passes on into
@@ -202,7 +188,7 @@ double append_rebuilt(const Model& m, const State& s, const Pair& pair, const Ma
       out.shear_stretch_m[j] *= scale;
     }
   }
-  return reclip_spring_energy(old, pair, motion, out, first, last, dt_s);
+  return reclip_spring_energy(s, pair, out, first, last, dt_s);
 }
 
 }  // namespace ishibashi

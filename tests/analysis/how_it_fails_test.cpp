@@ -73,8 +73,9 @@ nlohmann::json run(const fs::path& scenario, const fs::path& out, const std::str
 }
 
 // At a quarter of the step: the block's impact on the slab (about 4.5 m/s, a corner first)
-// then misses the energy balance by 0.7 % of the energy exchanged (2.8 % at the whole step,
-// 1.4 % at half: halving with dt; README, "Energy", the open note).
+// is re-clipped at each step, and the re-clips make 0.7 % of the energy exchanged (2.9 % at
+// the whole step, 1.4 % at half: halving with dt; README, "Energy"), booked beside the
+// balance, which closes within 0.01 %.
 nlohmann::json tip(const std::string& name, char axis, double g_share) {
   const fs::path scenario = tip_scenario(name, axis, g_share);
   return run(scenario, scenario.parent_path() / "out", " --dt-factor 0.25");
@@ -92,7 +93,8 @@ TEST(HowItFails, ABlockTipsAwayFromTheGroundsPullOnceItExceedsWidthOverHeight) {
     const std::string name = std::string(1, axis) + (pull > 0 ? "_plus" : "_minus");
     const nlohmann::json tips = tip(name, axis, pull);  // 1.2 and 1.4 times g b / h
     ASSERT_EQ(tips["fallen_stones"], 1) << name;
-    EXPECT_LT(std::abs(tips["energy_balance_error_relative"].get<double>()), 0.01) << name;
+    EXPECT_LT(std::abs(tips["energy_balance_error_relative"].get<double>()), 1e-3) << name;
+    EXPECT_GT(tips["energy_reclip_relative"].get<double>(), 2e-3) << name;  // the corner's impact's re-clips
     const auto& how = tips["how_it_fails"];
     EXPECT_EQ(how["toward"][toward], 1) << name << how.dump();
     ASSERT_EQ(how["parts"].size(), 1u);
