@@ -50,8 +50,9 @@ void update_in_place(State& s, const Pair& pair) {
 // The relative velocity of a pair's blocks (b against a) at point p, at this step's pose
 // and velocities (m/s).
 Vec3 relative_velocity(const State& s, const Pair& pair, const Vec3& p) {
-  const int a = pair.a, b = pair.b;
-  return s.velocity[b] + s.angular_velocity[b].cross(p - s.position[b]) - s.velocity[a] - s.angular_velocity[a].cross(p - s.position[a]);
+  const Vec3 va = s.velocity[pair.a] + s.angular_velocity[pair.a].cross(p - s.position[pair.a]);
+  const Vec3 vb = s.velocity[pair.b] + s.angular_velocity[pair.b].cross(p - s.position[pair.b]);
+  return vb - va;
 }
 
 // Spring force of sub-contact i on b (N): -e_n n + e_s.
@@ -71,13 +72,17 @@ void carry_dashpot_power(const State& s, const Pair& pair, SubContacts& out, std
   double power = 0;  // W
   for (int q = pair.sub_begin; q < pair.sub_begin + pair.sub_count; ++q)
     if (old.damping_force_n[q] != Vec3::Zero()) power += old.damping_force_n[q].dot(relative_velocity(s, pair, old.point[q]));
-  double speed2 = 0;  // (m/s)^2
-  for (std::size_t j = first; j < last; ++j) {
-    out.damping_force_n[j] = Vec3::Zero();
-    speed2 += relative_velocity(s, pair, out.point[j]).squaredNorm();
+  if (power == 0) {  // nothing to carry: the old dashpots open, or implicit (applied after the law)
+    for (std::size_t j = first; j < last; ++j) out.damping_force_n[j] = Vec3::Zero();
+    return;
   }
-  if (power == 0 || !(speed2 > 0)) return;
-  for (std::size_t j = first; j < last; ++j) out.damping_force_n[j] = (power / speed2) * relative_velocity(s, pair, out.point[j]);
+  double speed2 = 0;  // (m/s)^2
+  for (std::size_t j = first; j < last; ++j) {  // the new points' velocities, then scaled
+    out.damping_force_n[j] = relative_velocity(s, pair, out.point[j]);
+    speed2 += out.damping_force_n[j].squaredNorm();
+  }
+  const double scale = speed2 > 0 ? power / speed2 : 0.0;  // N s/m
+  for (std::size_t j = first; j < last; ++j) out.damping_force_n[j] *= scale;
 }
 
 // The springs' half cannot be carried: the new springs store the old ones' energy, but
@@ -154,9 +159,7 @@ double append_rebuilt(const Model& m, const State& s, const Pair& pair, const Ma
         out.normal_stretch_m[j] = std::max(out.normal_stretch_m[j], std::min(p.gap_m, 0.0));
       // The joint's own motion over the last step, not the jump from the old point's gap
       // to the new one's (a new point is not a displacement of the joint).
-      const Vec3 va = s.velocity[pair.a] + s.angular_velocity[pair.a].cross(p.x - s.position[pair.a]);
-      const Vec3 vb = s.velocity[pair.b] + s.angular_velocity[pair.b].cross(p.x - s.position[pair.b]);
-      out.gap_change_m[j] = dt_s * (vb - va).dot(manifold.normal);
+      out.gap_change_m[j] = dt_s * relative_velocity(s, pair, p.x).dot(manifold.normal);
       out.slip_m[j] = old.slip_m[found];
       out.bond_damage[j] = old.bond_damage[found];
     } else {
