@@ -191,11 +191,14 @@ TEST(Impact, StoneSlidingOffATiltedStoneLeavesWithTheSpeedEnergyAllows) {
   ASSERT_TRUE(passed_edge);
   ASSERT_EQ(sub_contact_count(s), 0) << "still on the slab after 3 s";
   // Off the slab, its kinetic energy is what gravity released less what friction and
-  // the dashpots took: no more.
+  // the dashpots took, plus what the re-clips of its tip over the edge made (0.25 J): no
+  // more. (Friction booked as the limit after each step times its slip left 0.32 J, first
+  // order in dt, out of what it took.)
   const double released = s.energy.initial_total_j - s.energy.gravitational_j;
   const double lost = s.energy.friction_j + s.energy.damping_j;
   EXPECT_NEAR(s.energy.kinetic_j, released - lost, 0.01 * (released - lost));
-  EXPECT_LE(s.energy.kinetic_j, released - lost + 1e-6 * released);
+  EXPECT_LE(s.energy.kinetic_j, released - lost + s.energy.reclip_j + 1e-6 * released);
+  EXPECT_LT(std::abs(s.energy.balance_error_j()), 1e-5 * released);
 }
 
 TEST(Ground, StoneFallingPastTheGroundIsFrozenAndItsEnergyBooked) {
