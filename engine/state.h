@@ -152,7 +152,7 @@ struct Energy {
   double tie_yield_j = 0.0;      // dissipated by tie rods yielding (ties.cpp)
   double prescribed_work_j = 0.0;  // work done on the system by prescribed blocks so far
   double left_model_j = 0.0;     // mechanical energy taken from blocks that left the model when frozen (integrate.cpp)
-  double reclip_j = 0.0;         // made by re-clipped pairs' springs: the model's, first order in dt (contact_history.cpp)
+  double reclip_j = 0.0;         // made (< 0: taken) by re-clipped pairs' springs: the model's, first order in dt (contact_history.cpp)
   double initial_total_j = 0.0;  // mechanical energy at the first step
 
   double mechanical_j() const { return kinetic_j + gravitational_j + elastic_j; }

@@ -176,6 +176,32 @@ TEST(Energy, AReclippedPairsNewPointsBookItsOldDashpotsPower) {
   EXPECT_NEAR(new_power, old_power, 1e-12 * std::abs(old_power));
 }
 
+TEST(Energy, AReclippedPairWhoseNewPointsAllLieApartBooksItsSpringsEnergyAsTaken) {
+  // A stone at rest on its base, its springs compressed; its pair re-clipped to points that
+  // all lie 1 mm apart (no overlap, no history within reach): the new springs store
+  // nothing, and the re-clip books the energy the old ones held as taken (J < 0).
+  Model m = test::block_on_base(Vec3(0.64, 0.64, 0.64), test::stone()).build();
+  State s = test::contacts_found(m);
+  ASSERT_EQ(s.pairs.size(), 1u);
+  const Pair& pair = s.pairs[0];
+  ASSERT_GE(pair.sub_count, 3);
+  double stored = 0;  // J
+  for (int q = pair.sub_begin; q < pair.sub_begin + pair.sub_count; ++q) {
+    s.contacts.normal_stretch_m[q] = -1e-6 * (q - pair.sub_begin + 1);
+    s.contacts.shear_stretch_m[q] = Vec3(2e-7, -1e-7, 0);
+    stored += s.contacts.spring_energy(q);
+  }
+  ASSERT_GT(stored, 1e-3);
+  Manifold manifold;
+  manifold.normal = s.contacts.normal[pair.sub_begin];
+  manifold.lever_a_m = manifold.lever_b_m = 0.32;
+  for (const Vec3& x : {Vec3(0.1, 0.05, 0), Vec3(-0.2, 0.15, 0)}) manifold.push({x, x, 1e-3, 0.1, 0xDEF0u + manifold.points.size()});
+  SubContacts out;
+  const double made = append_rebuilt(m, s, pair, manifold, false, 2e-5, out, 0);  // the stone at rest: no power
+  for (int j = 0; j < manifold.size(); ++j) EXPECT_EQ(out.spring_energy(j), 0.0);
+  EXPECT_NEAR(made, -stored, 1e-12 * stored);
+}
+
 // A 0.2 x 0.2 x 0.8 m stone on a 0.4 x 0.4 x 1 m pedestal over a slab, pedestal and slab
 // driven along y at a constant acceleration of 0.3 g from rest (above g b / h = 0.25 g):
 // the stone tips off the pedestal and lands corner first on the slab, about a metre below.
@@ -243,6 +269,39 @@ TEST(Energy, ASpinningStonesLandingBooksItsFrictionsWorkOverEachStep) {
     const Energy e = spinning_landing(dt);
     EXPECT_GT(e.friction_j, 0.8 * e.exchanged_j()) << "dt " << dt;  // a friction-dominated impact
     EXPECT_LT(std::abs(e.balance_error_j()), 1e-4 * e.exchanged_j()) << "dt " << dt << ": " << e.balance_error_j() << " J";
+  }
+}
+
+// Six stones, 0.5 x 0.3 x 0.25 m, dropped from 1-3.25 m onto a slab and onto each other,
+// each thrown sideways: they land on corners, edges and faces, slide, and pile up. Returns
+// their energy after 2.5 s at step dt.
+Energy tumbling_pile(double dt_s) {
+  ModelBuilder b;
+  const int mat = b.add_material(test::stone(0.05));
+  const Polyhedron slab = make_box(Vec3(0, 0, -0.1), Vec3(6, 6, 0.2));
+  b.add_block(slab.vertices, slab.faces, mat, Motion::fixed, "slab");
+  for (int k = 0; k < 6; ++k) {
+    const Polyhedron p = make_box(Vec3(0.15 * (k % 3) - 0.15, 0.1 * (k % 2), 1.0 + 0.45 * k), Vec3(0.5, 0.3, 0.25));
+    b.add_block(p.vertices, p.faces, mat, Motion::free, "stone" + std::to_string(k));
+  }
+  World w(b.build(), dt_s);
+  State& s = w.state();
+  for (int k = 1; k <= 6; ++k) s.velocity[k] = Vec3(0.5 * (k % 2) - 0.25, 0.2 * (k % 3) - 0.2, -1.0);
+  w.run(std::lround(2.5 / dt_s));
+  return s.energy;
+}
+
+TEST(Energy, ATumblingPileClosesItsBalanceWhereReclipsAddLoadedPoints) {
+  // Stones pressing into each other gain sub-contacts that start from their overlap and
+  // take none of the step's motion: their forces' work over the step is booked with the
+  // re-clip (contact_history.cpp). Counted as a matched point's, the balance missed by
+  // 0.0093 % and 0.021 % of the energy exchanged at 1e-5 and 5e-6 s (and by 0.36 % and
+  // 0.17 % with friction booked as its limit after each step times the slip); now 0.00085 %
+  // and 0.0016 %.
+  for (double dt : {1e-5, 5e-6}) {
+    const Energy e = tumbling_pile(dt);
+    EXPECT_GT(e.friction_j, 0.5 * e.exchanged_j()) << "dt " << dt;
+    EXPECT_LT(std::abs(e.balance_error_j()), 4e-5 * e.exchanged_j()) << "dt " << dt << ": " << e.balance_error_j() << " J";
   }
 }
 
