@@ -4,6 +4,7 @@
 
 #include <array>
 #include <cmath>
+#include <initializer_list>
 #include <vector>
 
 #include "engine/narrowphase.h"
@@ -142,18 +143,34 @@ TEST(Energy, BalanceClosesWhileTheGroundsPairsChange) {
   EXPECT_LT(worst, 0.02 * dissipated);
 }
 
-TEST(Energy, AReclippedPairsNewPointsBookItsOldDashpotsPower) {
+// A stone resting on its base, with the one pair between them.
+class ReclippedPair : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    ASSERT_EQ(s.pairs.size(), 1u);
+    ASSERT_GE(pair.sub_count, 3);
+    ASSERT_EQ(pair.b, 1);  // the stone; a is the fixed base, at rest
+  }
+  // A re-clip of the pair to points x (on the base's top face, 0.1 m^2 each, at gap gap_m),
+  // whose keys match none of its current points.
+  Manifold new_points(std::initializer_list<Vec3> xs, double gap_m) const {
+    Manifold manifold;
+    manifold.normal = s.contacts.normal[pair.sub_begin];
+    manifold.lever_a_m = manifold.lever_b_m = 0.32;
+    for (const Vec3& x : xs) manifold.push({x, x, gap_m, 0.1, 0xABC0u + manifold.points.size()});
+    return manifold;
+  }
+  Model m = test::block_on_base(Vec3(0.64, 0.64, 0.64), test::stone()).build();
+  State s = test::contacts_found(m);
+  const Pair& pair = s.pairs.at(0);
+};
+
+TEST_F(ReclippedPair, NewPointsBookItsOldDashpotsPower) {
   // The law books the dashpots' work in halves: this step's force and the last step's, both
   // at this step's relative velocity at the point (contact_law.cpp). A pair re-clipped to
   // other points must book the power its old forces would have had there, sum F_q . v_rel(p_q),
   // through its new points; here none of the new points matches an old one by key, and one
   // lies beyond the reach within which an old point passes its springs on.
-  Model m = test::block_on_base(Vec3(0.64, 0.64, 0.64), test::stone()).build();
-  State s = test::contacts_found(m);
-  ASSERT_EQ(s.pairs.size(), 1u);
-  const Pair& pair = s.pairs[0];
-  ASSERT_GE(pair.sub_count, 3);
-  ASSERT_EQ(pair.b, 1);  // the stone; a is the fixed base, at rest
   const double dt = 2e-5;
   s.velocity[1] = Vec3(0.3, -0.2, -0.5);
   s.angular_velocity[1] = Vec3(1.5, -0.7, 2.0);
@@ -164,11 +181,7 @@ TEST(Energy, AReclippedPairsNewPointsBookItsOldDashpotsPower) {
     old_power += s.contacts.damping_force_n[q].dot(v_rel(s.contacts.point[q]));
   }
   ASSERT_GT(std::abs(old_power), 10.0);
-  Manifold manifold;
-  manifold.normal = s.contacts.normal[pair.sub_begin];
-  manifold.lever_a_m = manifold.lever_b_m = 0.32;
-  for (const Vec3& x : {Vec3(0.1, 0.05, 0), Vec3(-0.2, 0.15, 0), Vec3(0.3, -0.31, 0)})
-    manifold.push({x, x, -1e-6, 0.1, 0xABC0u + manifold.points.size()});
+  const Manifold manifold = new_points({Vec3(0.1, 0.05, 0), Vec3(-0.2, 0.15, 0), Vec3(0.3, -0.31, 0)}, -1e-6);
   SubContacts out;
   append_rebuilt(m, s, pair, manifold, false, dt, out, 0);
   double new_power = 0;
@@ -176,15 +189,10 @@ TEST(Energy, AReclippedPairsNewPointsBookItsOldDashpotsPower) {
   EXPECT_NEAR(new_power, old_power, 1e-12 * std::abs(old_power));
 }
 
-TEST(Energy, AReclippedPairWhoseNewPointsAllLieApartBooksItsSpringsEnergyAsTaken) {
-  // A stone at rest on its base, its springs compressed; its pair re-clipped to points that
-  // all lie 1 mm apart (no overlap, no history within reach): the new springs store
-  // nothing, and the re-clip books the energy the old ones held as taken (J < 0).
-  Model m = test::block_on_base(Vec3(0.64, 0.64, 0.64), test::stone()).build();
-  State s = test::contacts_found(m);
-  ASSERT_EQ(s.pairs.size(), 1u);
-  const Pair& pair = s.pairs[0];
-  ASSERT_GE(pair.sub_count, 3);
+TEST_F(ReclippedPair, WhoseNewPointsAllLieApartBooksItsSpringsEnergyAsTaken) {
+  // The stone at rest, its springs compressed; its pair re-clipped to points that all lie
+  // 1 mm apart (no overlap, no history within reach): the new springs store nothing, and
+  // the re-clip books the energy the old ones held as taken (J < 0).
   double stored = 0;  // J
   for (int q = pair.sub_begin; q < pair.sub_begin + pair.sub_count; ++q) {
     s.contacts.normal_stretch_m[q] = -1e-6 * (q - pair.sub_begin + 1);
@@ -192,10 +200,7 @@ TEST(Energy, AReclippedPairWhoseNewPointsAllLieApartBooksItsSpringsEnergyAsTaken
     stored += s.contacts.spring_energy(q);
   }
   ASSERT_GT(stored, 1e-3);
-  Manifold manifold;
-  manifold.normal = s.contacts.normal[pair.sub_begin];
-  manifold.lever_a_m = manifold.lever_b_m = 0.32;
-  for (const Vec3& x : {Vec3(0.1, 0.05, 0), Vec3(-0.2, 0.15, 0)}) manifold.push({x, x, 1e-3, 0.1, 0xDEF0u + manifold.points.size()});
+  const Manifold manifold = new_points({Vec3(0.1, 0.05, 0), Vec3(-0.2, 0.15, 0)}, 1e-3);
   SubContacts out;
   const double made = append_rebuilt(m, s, pair, manifold, false, 2e-5, out, 0);  // the stone at rest: no power
   for (int j = 0; j < manifold.size(); ++j) EXPECT_EQ(out.spring_energy(j), 0.0);
