@@ -62,51 +62,47 @@ Vec3 spring_force(const SubContacts& c, std::size_t i) { return -c.normal_spring
 // changes the kinetic energy, F . (v + v') dt / 2: the dashpots' as this step's force and
 // the last step's (SubContacts::damping_force_n), both at this step's relative velocity at
 // the point; the springs' through their energy, K u^2 / 2 with u grown by this step's
-// motion. A re-clipped pair's old points are gone with their last forces, so its new
-// points take over the dashpots' half as a whole: the power the old forces would have had
-// at this step's velocities, shared among the new points along their relative
-// velocities. (Passing each old force on to its nearest new point booked another power.)
-// Only the balance reads the field.
-void carry_dashpot_power(const State& s, const Pair& pair, SubContacts& out, std::size_t first, std::size_t last) {
+// motion. A re-clipped pair's old points are gone with their last forces, which this
+// books in two ways, from the relative velocities at the old points and at the new ones
+// (the new ones arrive in out.damping_force_n, m/s).
+// * Dashpots: the new points take over the old ones' half as a whole, the power the old
+//   forces would have had at this step's velocities, shared among the new points along
+//   their relative velocities. (Passing each old force on to its nearest new point booked
+//   another power.) Only the balance reads the field.
+// * Springs: they cannot be carried. The new springs store the old ones' energy, but their
+//   forces differ, and so does their power at this step's velocities. The energy the
+//   re-clip makes (J), returned: dt / 2 times the old springs' power less the new ones'. A
+//   corner dug into a face, re-clipped at each step of its impact, makes an amount first
+//   order in dt (Energy::reclip_j).
+//   A new point without a match starts from its overlap and its normal spring takes none
+//   of this step's motion (gap_change_m 0): its force does work on the stones over the
+//   step, F_n v_n dt / 2, that no spring energy records, so its normal power counts the
+//   other way. (Counted like a matched point's, model A dry's collapse lost 320 J at points
+//   added while stones pressed into each other. A matched point whose gap change is
+//   exactly 0 has no normal power either, so the test needs no flag.)
+double book_reclipped_forces(const State& s, const Pair& pair, SubContacts& out, std::size_t first, std::size_t last,
+                             double dt_s) {
   const SubContacts& old = s.contacts;
-  double power = 0;  // W
-  for (int q = pair.sub_begin; q < pair.sub_begin + pair.sub_count; ++q)
-    if (old.damping_force_n[q] != Vec3::Zero()) power += old.damping_force_n[q].dot(relative_velocity(s, pair, old.point[q]));
-  if (power == 0) {  // nothing to carry: the old dashpots open, or implicit (applied after the law)
-    for (std::size_t j = first; j < last; ++j) out.damping_force_n[j] = Vec3::Zero();
-    return;
+  double old_dashpot_power = 0, old_spring_power = 0, new_spring_power = 0;  // W
+  for (int q = pair.sub_begin; q < pair.sub_begin + pair.sub_count; ++q) {
+    const Vec3 v = relative_velocity(s, pair, old.point[q]);
+    if (old.damping_force_n[q] != Vec3::Zero()) old_dashpot_power += old.damping_force_n[q].dot(v);
+    old_spring_power += spring_force(old, q).dot(v);
   }
   double speed2 = 0;  // (m/s)^2
-  for (std::size_t j = first; j < last; ++j) {  // the new points' velocities, then scaled
-    out.damping_force_n[j] = relative_velocity(s, pair, out.point[j]);
-    speed2 += out.damping_force_n[j].squaredNorm();
-  }
-  const double scale = speed2 > 0 ? power / speed2 : 0.0;  // N s/m
-  for (std::size_t j = first; j < last; ++j) out.damping_force_n[j] *= scale;
-}
-
-// The springs' half cannot be carried: the new springs store the old ones' energy, but
-// their forces differ, and so does their power at this step's velocities. The energy the
-// re-clip makes (J): dt / 2 times the old springs' power less the new ones'. A corner dug
-// into a face, re-clipped at each step of its impact, makes an amount first order in dt
-// (Energy::reclip_j).
-// A new point without a match starts from its overlap and its normal spring takes none of
-// this step's motion (gap_change_m 0): its force does work on the stones over the step,
-// F_n v_n dt / 2, that no spring energy records, so its normal power counts the other way.
-// (Counted like a matched point's, model A dry's collapse lost 320 J at points added while
-// stones pressed into each other. A matched point whose gap change is exactly 0 has no
-// normal power either, so the test needs no flag.)
-double reclip_spring_energy(const State& s, const Pair& pair, const SubContacts& out, std::size_t first, std::size_t last,
-                            double dt_s) {
-  double old_power = 0, new_power = 0;  // W
-  for (int q = pair.sub_begin; q < pair.sub_begin + pair.sub_count; ++q)
-    old_power += spring_force(s.contacts, q).dot(relative_velocity(s, pair, s.contacts.point[q]));
   for (std::size_t j = first; j < last; ++j) {
-    const Vec3 v = relative_velocity(s, pair, out.point[j]);
-    new_power += spring_force(out, j).dot(v);
-    if (out.gap_change_m[j] == 0.0) new_power += 2.0 * out.normal_spring(j) * out.normal[j].dot(v);
+    const Vec3 v = out.damping_force_n[j];
+    speed2 += v.squaredNorm();
+    new_spring_power += spring_force(out, j).dot(v);
+    if (out.gap_change_m[j] == 0.0) new_spring_power += 2.0 * out.normal_spring(j) * out.normal[j].dot(v);
   }
-  return 0.5 * dt_s * (old_power - new_power);
+  if (old_dashpot_power == 0) {  // nothing to carry: the old dashpots open, or implicit (applied after the law)
+    for (std::size_t j = first; j < last; ++j) out.damping_force_n[j] = Vec3::Zero();
+  } else {
+    const double scale = speed2 > 0 ? old_dashpot_power / speed2 : 0.0;  // N s/m
+    for (std::size_t j = first; j < last; ++j) out.damping_force_n[j] *= scale;
+  }
+  return 0.5 * dt_s * (old_spring_power - new_spring_power);
 }
 
 // Writes the new manifold of a pair into `out` from `first`, each point with the history
@@ -139,6 +135,7 @@ double append_rebuilt(const Model& m, const State& s, const Pair& pair, const Ma
     out.normal_damping_n_s_m[j] = k.cn;
     out.shear_damping_n_s_m[j] = k.cs;
     out.incident_local[j] = to_incident * (p.incident - s.position[incident_block]);
+    out.damping_force_n[j] = relative_velocity(s, pair, p.x);  // m/s until book_reclipped_forces
     // A key seen last step keeps its springs and bond. Failing that, the nearest old
     // point of the pair within `reach` passes them on: where corners lie exactly on
     // each other's edges (aligned masonry joints), a vertex and a pair of cuts swap
@@ -169,7 +166,7 @@ double append_rebuilt(const Model& m, const State& s, const Pair& pair, const Ma
         out.normal_stretch_m[j] = std::max(out.normal_stretch_m[j], std::min(p.gap_m, 0.0));
       // The joint's own motion over the last step, not the jump from the old point's gap
       // to the new one's (a new point is not a displacement of the joint).
-      out.gap_change_m[j] = dt_s * relative_velocity(s, pair, p.x).dot(manifold.normal);
+      out.gap_change_m[j] = dt_s * out.damping_force_n[j].dot(manifold.normal);
       out.slip_m[j] = old.slip_m[found];
       out.bond_damage[j] = old.bond_damage[found];
     } else {
@@ -181,7 +178,6 @@ double append_rebuilt(const Model& m, const State& s, const Pair& pair, const Ma
       out.bond_damage[j] = 0.0;
     }
   }
-  carry_dashpot_power(s, pair, out, first, last);
   // A re-clipped pair keeps the spring energy it stored: its springs, passed on or new,
   // are scaled together to it. Otherwise a corner contact (small area, soft) that turns
   // into a face contact (large area, stiff) would turn the stresses it passes on into
@@ -204,7 +200,7 @@ double append_rebuilt(const Model& m, const State& s, const Pair& pair, const Ma
     }
   }
   const double vanished = after > 0 ? 0.0 : before;
-  return reclip_spring_energy(s, pair, out, first, last, dt_s) - vanished;
+  return book_reclipped_forces(s, pair, out, first, last, dt_s) - vanished;
 }
 
 }  // namespace ishibashi
