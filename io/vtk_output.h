@@ -29,7 +29,8 @@ void write_blocks_vtu(const Model& model, const State& state, const std::filesys
                       const Vec3& ground_displacement_m = Vec3::Zero());
 
 // The sub-contacts as points (one vertex cell each), so cracks can be seen: point data
-// normal (a -> b), normal_stress_pa (tension positive), shear_stress_pa, opening_m
+// normal (a -> b), force_n (the springs' force on b, N: glyphs of it show how the load
+// runs through the stones), normal_stress_pa (tension positive), shear_stress_pa, opening_m
 // (positive gap), slip_m (accumulated sliding), bond_damage, bond_utilisation (the share
 // of its strength the bond carries, bond_utilisation in engine/joints.h; NaN where no bond
 // holds, which ParaView leaves out of the colour range), state (0 bonded, 1 elastic, 2

@@ -6,12 +6,12 @@ import os
 import sys
 
 from paraview import servermanager
-from paraview.simple import (ColorBy, GetActiveViewOrCreate, Hide, PVDReader, ResetCamera, SaveScreenshot, Show)
+from paraview.simple import (ColorBy, GetActiveViewOrCreate, Glyph, Hide, PVDReader, ResetCamera, SaveScreenshot, Show)
 
 run_dir, png_dir = sys.argv[1], sys.argv[2]
 expected = {
     "blocks": ("CELLS", ["displacement_relative_to_ground", "displacement", "velocity", "fallen", "part"]),
-    "contacts": ("POINTS", ["state", "opening_m", "slip_m", "bond_damage", "bond_utilisation", "joint_opening_m", "joint_slip_m",
+    "contacts": ("POINTS", ["state", "force_n", "opening_m", "slip_m", "bond_damage", "bond_utilisation", "joint_opening_m", "joint_slip_m",
                             "joint_cracked"]),
 }
 if os.path.exists(os.path.join(run_dir, "ties.pvd")):  # a model with tie rods: a line each
@@ -50,6 +50,23 @@ for name, (association, arrays) in expected.items():
     png = os.path.join(png_dir, name + ".png")
     SaveScreenshot(png, view, ImageResolution=[1280, 720])
     print("%s: %d frames, last frame %d %s, rendered to %s" % (name, len(times), count, association.lower(), png))
+    if name == "contacts":  # the force chains: an arrow per point along force_n, scaled by it
+        arrows = Glyph(Input=reader, GlyphType="Arrow")
+        arrows.OrientationArray = ["POINTS", "force_n"]
+        arrows.ScaleArray = ["POINTS", "force_n"]
+        arrows.GlyphMode = "All Points"
+        largest = max(abs(v) for v in reader.PointData["force_n"].GetRange(-1)) or 1.0
+        arrows.ScaleFactor = 1.0 / largest  # the largest force 1 m long
+        Hide(reader, view)
+        glyphs = Show(arrows, view)
+        ColorBy(glyphs, ("POINTS", "force_n", "Magnitude"))
+        glyphs.RescaleTransferFunctionToDataRange(False, True)
+        glyphs.SetScalarBarVisibility(view, True)
+        arrows.UpdatePipeline(times[-1])
+        if arrows.GetDataInformation().GetNumberOfPoints() == 0:
+            failures.append("contacts: the force_n glyphs drew nothing")
+        SaveScreenshot(os.path.join(png_dir, "force_chains.png"), view, ImageResolution=[1280, 720])
+        Hide(arrows, view)
     Hide(reader, view)
 
 if failures:

@@ -1,7 +1,7 @@
 // What each array of the ParaView frames holds, read back with VTK's reader and checked
 // against closed forms: a rigid block's vertex velocities and displacements, a tie rod's
-// anchors, a mode's vertex displacements, and the stresses, openings and states of a block
-// resting, sheared, sliding and lifted on a slab.
+// anchors, a mode's vertex displacements, and the forces, stresses, openings and states of
+// a block resting, sheared, sliding and lifted on a slab.
 #include <gtest/gtest.h>
 #include <vtkCellData.h>
 #include <vtkDataArray.h>
@@ -197,6 +197,12 @@ TEST(VtkValues, AContactsFrameGivesAHeldAndASlidingBlocksStresses) {
   each_point(held, "block_b", [](double b, vtkIdType i) { EXPECT_EQ(b, 1) << i; });
   vtkDataArray* normal = held->GetPointData()->GetArray("normal");
   for (vtkIdType i = 0; i < normal->GetNumberOfTuples(); ++i) EXPECT_LT((tuple(normal, i) - Vec3::UnitZ()).norm(), 1e-9);
+  // The slab's forces on the block hold it: W up, 0.3 W against the push.
+  vtkDataArray* force = held->GetPointData()->GetArray("force_n");
+  ASSERT_NE(force, nullptr);
+  Vec3 total = Vec3::Zero();
+  for (vtkIdType i = 0; i < force->GetNumberOfTuples(); ++i) total += tuple(force, i);
+  EXPECT_LT((total - Vec3(-0.3 * w, 0, w)).norm(), 1e-3 * w);
   held->Delete();
   // Pushed at 0.9 W, beyond friction: it slides (2), each point's shear stress at
   // tan(phi) |sigma|. (The block accelerates: its inertia, at the centroid, loads its front
