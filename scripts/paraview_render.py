@@ -1,6 +1,7 @@
 # Opens a run's blocks.pvd and contacts.pvd (and ties.pvd, where it has one) in ParaView (pvbatch), checks that every
 # frame loads with the cells, points and arrays the README promises, and renders the
-# last frame of each to a PNG. Exits non-zero on any failure.
+# last frame of each to a PNG, and the contacts' force_n as arrows (force_chains.png). Exits
+# non-zero on any failure.
 #   pvbatch paraview_render.py RUN_DIR PNG_DIR
 import os
 import sys
