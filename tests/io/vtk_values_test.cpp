@@ -154,8 +154,8 @@ TEST(VtkValues, AModesVerticesMoveAsTheirBlocksTranslationAndTurn) {
   modes->Delete();
 }
 
-// A 1 x 1 x 0.5 m block (940 kg) on a slab: its contact points' arrays after it came to rest
-// under a load (N, at the joint's plane: no couple), or after `more` steps on.
+// A 1 x 1 x 0.5 m block (940 kg) on a slab, loaded at its joint's plane (no couple), and
+// its contact points' frame written and read back.
 struct RestingBlock {
   static constexpr double kArea = 1.0, kHeight = 0.5;
   std::filesystem::path dir = fresh_folder("ishibashi_vtk_values_contacts");
