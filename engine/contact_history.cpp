@@ -55,9 +55,6 @@ Vec3 relative_velocity(const State& s, const Pair& pair, const Vec3& p) {
   return vb - va;
 }
 
-// Spring force of sub-contact i on b (N): -e_n n + e_s.
-Vec3 spring_force(const SubContacts& c, std::size_t i) { return -c.normal_spring(i) * c.normal[i] + c.shear_spring(i); }
-
 // The law books each force's work over two steps (contact_law.cpp), as semi-implicit Euler
 // changes the kinetic energy, F . (v + v') dt / 2: the dashpots' as this step's force and
 // the last step's (SubContacts::damping_force_n), both at this step's relative velocity at
@@ -87,13 +84,13 @@ double book_reclipped_forces(const State& s, const Pair& pair, SubContacts& out,
   for (int q = pair.sub_begin; q < pair.sub_begin + pair.sub_count; ++q) {
     const Vec3 v = relative_velocity(s, pair, old.point[q]);
     if (old.damping_force_n[q] != Vec3::Zero()) old_dashpot_power += old.damping_force_n[q].dot(v);
-    old_spring_power += spring_force(old, q).dot(v);
+    old_spring_power += old.spring_force(q).dot(v);
   }
   double speed2 = 0;  // (m/s)^2
   for (std::size_t j = first; j < last; ++j) {
     const Vec3 v = out.damping_force_n[j];
     speed2 += v.squaredNorm();
-    new_spring_power += spring_force(out, j).dot(v);
+    new_spring_power += out.spring_force(j).dot(v);
     if (out.gap_change_m[j] == 0.0) new_spring_power += 2.0 * out.normal_spring(j) * out.normal[j].dot(v);
   }
   if (old_dashpot_power == 0) {  // nothing to carry: the old dashpots open, or implicit (applied after the law)

@@ -87,6 +87,7 @@ struct SubContacts {
   std::size_t size() const { return key.size(); }
   double normal_spring(std::size_t i) const { return normal_stiffness_n_m[i] * normal_stretch_m[i]; }  // e_n, N
   Vec3 shear_spring(std::size_t i) const { return shear_stiffness_n_m[i] * shear_stretch_m[i]; }      // e_s, N
+  Vec3 spring_force(std::size_t i) const { return -normal_spring(i) * normal[i] + shear_spring(i); }  // on b, N
   // Energy stored in the sub-contact's springs, J.
   double spring_energy(std::size_t i) const {
     return 0.5 * (normal_spring(i) * normal_stretch_m[i] + shear_spring(i).dot(shear_stretch_m[i]));
@@ -165,7 +166,6 @@ struct Energy {
     return mechanical_j() + damping_j + friction_j + bond_j + tie_yield_j + left_model_j - prescribed_work_j - reclip_j - initial_total_j;
   }
 };
-
 
 // Implicit dashpots (implicit_damping.cpp).
 // A symmetric 6x6 matrix as its lower triangle, row-major: (i, j), j <= i, at i (i + 1) / 2 + j.

@@ -32,8 +32,9 @@ void make_vtk_ready_for_threads() { vtkObjectFactory::GetRegisteredFactories(); 
 
 namespace {
 
-vtkNew<vtkDoubleArray> vector_array(const char* name, vtkIdType n) {
-  vtkNew<vtkDoubleArray> a;
+template <class Array = vtkDoubleArray>
+vtkNew<Array> vector_array(const char* name, vtkIdType n) {
+  vtkNew<Array> a;
   a->SetName(name);
   a->SetNumberOfComponents(3);
   a->SetNumberOfTuples(n);
@@ -211,10 +212,7 @@ void write_contacts_vtu(const Model& m, const State& s, const std::filesystem::p
   auto normal = vector_array("normal", n);
   // Single precision: a picture's arrows need no more, and doubles' noisy low bits made the
   // compressed frame a third larger (model A, 80 -> 110 kB).
-  vtkNew<vtkFloatArray> force;
-  force->SetName("force_n");
-  force->SetNumberOfComponents(3);
-  force->SetNumberOfTuples(n);
+  auto force = vector_array<vtkFloatArray>("force_n", n);
   vtkNew<vtkDoubleArray> sigma, tau, opening, slip, damage, utilisation;
   slip->SetName("slip_m");
   damage->SetName("bond_damage");  // a softening bond's lost share of strength (0 for a brittle one)
@@ -237,8 +235,8 @@ void write_contacts_vtu(const Model& m, const State& s, const std::filesystem::p
   for_each_sub_contact(s, [&](int i) {
     points->SetPoint(id, c.point[i].data());
     normal->SetTuple(id, c.normal[i].data());
-    const Vec3 spring_force = -c.normal_spring(i) * c.normal[i] + c.shear_spring(i);  // on b
-    force->SetTuple3(id, spring_force.x(), spring_force.y(), spring_force.z());
+    const Vec3 on_b = c.spring_force(i);
+    force->SetTuple3(id, on_b.x(), on_b.y(), on_b.z());
     sigma->InsertNextValue(c.normal_spring(i) / c.area_m2[i]);
     tau->InsertNextValue(c.shear_spring(i).norm() / c.area_m2[i]);
     opening->InsertNextValue(std::max(0.0, c.gap_m[i]));

@@ -81,6 +81,7 @@ TEST(VtkValues, ABlocksFrameHoldsEachVertexsRigidMotionAndEachBlocksLabels) {
     const Vec3 x0(start->GetPoint(v));
     EXPECT_NEAR(std::abs(x0.x()), 0.5, 1e-12);  // a corner of the cube as built
     EXPECT_NEAR(std::abs(x0.y()), 0.5, 1e-12);
+    EXPECT_NEAR(std::abs(x0.z() - 0.5), 0.5, 1e-12);
     const Vec3 r = quarter_turn(x0 - centre0);  // from the centre, after the turn
     const Vec3 x(moved->GetPoint(v));
     EXPECT_LT((x - (centre + r)).norm(), 1e-12) << "vertex " << v;
