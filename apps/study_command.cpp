@@ -3,13 +3,13 @@
 #include <cstdio>
 
 #include "analysis/batch/study.h"
+#include "analysis/model/program_files.h"
 #include "analysis/run/seismic_run.h"
 
 namespace ishibashi {
 
 int run_study_command(const StudyCommandOptions& o) {
-  const std::filesystem::path file =
-      o.file.empty() ? std::filesystem::path(ISHIBASHI_SOURCE_DIR) / "scenarios" / "nishida_study.toml" : o.file;
+  const std::filesystem::path file = o.file.empty() ? program_file("scenarios/nishida_study.toml") : o.file;
   const StudyFile study = read_study(file, o.quick);
   const MpiSession mpi;  // under mpirun: the jobs handed out across the ranks
   StudyOptions options;

@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "analysis/model/fingerprint.h"
+#include "analysis/model/program_files.h"
 #include "analysis/run/seismic_run.h"
 #include "io/atomic_file.h"
 #include "io/vtk_output.h"
@@ -61,9 +62,10 @@ void stamp_outputs(const std::filesystem::path& folder, const std::string& key) 
 
 std::string run_report_script(const char* script, const std::filesystem::path& out, const std::string& title) {
   const std::string python = std::filesystem::exists("/usr/bin/python3") ? "/usr/bin/python3" : "python3";
-  const std::string path = ISHIBASHI_SOURCE_DIR "/analysis/report/" + std::string(script), folder = out.string();
+  const std::string path = program_file("analysis/report/" + std::string(script)).string(), folder = out.string();
   if (!std::filesystem::exists(path))  // a program copied away from its checkout
-    return path + " is missing: the program runs the report scripts of the source tree it was built from";
+    return path + " is missing: the program runs the report scripts installed beside it (cmake --install: "
+                  "PREFIX/share/ishibashi) or else those of the source tree it was built from";
   // Started with its arguments as they are, no shell between: a folder or title with
   // spaces, quotes or $ reaches the script unchanged.
   std::vector<char*> argv{const_cast<char*>(python.c_str()), const_cast<char*>(path.c_str()),
