@@ -23,7 +23,11 @@ namespace {
 
 std::ifstream open(const std::filesystem::path& file) {
   std::ifstream in(file);
-  if (!in) fail(file, 0, "cannot open the ground-motion file");
+  if (!in && !std::filesystem::exists(file))  // most often a scenario copied away from its ../data
+    fail(file.lexically_normal(), 0,
+         "no such ground-motion file (a scenario's paths start at its own folder: with a scenario copied elsewhere "
+         "copy the data folder it names too, or give an absolute path)");
+  if (!in) fail(file, 0, "cannot open the ground-motion file (can this user read it?)");
   return in;
 }
 

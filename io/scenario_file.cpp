@@ -3,6 +3,23 @@
 #include "io/toml_reader.h"
 
 namespace ishibashi {
+namespace {
+
+// `base / path`, the file that `what` (e.g. `[model] file`) of `file` names; one that does
+// not exist is refused with where it was looked for. A scenario copied out of scenarios/
+// alone is the usual cause: its ../models no longer lies beside it.
+std::filesystem::path named_file(const std::filesystem::path& file, const std::filesystem::path& base,
+                                 const std::string& what, const std::string& path) {
+  const std::filesystem::path named = base / path;
+  if (!std::filesystem::exists(named))
+    throw InputError(file.string() + ": " + what + " = \"" + path + "\" is " + named.lexically_normal().string() +
+                     ", which does not exist (a relative path starts at this file's folder, " + base.string() +
+                     "; with a scenario copied elsewhere copy the models and data folders it names too, or give "
+                     "absolute paths)");
+  return named;
+}
+
+}  // namespace
 
 void read_ground_motion_components(TableReader& table, const std::filesystem::path& file, const std::filesystem::path& base,
                                    const std::string& name, GroundMotionSpec& spec) {
@@ -28,7 +45,7 @@ void read_ground_motion_components(TableReader& table, const std::filesystem::pa
         (cs.layout.column > 0 || cs.layout.header_lines > 0 || cs.layout.dt_s > 0 || t->contains("unit")))
       throw InputError(file.string() + ": [" + name + "] " + axes[c] + ": unit, dt_s, column and header_lines are for format = " +
                        "\"columns\" (" + cs.format + " files say their own unit, step and where their samples are)");
-    cs.file = base / path;
+    cs.file = base / path;  // read when the run starts: a scenario may be read for its settings alone
     cs.unit = unit == "gal" ? AccelerationUnit::gal : unit == "m/s2" ? AccelerationUnit::m_s2 : AccelerationUnit::g;
     spec.component[c] = cs;
   }
@@ -62,7 +79,7 @@ Scenario read_scenario(const std::filesystem::path& file) {
   read_run_settings(model, "model", sc.settings);
   model.finish();
   if (model_file.empty()) throw InputError(file.string() + ": [model] file = \"...\" is required (a model file, e.g. models/nishida_a.toml)");
-  sc.model_file = base / model_file;
+  sc.model_file = named_file(file, base, "[model] file", model_file);
   sc.model = read_model_file(sc.model_file);
   if (mortar_pa >= 0) sc.model.bridge.mortar_pa = mortar_pa;
   if (!mortar_parts.empty()) sc.model.bridge.mortar_parts = mortar_parts;

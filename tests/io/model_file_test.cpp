@@ -336,5 +336,35 @@ TEST(ScenarioFile, JointRuleAndSubdivisionAreCheckedAtTheirLine) {
   }
 }
 
+// A shipped scenario copied into a folder of its own: its ../models and ../data paths now
+// lead nowhere. The model is refused as the scenario is read, the record as it is loaded,
+// each with the path it was looked for at; copied with both folders, it reads.
+TEST(ScenarioFile, ACopyWithoutItsModelsAndDataSaysWhereTheyWereLookedFor) {
+  const auto root = std::filesystem::path(ISHIBASHI_SOURCE_DIR);
+  const auto copy = std::filesystem::temp_directory_path() / "copied" / "scenarios";
+  std::filesystem::create_directories(copy);
+  std::filesystem::copy_file(root / "scenarios/nishida_a_kobe_dry.toml", copy / "a.toml",
+                             std::filesystem::copy_options::overwrite_existing);
+  const std::string where = (copy.parent_path() / "models/nishida_a.toml").string();
+  try {
+    read_scenario(copy / "a.toml");
+    ADD_FAILURE() << "a scenario whose model file is missing was read";
+  } catch (const InputError& e) {
+    EXPECT_THAT(e.what(), HasSubstr((copy / "a.toml").string() + ": [model] file = \"../models/nishida_a.toml\" is " + where +
+                                    ", which does not exist"));
+  }
+  std::filesystem::copy(root / "models", copy.parent_path() / "models", std::filesystem::copy_options::recursive);
+  const Scenario sc = read_scenario(copy / "a.toml");
+  try {
+    ground_motion_peaks(sc.ground_motion);
+    ADD_FAILURE() << "a missing record was loaded";
+  } catch (const InputError& e) {
+    EXPECT_THAT(e.what(), HasSubstr((copy.parent_path() / "data/ground_motions/kobe_1995_jma").string()));
+    EXPECT_THAT(e.what(), HasSubstr("no such ground-motion file"));
+  }
+  std::filesystem::copy(root / "data", copy.parent_path() / "data", std::filesystem::copy_options::recursive);
+  EXPECT_GT(horizontal_pga_m_s2(read_scenario(copy / "a.toml").ground_motion), 0.0);
+}
+
 }  // namespace
 }  // namespace ishibashi
