@@ -24,8 +24,10 @@ TEST(ReportScript, SaysWhyItDrewNothing) {
   const auto empty = tmp_dir() / "ishibashi_report_nothing";
   std::filesystem::create_directories(empty);
   const std::string missing = run_report_script("no_such_script.py", empty);
-  EXPECT_NE(missing.find("analysis/report/no_such_script.py is missing: the program runs the report scripts of the source tree"),
-            std::string::npos) << missing;
+  EXPECT_NE(missing.find(ISHIBASHI_SOURCE_DIR "/analysis/report/no_such_script.py is missing: the program runs the report "
+                         "scripts installed beside it"),
+            std::string::npos)
+      << missing;
   const std::string failed = run_report_script("mode_shapes.py", empty);  // no modes.csv to draw
   EXPECT_NE(failed.find("mode_shapes.py ended with status "), std::string::npos) << failed;
   EXPECT_EQ(failed.find("status 0"), std::string::npos) << failed;
