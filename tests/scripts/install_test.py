@@ -1,7 +1,8 @@
 #!/usr/bin/python3
 """`cmake --install`: the installed program runs a scenario installed beside it and draws its
 report with the installed scripts, not the source tree's (one script removed from the
-installed copy is reported missing there), and `study` finds the installed Nishida study.
+installed copy is reported missing there), `study` finds the installed Nishida study, and
+the installed comparison scripts run.
 Arguments: the cmake program and the build folder (tests/CMakeLists.txt)."""
 import subprocess
 import sys
@@ -25,6 +26,9 @@ with tempfile.TemporaryDirectory() as tmp:
                     "models/nishida_f.toml", "data/ground_motions/kobe_1995_jma/RSN1106_KOBE_KJM-UP.AT2"):
         assert (share / shipped).is_file(), shipped
     assert not (share / "scenarios" / "results").exists(), "the kept results are not installed"
+    # The comparison scripts import the installed report scripts' readers.
+    status, said = run([str(share / "scripts" / "compare_ensembles.py"), "--help"])
+    assert status == 0 and "usage" in said, said
 
     # The example's ../../models and ../../data paths resolve inside the installed share.
     out = Path(tmp) / "run"
@@ -34,6 +38,8 @@ with tempfile.TemporaryDirectory() as tmp:
     assert status == 0, said
     assert "warning" not in said, said
     assert (out / "report.png").read_bytes()[:8] == b"\x89PNG\r\n\x1a\n", said
+    status, said = run([str(share / "scripts" / "compare_histories.py"), str(out), str(out), "--at", "0.01"])
+    assert status == 0 and "| run |" in said, said
 
     (share / "analysis" / "report" / "run_report.py").unlink()
     (out / "report.png").unlink()
