@@ -132,6 +132,10 @@ jobs=(
   # F dry's five finished in session 90; its member 4 left the second core to F with mortar's
   # last member, on two threads from there (a member's key leaves the thread count out).
   "f_mortar|2a8ffb4|out/ensembles/f_mortar_explicit|scenarios/nishida_f_kobe_mortar.toml --members 5 --seed 1 --jobs 1 --threads 2"
+  # Both F ensembles finished in session 90: F with mortar collapses in 5 of 5 where its single
+  # run (5acb07b) lost no stone. The same program with the stones as drawn (no construction
+  # tolerance) says whether the program or the placement turned it, as c_dry_as_built did.
+  "f_mortar_as_built|2a8ffb4|out/ensembles/f_mortar_as_built|scenarios/results/f_mortar_as_built.toml --members 1 --seed 1 --jobs 1 --threads 2"
 )
 
 # A run's summary says so; an ensemble's ensemble.json and a probe's probe.json count the
